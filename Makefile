@@ -1,0 +1,90 @@
+# The workspace's one entry point. Every target is idempotent: a second run with nothing changed
+# installs nothing, builds nothing and returns in seconds.
+#
+#   make tutorial   set up, then play the tutorial headless into output/ (the main job)
+#   make test       set up, then run every test (unit, gtest, end-to-end)
+#   make bench      set up, then run the side-by-side benchmarks into output/bench/
+#   make setup      Debian packages + venv + catkin build only
+#
+# ROS Python must run under Debian's /usr/bin/python3: the `python3` on PATH may be another one
+# (pyenv) that cannot import rospy, and catkin_make would pick it. Everything here names it.
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eo pipefail -c
+.DEFAULT_GOAL := setup
+
+WS := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+SYSTEM_PYTHON := /usr/bin/python3
+VENV := $(WS)/.venv
+VENV_PYTHON := $(VENV)/bin/python
+# BUILD and DEVEL let several builds of one source tree live side by side (build, build_x, ...).
+BUILD ?= build
+DEVEL ?= devel
+STAMPS := $(WS)/.make/$(BUILD)
+OUTPUT ?= $(WS)/output
+PHYSICS ?= ode
+PYTEST_ARGS ?=
+
+APT_PACKAGES := \
+  make git ca-certificates build-essential cmake \
+  ros-core-dev catkin python3-rospy rosbash python3-rostopic python3-rosservice python3-roslaunch \
+  python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
+  python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs python3-std-msgs \
+  libode-dev liburdfdom-dev liburdfdom-tools libsdformat-dev libgtest-dev \
+  python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
+  python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
+  catkin-lint xvfb xauth imagemagick procps
+
+# Rebuild when any source file changes (generated and cached files excluded).
+SOURCES := $(shell find $(WS)/src -type f -not -name '*.pyc' -not -path '*/__pycache__/*' 2>/dev/null)
+
+.PHONY: setup deps venv build tutorial test bench lint clean
+
+setup: deps venv build
+
+# Installs the Debian packages only when one is missing (dpkg-query answers in well under a second).
+deps:
+	@missing=$$(dpkg-query -W -f='$${Package} $${db:Status-Status}\n' $(APT_PACKAGES) 2>/dev/null \
+	  | awk '$$2 == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(APT_PACKAGES)" | grep . | sort)); \
+	if [ -n "$$missing" ]; then \
+	  echo "deps: installing Debian packages:" $$missing; \
+	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo=sudo; \
+	  $$sudo apt-get update -qq; \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+venv: $(WS)/.make/venv
+
+$(WS)/.make/venv: $(WS)/requirements.txt | deps
+	@[ -x $(VENV_PYTHON) ] || $(SYSTEM_PYTHON) -m venv --system-site-packages $(VENV)
+	$(VENV_PYTHON) -m pip install -q --disable-pip-version-check -r $(WS)/requirements.txt
+	@mkdir -p $(STAMPS) && touch $@
+
+build: $(STAMPS)/build
+
+$(STAMPS)/build: $(SOURCES) $(WS)/Makefile | deps venv
+	cd $(WS) && env -u PYTHONPATH catkin_make -j2 --build $(BUILD) -DCATKIN_DEVEL_PREFIX=$(WS)/$(DEVEL) \
+	  -DPYTHON_EXECUTABLE=$(SYSTEM_PYTHON) \
+	  -DONEDOF_SIM_VENV_PYTHON=$(VENV_PYTHON) \
+	  -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON
+	cd $(WS) && $(MAKE) -C $(BUILD) -j2 tests
+	@mkdir -p $(STAMPS) && touch $@
+
+# The main job: the whole tutorial, headless, into $(OUTPUT).
+tutorial: setup
+	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim play_tutorial --output $(OUTPUT) --physics $(PHYSICS)
+
+# Every test: Python unit tests in the packages, the gtests (collected by tests/conftest.py) and
+# the end-to-end tests over real nodes. Each test starts its own roscore on a free port.
+test: setup
+	source $(WS)/$(DEVEL)/setup.bash && cd $(WS) && \
+	  $(VENV_PYTHON) -m pytest -p no:cacheprovider -n 2 --forked $(PYTEST_ARGS) tests src
+
+bench: setup
+	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim benchmark --output $(OUTPUT)/bench
+
+lint:
+	catkin_lint -W2 --strict $(WS)/src
+
+clean:
+	rm -rf $(WS)/$(BUILD) $(WS)/$(DEVEL) $(STAMPS)

@@ -1,0 +1,186 @@
+// The physics core of onedof_sim: a world of rigid-body models over ODE, free of ROS.
+//
+// A test or the ROS layer drives it step by step. It is not thread-safe: the owner serialises
+// calls (the ROS node holds one mutex between service callbacks and the step loop).
+//
+// Time is kept in integer nanoseconds so that effort-job windows (start <= t < start + duration)
+// are exact and never depend on floating-point rounding of step sums.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace onedof_sim {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+
+// Unit quaternion, w first.
+struct Quat {
+  double w = 1, x = 0, y = 0, z = 0;
+};
+
+struct Pose {
+  Vec3 position;
+  Quat orientation;
+};
+
+struct Twist {
+  Vec3 linear;
+  Vec3 angular;
+};
+
+// Outcome of every call that can fail on bad input. On failure the world is unchanged and
+// message names the problem; on success message is the status text to report.
+struct Status {
+  bool ok = true;
+  std::string message;
+  static Status Ok(std::string m = "") { return {true, std::move(m)}; }
+  static Status Error(std::string m) { return {false, std::move(m)}; }
+};
+
+// Solver settings; the ODE fields of gazebo_msgs/ODEPhysics plus step and gravity.
+struct PhysicsParams {
+  double step = 0.001;  // seconds, > 0
+  Vec3 gravity{0, 0, -9.8};
+  bool quick_step = false;  // false: dWorldStep (exact LCP); true: dWorldQuickStep
+  bool auto_disable_bodies = false;
+  uint32_t sor_pgs_precon_iters = 0;
+  uint32_t sor_pgs_iters = 50;
+  double sor_pgs_w = 1.3;
+  double sor_pgs_rms_error_tol = 0.0;
+  double contact_surface_layer = 0.001;
+  double contact_max_correcting_vel = 100.0;
+  double cfm = 0.0;
+  double erp = 0.2;
+  uint32_t max_contacts = 20;
+};
+
+enum class JointType { Revolute, Continuous, Prismatic, Fixed };
+
+struct JointInfo {
+  std::string model;  // owning model name
+  std::string name;   // bare joint name
+  JointType type = JointType::Revolute;
+  bool has_damping = false;  // the URDF/SDF declared <dynamics damping>
+  double damping = 0;
+  double position = 0;  // rad or m; continuous joints are not wrapped
+  double rate = 0;      // rad/s or m/s
+};
+
+struct LinkInfo {
+  std::string model;
+  std::string name;  // bare link name
+  Pose com;          // centre of mass in the link frame (orientation of the inertial frame)
+  double mass = 0;
+  double ixx = 0, ixy = 0, ixz = 0, iyy = 0, iyz = 0, izz = 0;  // in the inertial frame
+  bool gravity_mode = true;
+};
+
+struct ModelInfo {
+  std::string name;
+  std::string canonical_link;  // scoped "model::link"
+  std::vector<std::string> links;      // scoped
+  std::vector<std::string> geoms;      // collision names
+  std::vector<std::string> joints;     // bare
+  bool is_static = false;
+};
+
+enum class GeometryShape { Box, Cylinder, Sphere, Plane };
+
+// One collision shape in world coordinates, for visualisation (rviz MarkerArray).
+struct CollisionShape {
+  std::string model;
+  std::string link;
+  GeometryShape shape = GeometryShape::Box;
+  Vec3 size;  // box: x y z; cylinder: radius, -, length; sphere: radius
+  Pose pose;  // world pose of the shape's centre
+};
+
+enum class ModelFormat { Urdf, Sdf };
+
+class World {
+ public:
+  explicit World(const PhysicsParams& params = PhysicsParams());
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // --- time and stepping -------------------------------------------------------------------
+  // Advances one step of params().step: applies the effort jobs whose window covers the step's
+  // start time, integrates, resolves contacts, then advances time.
+  void step();
+  int64_t timeNs() const;
+  double time() const;  // seconds
+  uint64_t stepCount() const;
+
+  const PhysicsParams& params() const;
+  // Refuses non-finite numbers, step <= 0, negative iteration counts: world unchanged.
+  Status setParams(const PhysicsParams& params);
+
+  // --- models ------------------------------------------------------------------------------
+  // Parses xml (URDF with urdfdom, SDF with libsdformat), builds the model and places its root
+  // at `pose` expressed in `reference_frame` ("" or "world", a model name, or "model::link").
+  // Errors: duplicate name, empty name, bad XML, unsupported content, unknown reference frame,
+  // non-finite pose.
+  Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
+               const Pose& pose, const std::string& reference_frame = "");
+  Status deleteModel(const std::string& name);
+  std::vector<std::string> modelNames() const;  // in spawn order
+  bool hasModel(const std::string& name) const;
+
+  Status modelProperties(const std::string& name, ModelInfo* out) const;
+  // Pose and twist of the model's root link frame, in reference_frame ("" / "world" or entity).
+  Status modelState(const std::string& name, const std::string& reference_frame, Pose* pose,
+                    Twist* twist) const;
+  Status setModelState(const std::string& name, const Pose& pose, const Twist& twist,
+                       const std::string& reference_frame);
+  // Sets joint positions with zero velocity, moving the links below each joint.
+  Status setModelConfiguration(const std::string& model, const std::vector<std::string>& joints,
+                               const std::vector<double>& positions);
+
+  // --- links (names scoped "model::link") ----------------------------------------------------
+  Status linkProperties(const std::string& scoped_link, LinkInfo* out) const;
+  Status linkState(const std::string& scoped_link, const std::string& reference_frame,
+                   Pose* pose, Twist* twist) const;
+  Status setLinkState(const std::string& scoped_link, const Pose& pose, const Twist& twist,
+                      const std::string& reference_frame);
+  std::vector<std::string> linkNames() const;  // all links of all models, scoped
+
+  // --- joints (name bare or scoped "model::joint"; the first model that has it wins) ---------
+  Status jointInfo(const std::string& joint, JointInfo* out) const;
+
+  // Effort jobs: start and duration in nanoseconds of sim time. A start before now means now.
+  // duration < 0: until cleared; == 0: nothing is queued (ok, and the message says so);
+  // 0 < duration < step: exactly one step (the message says so). Effort is clamped to the joint's
+  // effort limit (the message says so); non-finite effort is refused.
+  Status applyJointEffort(const std::string& joint, double effort, int64_t start_ns,
+                          int64_t duration_ns);
+  // Drops every pending job on joints of that bare name (any model).
+  void clearJointForces(const std::string& joint);
+
+  // Wrench on a link, force and torque in reference_frame's orientation, force applied at
+  // reference_point (in reference_frame). Same job rules as joint efforts.
+  Status applyBodyWrench(const std::string& scoped_link, const std::string& reference_frame,
+                         const Vec3& reference_point, const Vec3& force, const Vec3& torque,
+                         int64_t start_ns, int64_t duration_ns);
+  void clearBodyWrenches(const std::string& scoped_link);
+
+  // --- reset ---------------------------------------------------------------------------------
+  // Every model back to its spawn pose and configuration with zero velocity; drops effort jobs.
+  void resetWorld();
+  // resetWorld() and sim time back to 0.
+  void resetSimulation();
+
+  // --- introspection -------------------------------------------------------------------------
+  std::vector<CollisionShape> collisionShapes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace onedof_sim
