@@ -1,0 +1,142 @@
+"""A private ROS graph: its own roscore on a free port and the processes started against it.
+
+Tests, the tutorial player and the benchmarks all run their nodes here, so they can run side by
+side and never touch a user's roscore on 11311. Every process gets its own process group, and
+stop() ends them all (SIGINT first, as roslaunch does, then SIGKILL), also after a failure.
+"""
+import os
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+import xmlrpc.client
+
+
+def free_port():
+    with socket.socket() as sock:
+        sock.bind(('127.0.0.1', 0))
+        return sock.getsockname()[1]
+
+
+def wait_until(condition, timeout, interval=0.05, what='condition'):
+    """Polls condition() until it returns a truthy value, which is returned; raises on timeout."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = condition()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise TimeoutError('timed out after %.1f s waiting for %s' % (timeout, what))
+        time.sleep(interval)
+
+
+class PrivateRos:
+    """Context manager: a roscore on a free port plus every process started through start()."""
+
+    def __init__(self, log_dir=None, use_sim_time=None):
+        self.log_dir = log_dir or tempfile.mkdtemp(prefix='onedof_ros_')
+        self.port = None
+        self.env = None
+        self.processes = []
+        self._use_sim_time = use_sim_time
+
+    @property
+    def master_uri(self):
+        return 'http://127.0.0.1:%d' % self.port
+
+    def __enter__(self):
+        self.start_master()
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+    def start_master(self, attempts=3):
+        for _ in range(attempts):
+            self.port = free_port()
+            self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_HOSTNAME='127.0.0.1',
+                            ROS_LOG_DIR=self.log_dir, ROS_HOME=self.log_dir)
+            self.env.pop('ROS_IP', None)
+            self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
+            try:
+                wait_until(self._master_answers, 20, what='roscore on port %d' % self.port)
+                break
+            except TimeoutError:
+                self.terminate(self.roscore)
+        else:
+            raise RuntimeError('roscore did not start; logs in %s' % self.log_dir)
+        if self._use_sim_time is not None:
+            self.set_param('/use_sim_time', self._use_sim_time)
+
+    def _master_answers(self):
+        if self.roscore.poll() is not None:
+            raise RuntimeError('roscore exited with %s; see %s' % (self.roscore.returncode,
+                                                                    self.log_path('roscore')))
+        try:
+            code, _, _ = self.master().getPid('/private_ros')
+            return code == 1
+        except OSError:
+            return False
+
+    def master(self):
+        return xmlrpc.client.ServerProxy(self.master_uri)
+
+    def set_param(self, name, value):
+        self.master().setParam('/private_ros', name, value)
+
+    def has_service(self, name):
+        code, _, _ = self.master().lookupService('/private_ros', name)
+        return code == 1
+
+    def wait_for_service(self, name, timeout=30):
+        wait_until(lambda: self.has_service(name), timeout, what='service %s' % name)
+
+    def log_path(self, name):
+        return os.path.join(self.log_dir, name + '.log')
+
+    def start(self, args, name=None, env=None):
+        """Starts args in its own process group, output to <log_dir>/<name>.log."""
+        name = name or os.path.basename(args[0])
+        log = open(self.log_path(name), 'ab')
+        proc = subprocess.Popen(args, env=dict(self.env, **(env or {})), stdout=log,
+                                stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                start_new_session=True)
+        proc.log_name = name
+        log.close()
+        self.processes.append(proc)
+        return proc
+
+    def run(self, args, timeout=60, input=None):
+        """Runs a command (rosservice, rostopic, ...) against this graph; returns CompletedProcess."""
+        return subprocess.run(args, env=self.env, capture_output=True, text=True, timeout=timeout,
+                              input=input)
+
+    def log_text(self, proc_or_name):
+        name = getattr(proc_or_name, 'log_name', proc_or_name)
+        try:
+            with open(self.log_path(name), errors='replace') as f:
+                return f.read()
+        except FileNotFoundError:
+            return ''
+
+    @staticmethod
+    def terminate(proc, timeout=10):
+        if proc.poll() is not None:
+            return
+        for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
+            try:
+                os.killpg(proc.pid, sig)
+            except ProcessLookupError:
+                return
+            try:
+                proc.wait(timeout=timeout)
+                return
+            except subprocess.TimeoutExpired:
+                continue
+
+    def stop(self):
+        # Nodes first, roscore last, so nodes can unregister cleanly.
+        for proc in reversed(self.processes):
+            self.terminate(proc)
+        self.processes.clear()

@@ -1,0 +1,81 @@
+"""Fixtures for the end-to-end tests: a private roscore per test, the simulator, a rospy client.
+
+Run under pytest-forked (the Makefile passes --forked): each test runs in its own process, so it can
+init its own rospy node against its own roscore. Logs of every process a test started are printed
+when the test fails.
+"""
+import os
+import sys
+
+import pytest
+
+from onedof_sim.private_ros import PrivateRos, wait_until
+
+WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
+                             'minimal_robot_description.urdf')
+ENGINES = ('ode',)
+# The command that starts each engine's simulator node, as a user types it.
+SIM_COMMANDS = {
+    'ode': ['rosrun', 'onedof_sim', 'onedof_sim'],
+}
+
+
+@pytest.hookimpl(tryfirst=True, hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    report = outcome.get_result()
+    setattr(item, 'report_' + report.when, report)
+
+
+@pytest.fixture
+def ros(request, tmp_path):
+    """A private roscore on a free port; stops every process it started."""
+    graph = PrivateRos(log_dir=str(tmp_path / 'ros'))
+    graph.start_master()
+    try:
+        yield graph
+    finally:
+        failed = any(getattr(request.node, 'report_' + when, None) is not None
+                     and getattr(request.node, 'report_' + when).failed
+                     for when in ('setup', 'call'))
+        graph.stop()
+        if failed:
+            for name in sorted(os.listdir(graph.log_dir)):
+                if name.endswith('.log'):
+                    text = graph.log_text(name[:-4])
+                    sys.stderr.write('----- %s (last 3000 chars) -----\n%s\n' % (name, text[-3000:]))
+
+
+@pytest.fixture
+def rospy_client(ros):
+    """rospy initialised as a node of the private graph (one per forked test process)."""
+    import rospy
+    if rospy.core.is_initialized():
+        pytest.fail('rospy is already initialised in this process: run pytest with --forked')
+    os.environ.update(ROS_MASTER_URI=ros.master_uri, ROS_HOSTNAME='127.0.0.1',
+                      ROS_LOG_DIR=ros.log_dir, ROS_HOME=ros.log_dir)
+    rospy.init_node('test_client', anonymous=True, disable_signals=True)
+    yield rospy
+    rospy.signal_shutdown('test finished')
+
+
+def start_sim(ros, engine='ode', args=(), wait=True):
+    """Starts the simulator node of `engine` and waits until it serves its last service."""
+    proc = ros.start(SIM_COMMANDS[engine] + list(args), name='sim_' + engine)
+    if wait:
+        wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'),
+                   60, what='the %s simulator to serve /gazebo/unpause_physics' % engine)
+        assert proc.poll() is None, 'simulator exited:\n' + ros.log_text(proc)
+    return proc
+
+
+@pytest.fixture(params=ENGINES)
+def engine(request):
+    return request.param
+
+
+@pytest.fixture
+def sim(ros, engine):
+    """The simulator of each engine, running against the private roscore."""
+    return start_sim(ros, engine)
