@@ -29,7 +29,7 @@ APT_PACKAGES := \
   make git ca-certificates build-essential cmake \
   ros-core-dev catkin python3-rospy rosbash python3-rostopic python3-rosservice python3-roslaunch \
   python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
-  python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs python3-std-msgs \
+  python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs python3-std-msgs python3-tf2-msgs \
   libode-dev liburdfdom-dev liburdfdom-tools libsdformat-dev libgtest-dev \
   python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
@@ -44,7 +44,7 @@ setup: deps venv build
 
 # Installs the Debian packages only when one is missing (dpkg-query answers in well under a second).
 deps:
-	@missing=$$(dpkg-query -W -f='$${Package} $${db:Status-Status}\n' $(APT_PACKAGES) 2>/dev/null \
+	@missing=$$( { dpkg-query -W -f='$${Package} $${db:Status-Status}\n' $(APT_PACKAGES) 2>/dev/null || true; } \
 	  | awk '$$2 == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(APT_PACKAGES)" | grep . | sort)); \
 	if [ -n "$$missing" ]; then \
 	  echo "deps: installing Debian packages:" $$missing; \
@@ -84,7 +84,7 @@ bench: setup
 	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim benchmark --output $(OUTPUT)/bench
 
 lint:
-	catkin_lint -W2 --strict $(WS)/src
+	catkin_lint -W1 --strict $(WS)/src
 
 clean:
 	rm -rf $(WS)/$(BUILD) $(WS)/$(DEVEL) $(STAMPS)

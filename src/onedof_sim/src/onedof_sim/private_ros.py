@@ -36,6 +36,7 @@ class PrivateRos:
 
     def __init__(self, log_dir=None, use_sim_time=None):
         self.log_dir = log_dir or tempfile.mkdtemp(prefix='onedof_ros_')
+        os.makedirs(self.log_dir, exist_ok=True)
         self.port = None
         self.env = None
         self.processes = []

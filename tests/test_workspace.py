@@ -1,0 +1,107 @@
+"""The workspace as a new user meets it: idempotent set-up, commands that resolve to our packages
+under a Python that can import rospy, clean package manifests, and a docker/ that only wraps what
+these tests exercise."""
+import os
+import re
+import shlex
+import subprocess
+
+import pytest
+import yaml
+
+from conftest import WORKSPACE
+from onedof_sim.private_ros import wait_until
+
+DEVEL = next(p for p in os.environ['CMAKE_PREFIX_PATH'].split(':')
+             if os.path.isfile(os.path.join(p, '.catkin')))
+BUILD = re.sub(r'^devel', 'build', os.path.basename(DEVEL))
+
+
+def make_dry_run(target):
+    return subprocess.run(['make', '-n', '-C', WORKSPACE, target, 'BUILD=' + BUILD,
+                           'DEVEL=' + os.path.basename(DEVEL)],
+                          capture_output=True, text=True, check=True).stdout
+
+
+def test_second_setup_installs_and_builds_nothing():
+    plan = make_dry_run('setup')
+    # `deps` always asks dpkg (a fraction of a second); it must decide that nothing is missing.
+    deps = subprocess.run(['make', '-C', WORKSPACE, 'deps'], capture_output=True, text=True)
+    assert deps.returncode == 0, deps.stderr
+    assert 'installing' not in deps.stdout
+    assert 'catkin_make' not in plan and 'pip install' not in plan, plan
+
+
+@pytest.fixture
+def foreign_python3(tmp_path):
+    """A PATH whose python3 cannot import rospy (as pyenv's on the developers' machines)."""
+    shim = tmp_path / 'python3'
+    shim.write_text('#!/bin/sh\necho "foreign python3 was used: $0 $*" >&2\nexit 97\n')
+    shim.chmod(0o755)
+    return dict(os.environ, PATH='%s:%s' % (tmp_path, os.environ['PATH']))
+
+
+@pytest.mark.parametrize('command', [
+    ['rosrun', 'onedof_sim', 'spawn_model', '-h'],
+    ['rosrun', 'onedof_sim', 'plot', '-h'],
+    ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller', '-h'],
+    ['rostopic', 'list', '-h'],
+    ['rosservice', 'list', '-h'],
+    ['roslaunch', '-h'],
+])
+def test_tutorial_commands_run_under_a_python_with_rospy(foreign_python3, command):
+    result = subprocess.run(command, env=foreign_python3, capture_output=True, text=True,
+                            timeout=60)
+    assert 'foreign python3 was used' not in result.stderr
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+@pytest.mark.parametrize('package', ['onedof_sim', 'minimal_joint_controller',
+                                     'minimal_robot_description'])
+def test_packages_resolve_to_this_workspace(package):
+    path = subprocess.run(['rospack', 'find', package], capture_output=True, text=True,
+                          check=True).stdout.strip()
+    assert path == os.path.join(WORKSPACE, 'src', package)
+
+
+def test_catkin_lint_is_clean():
+    result = subprocess.run(['catkin_lint', '-W1', '--strict', os.path.join(WORKSPACE, 'src')],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_dockerfile_runs_the_make_targets_ci_runs():
+    text = open(os.path.join(WORKSPACE, 'docker', 'Dockerfile')).read()
+    assert 'FROM debian:bookworm' in text
+    assert re.search(r'^RUN \./run setup\b', text, re.M)
+    assert re.search(r'^CMD \["\./run", "tutorial"\]', text, re.M)
+    for target in ('setup', 'tutorial'):
+        make_dry_run(target)  # raises if the target does not exist
+
+
+def compose_services():
+    with open(os.path.join(WORKSPACE, 'docker', 'compose.yaml')) as f:
+        return yaml.safe_load(f)['services']
+
+
+def test_compose_wires_every_node_to_the_roscore_service():
+    services = compose_services()
+    assert set(services) == {'roscore', 'simulator', 'controller'}
+    for name, service in services.items():
+        assert service['environment'] == {'ROS_MASTER_URI': 'http://roscore:11311',
+                                          'ROS_HOSTNAME': name}
+        assert service['networks'] == ['ros']
+
+
+def test_compose_services_commands_bring_up_the_controlled_robot(ros, rospy_client):
+    """Runs the simulator and controller services' commands as compose would, against a private
+    roscore (the container's roscore and host names replaced by this graph's)."""
+    rospy = rospy_client
+    from std_msgs.msg import Float64
+    for name in ('simulator', 'controller'):
+        command = compose_services()[name]['command']
+        assert command[:2] == ['bash', '-c']
+        ros.start(['bash', '-c', command[2]], name='compose_' + name)
+    positions = []
+    rospy.Subscriber('/jnt_pos', Float64, lambda msg: positions.append(msg.data))
+    wait_until(lambda: len(positions) > 10, 90, what='jnt_pos from the composed controller')
