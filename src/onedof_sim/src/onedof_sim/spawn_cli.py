@@ -1,0 +1,191 @@
+"""The command line of `rosrun onedof_sim spawn_model`: gazebo_ros' spawn_model arguments, the model
+path that `-database` searches, and the model XML each source yields.
+
+Free of rospy so it can be unit-tested; scripts/spawn_model makes the ROS calls. Every problem a
+user can cause is raised as SpawnError with a message meant for them.
+"""
+import argparse
+import math
+import os
+import xml.etree.ElementTree as ET
+
+
+class SpawnError(Exception):
+    """A problem with the user's request; str() is the message to print."""
+
+
+class _Parser(argparse.ArgumentParser):
+    # argparse would print and exit(2) itself; raising keeps the decision with the caller and lets
+    # the unit tests see the message.
+    def error(self, message):
+        raise SpawnError(message)
+
+
+def build_parser():
+    parser = _Parser(
+        prog='spawn_model',
+        description='Spawn a model into the onedof_sim simulator through its Gazebo ROS API '
+                    '(the arguments of gazebo_ros spawn_model).')
+    fmt = parser.add_mutually_exclusive_group(required=True)
+    fmt.add_argument('-urdf', action='store_true', help='the model XML is URDF')
+    fmt.add_argument('-sdf', action='store_true', help='the model XML is SDF')
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument('-file', metavar='FILE_NAME',
+                        help='read the model XML from a file (relative to the current directory)')
+    source.add_argument('-param', metavar='PARAM_NAME',
+                        help='read the model XML from a ROS parameter')
+    source.add_argument('-database', metavar='MODEL_NAME',
+                        help='read MODEL_NAME/model.sdf from the model path (the models/ folder of '
+                             'onedof_sim, then every folder of GAZEBO_MODEL_PATH)')
+    source.add_argument('-stdin', action='store_true', help='read the model XML from stdin')
+    parser.add_argument('-model', metavar='MODEL_NAME', required=True,
+                        help='name of the model to spawn')
+    parser.add_argument('-reference_frame', default='',
+                        help='model or link the initial pose is relative to; empty or "world" '
+                             'for the world frame')
+    parser.add_argument('-gazebo_namespace', default='/gazebo',
+                        help='ROS namespace of the simulator services (default /gazebo)')
+    parser.add_argument('-robot_namespace', default=None,
+                        help='ROS namespace of the model (default: this node\'s namespace)')
+    parser.add_argument('-unpause', action='store_true', help='unpause physics after spawning')
+    parser.add_argument('-wait', metavar='MODEL_NAME',
+                        help='wait until this model exists before spawning')
+    for name, what in (('x', 'x position'), ('y', 'y position'), ('z', 'z position'),
+                       ('R', 'roll angle'), ('P', 'pitch angle'), ('Y', 'yaw angle')):
+        parser.add_argument('-' + name, type=float, default=0.0, help='initial %s' % what)
+    parser.add_argument('-J', dest='joints', nargs=2, action='append', default=[],
+                        metavar=('JOINT_NAME', 'JOINT_POSITION'),
+                        help='set a joint position after spawning (repeatable)')
+    parser.add_argument('-b', dest='bond', action='store_true',
+                        help='stay alive and delete the model when this program is stopped')
+    return parser
+
+
+def parse_args(argv):
+    """Parses the arguments (without the program name); -J positions become floats."""
+    args = build_parser().parse_args(argv)
+    if not args.model:
+        raise SpawnError('-model needs a non-empty name')
+    joints = []
+    for name, position in args.joints:
+        try:
+            value = float(position)
+        except ValueError:
+            raise SpawnError('-J %s: joint position %r is not a number' % (name, position))
+        if not math.isfinite(value):
+            raise SpawnError('-J %s: joint position %r is not finite' % (name, position))
+        joints.append((name, value))
+    args.joints = joints
+    for name in ('x', 'y', 'z', 'R', 'P', 'Y'):
+        if not math.isfinite(getattr(args, name)):
+            raise SpawnError('-%s must be a finite number' % name)
+    return args
+
+
+def model_path(package_models_dir, gazebo_model_path):
+    """Folders -database searches, in order: the package's models/ folder, then GAZEBO_MODEL_PATH.
+
+    The package's folder comes first so that the tutorial's models are always the ones the
+    simulator was built for, whatever else a user's GAZEBO_MODEL_PATH holds.
+    """
+    folders = [package_models_dir]
+    for folder in (gazebo_model_path or '').split(':'):
+        if folder and folder not in folders:
+            folders.append(folder)
+    return folders
+
+
+def _version_key(version):
+    try:
+        return tuple(int(part) for part in version.split('.'))
+    except ValueError:
+        return ()
+
+
+def _sdf_file_of(model_dir):
+    """The model's SDF file: the newest <sdf> named by model.config, else model.sdf."""
+    config = os.path.join(model_dir, 'model.config')
+    if os.path.isfile(config):
+        try:
+            entries = ET.parse(config).getroot().findall('sdf')
+        except ET.ParseError:
+            entries = []
+        named = [(e.get('version', ''), e.text.strip()) for e in entries if e.text and e.text.strip()]
+        if named:
+            newest = max(named, key=lambda entry: _version_key(entry[0]))[1]
+            return os.path.join(model_dir, newest)
+    return os.path.join(model_dir, 'model.sdf')
+
+
+def find_database_model(name, folders):
+    """Path of NAME's SDF file in the first folder that holds NAME/; SpawnError naming the folders
+    searched when none does."""
+    if not name or '/' in name or name in ('.', '..'):
+        raise SpawnError('-database needs a model folder name, got %r' % name)
+    for folder in folders:
+        model_dir = os.path.join(folder, name)
+        if os.path.isdir(model_dir):
+            sdf = _sdf_file_of(model_dir)
+            if os.path.isfile(sdf):
+                return sdf
+    raise SpawnError('model %r not found in the model path: no %s/model.sdf in %s '
+                     '(add its parent folder to GAZEBO_MODEL_PATH, colon-separated)'
+                     % (name, name, ', '.join(folders)))
+
+
+def read_file(path):
+    """The text of a model file; relative paths are relative to the current directory."""
+    absolute = os.path.abspath(path)
+    if not os.path.exists(absolute):
+        raise SpawnError('file %s does not exist (looked for %s)' % (path, absolute))
+    if not os.path.isfile(absolute):
+        raise SpawnError('%s is not a file' % absolute)
+    try:
+        with open(absolute, encoding='utf-8') as f:
+            return f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise SpawnError('cannot read %s: %s' % (absolute, e))
+
+
+def check_model_xml(xml, source):
+    """Refuses empty or malformed XML before it reaches the simulator, naming where it came from."""
+    if not xml or not xml.strip():
+        raise SpawnError('%s is empty' % source)
+    try:
+        ET.fromstring(xml)
+    except ET.ParseError as e:
+        raise SpawnError('%s is not well-formed XML: %s' % (source, e))
+    return xml
+
+
+def load_local_model_xml(args, folders, stdin):
+    """The checked model XML from -file, -database or -stdin; None for -param (needs the master)."""
+    if args.file is not None:
+        return check_model_xml(read_file(args.file), 'file %s' % args.file)
+    if args.database is not None:
+        path = find_database_model(args.database, folders)
+        return check_model_xml(read_file(path), 'model file %s' % path)
+    if args.stdin:
+        return check_model_xml(stdin.read(), 'the model XML read from stdin')
+    return None
+
+
+def quaternion_from_rpy(roll, pitch, yaw):
+    """(x, y, z, w) of the rotation Rz(yaw) * Ry(pitch) * Rx(roll), as gazebo_ros' spawn_model
+    computes it (tf's quaternion_from_euler, static axes sxyz)."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy,
+            cr * cp * cy + sr * sp * sy)
+
+
+def service_name(args, service):
+    """Name of a simulator service in -gazebo_namespace."""
+    return '%s/%s' % (args.gazebo_namespace.rstrip('/'), service)
+
+
+def spawn_service_name(args):
+    return service_name(args, 'spawn_urdf_model' if args.urdf else 'spawn_sdf_model')
