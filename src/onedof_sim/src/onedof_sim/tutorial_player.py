@@ -1,0 +1,249 @@
+"""The main job: plays the tutorial headless on a private ROS graph and writes what a student would
+look at. The steps are the tutorial's: launch the simulator with the robot, run the controller,
+command 1.0 then 2.0, bring the arm upright (0), insert the cafe table at x = 0.85, command 2.5.
+Each phase lasts a fixed span of sim time; the recorder keeps every sample for the plots, the CSV
+and the per-phase figures.
+"""
+import collections
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+
+import yaml
+
+from onedof_sim import tutorial_physics as physics
+from onedof_sim.private_ros import PrivateRos, wait_until
+
+Phase = collections.namedtuple('Phase', 'name command before')
+
+TABLE_X = 0.85
+SPAWN_TABLE = ['rosrun', 'onedof_sim', 'spawn_model', '-database', 'cafe_table', '-sdf',
+               '-model', 'cafe_table', '-x', str(TABLE_X)]
+PHASES = (
+    Phase('command_1.0', 1.0, None),
+    Phase('command_2.0', 2.0, None),
+    Phase('upright_0.0', 0.0, None),
+    Phase('table_2.5', 2.5, SPAWN_TABLE),
+)
+RECORDED_TOPICS = ('pos_cmd', 'jnt_pos', 'jnt_vel', 'jnt_trq')
+
+
+def say(text):
+    print('[tutorial] ' + text, flush=True)
+
+
+class Recorder:
+    """Keeps (sim time, value) of every recorded std_msgs/Float64 topic, stamped on reception."""
+
+    def __init__(self, rospy):
+        from std_msgs.msg import Float64
+        self.rospy = rospy
+        self.samples = {topic: [] for topic in RECORDED_TOPICS}
+        self.subscribers = [rospy.Subscriber('/' + topic, Float64, self._on_sample,
+                                             callback_args=topic, queue_size=1000)
+                            for topic in RECORDED_TOPICS]
+
+    def _on_sample(self, msg, topic):
+        self.samples[topic].append((self.rospy.get_time(), msg.data))
+
+    def between(self, topic, start, end):
+        return [(t, v) for t, v in self.samples[topic] if start <= t < end]
+
+    def series(self, start=-math.inf, end=math.inf, origin=0.0):
+        """{topic: (times since origin, values)} of the samples in [start, end)."""
+        return {topic: ([t - origin for t, _ in samples], [v for _, v in samples])
+                for topic, samples in ((topic, self.between(topic, start, end))
+                                       for topic in RECORDED_TOPICS)}
+
+
+def free_display():
+    for number in range(90, 200):
+        if not os.path.exists('/tmp/.X11-unix/X%d' % number) and \
+                not os.path.exists('/tmp/.X%d-lock' % number):
+            return number
+    raise RuntimeError('no free X display number between :90 and :199')
+
+
+class RvizView:
+    """rviz on the robot with the simulated world's collision markers switched on, on the user's
+    display or on a private Xvfb, and a screenshot of it once the picture stops changing."""
+
+    def __init__(self, ros, work_dir):
+        self.ros = ros
+        self.env = {}
+        if not os.environ.get('DISPLAY'):
+            number = free_display()
+            self.xvfb = ros.start(['Xvfb', ':%d' % number, '-screen', '0', '1000x720x24',
+                                   '-nolisten', 'tcp'], name='xvfb')
+            wait_until(lambda: os.path.exists('/tmp/.X11-unix/X%d' % number), 20,
+                       what='Xvfb on :%d' % number)
+            self.env['DISPLAY'] = ':%d' % number
+        self.display = self.env.get('DISPLAY', os.environ.get('DISPLAY'))
+        self.config = os.path.join(work_dir, 'tutorial.rviz')
+        self._write_config()
+        ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
+                  name='robot_state_publisher')
+        self.rviz = ros.start(['rosrun', 'rviz', 'rviz', '-d', self.config], name='rviz',
+                              env=dict(self.env, LIBGL_ALWAYS_SOFTWARE='1'))
+
+    def _write_config(self):
+        source = subprocess.run(['rospack', 'find', 'minimal_robot_description'],
+                                capture_output=True, text=True, check=True).stdout.strip()
+        with open(os.path.join(source, 'rviz', 'minimal_robot.rviz')) as f:
+            config = yaml.safe_load(f)
+        for display in config['Visualization Manager']['Displays']:
+            if display['Class'] == 'rviz/MarkerArray':
+                display['Enabled'] = display['Value'] = True
+        with open(self.config, 'w') as f:
+            yaml.safe_dump(config, f)
+
+    def _grab(self, path):
+        result = subprocess.run(['import', '-display', self.display, '-window', 'root', path],
+                                capture_output=True, text=True)
+        return result.returncode == 0 and open(path, 'rb').read()
+
+    def screenshot(self, path, timeout=60):
+        """Waits for rviz to subscribe to the markers, then grabs frames until two in a row are
+        the same and not blank (one colour), and keeps that one."""
+        if self.rviz.poll() is not None:
+            raise RuntimeError('rviz exited: ' + self.ros.log_text(self.rviz)[-2000:])
+        wait_until(lambda: self._subscribed('/gazebo/collision_markers'), timeout,
+                   what='rviz to subscribe to /gazebo/collision_markers')
+        previous = [None]
+
+        def stable_frame():
+            frame = self._grab(path)
+            same = frame and frame == previous[0] and not is_blank(path)
+            previous[0] = frame
+            return same
+
+        wait_until(stable_frame, timeout, interval=1.0, what='a steady rviz picture')
+
+    def _subscribed(self, topic):
+        _, _, (publishers, subscribers, _) = self.ros.master().getSystemState('/tutorial')
+        return any(name == topic and any('rviz' in node for node in nodes)
+                   for name, nodes in subscribers)
+
+
+def is_blank(png_path):
+    result = subprocess.run(['identify', '-format', '%k', png_path], capture_output=True,
+                            text=True)
+    return result.returncode != 0 or result.stdout.strip() in ('', '1')
+
+
+def phase_summary(phase, recorder, start, end):
+    positions = recorder.between('jnt_pos', start, end)
+    torques = recorder.between('jnt_trq', start, end)
+    if len(positions) < 2 or len(torques) < 2:
+        raise RuntimeError('phase %s recorded %d positions and %d torques: is the controller '
+                           'running?' % (phase.name, len(positions), len(torques)))
+    start_value = positions[0][1]
+    metrics = physics.step_metrics([t for t, _ in positions], [q for _, q in positions],
+                                   [u for _, u in torques], start_value)
+    if phase.before is SPAWN_TABLE:
+        predicted = physics.table_contact_angle(TABLE_X)
+        edge_x, edge_z = physics.table_edge(TABLE_X)
+        metrics['met_table'] = 'edge at x = %.3f m, z = %.3f m' % (edge_x, edge_z)
+        # At rest on the table the rate is 0: the torque is Kp times the remaining error.
+        metrics['predicted_torque'] = physics.KP * (phase.command - metrics['settled'])
+    else:
+        predicted = physics.settled_angle(phase.command)
+        metrics['met_table'] = ''
+        metrics['predicted_torque'] = -physics.gravity_torque(predicted)
+    metrics.update(name=phase.name, command=phase.command, predicted=predicted,
+                   samples=len(positions))
+    return metrics
+
+
+SUMMARY_COLUMNS = (
+    ('phase', 'name', '%s'), ('command (rad)', 'command', '%.2f'),
+    ('settled (rad)', 'settled', '%.4f'), ('predicted (rad)', 'predicted', '%.4f'),
+    ('overshoot (rad)', 'overshoot', '%.4f'), ('settling time (s)', 'settling_time', '%.2f'),
+    ('holding torque (N m)', 'holding_torque', '%.3f'),
+    ('predicted torque (N m)', 'predicted_torque', '%.3f'), ('met the table', 'met_table', '%s'))
+
+
+def summary_markdown(rows, physics_engine):
+    lines = ['# Tutorial summary (%s engine)' % physics_engine, '',
+             'Predicted: where Kp (c - q) + m g d sin q = 0; with the table, the angle at which '
+             'the link\'s side meets the table edge. Settling: within 0.02 rad of the settled '
+             'angle. Times are sim time.', '',
+             '| ' + ' | '.join(title for title, _, _ in SUMMARY_COLUMNS) + ' |',
+             '|' + '---|' * len(SUMMARY_COLUMNS)]
+    for row in rows:
+        lines.append('| ' + ' | '.join(fmt % row[key] for _, key, fmt in SUMMARY_COLUMNS) + ' |')
+    return '\n'.join(lines) + '\n'
+
+
+def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
+    """Plays the tutorial; returns the per-phase summary rows. Raises with the reason on failure."""
+    from onedof_sim import plot
+    os.makedirs(output, exist_ok=True)
+    log_dir = os.path.join(output, 'logs')
+    shutil.rmtree(log_dir, ignore_errors=True)
+    wall_start = time.monotonic()
+    with PrivateRos(log_dir=log_dir) as ros:
+        say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
+        say('roslaunch minimal_robot_description minimal_robot_description.launch physics:=%s'
+            % physics_engine)
+        ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
+                   'physics:=' + physics_engine], name='launch_simulator')
+        os.environ.update(ros.env)
+        import rospy
+        rospy.init_node('tutorial_player', disable_signals=True)
+        from onedof_sim.srv import GetModelState
+        rospy.wait_for_service('/gazebo/get_model_state', timeout=60)
+        model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+        wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
+                   what='one_DOF_robot to be spawned')
+        rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
+        say('rosrun minimal_joint_controller minimal_joint_controller')
+        recorder = Recorder(rospy)
+        ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
+                  name='controller')
+        wait_until(lambda: recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
+
+        from std_msgs.msg import Float64
+        pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+        rows = []
+        for phase in PHASES:
+            if phase.before:
+                say(' '.join(phase.before))
+                result = ros.run(phase.before)
+                if result.returncode != 0:
+                    raise RuntimeError('%s failed:\n%s%s' % (' '.join(phase.before),
+                                                            result.stdout, result.stderr))
+            say('rostopic pub pos_cmd std_msgs/Float64 %.1f   (%.0f s of sim time)'
+                % (phase.command, phase_duration))
+            start = rospy.get_time()
+            pos_cmd.publish(Float64(phase.command))
+            end = start + phase_duration
+            wait_until(lambda: rospy.get_time() >= end, phase_duration * 20 + 30,
+                       what='%.0f s of sim time' % phase_duration)
+            row = phase_summary(phase, recorder, start, end)
+            say('  settled at %.4f rad (predicted %.4f), holding %.3f N m'
+                % (row['settled'], row['predicted'], row['holding_torque']))
+            rows.append(row)
+            plot.write_figure(
+                recorder.series(start, end, origin=start),
+                os.path.join(output, 'phase%d_%s.png' % (len(rows), phase.name)),
+                title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
+                xlabel='sim time since the command (s)')
+        if rviz:
+            say('rviz screenshot of the final pose, table display on')
+            rviz.screenshot(os.path.join(output, 'rviz_final.png'))
+        t0 = recorder.samples['jnt_pos'][0][0]
+        plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
+        plot.write_figure(recorder.series(origin=t0), os.path.join(output, 'tutorial.png'),
+                          title='The whole tutorial (%s)' % physics_engine,
+                          xlabel='sim time (s)')
+        rospy.signal_shutdown('tutorial finished')
+    summary = summary_markdown(rows, physics_engine)
+    with open(os.path.join(output, 'summary.md'), 'w') as f:
+        f.write(summary)
+    print(summary)
+    say('done in %.1f s of wall time; outputs in %s' % (time.monotonic() - wall_start, output))
+    return rows

@@ -1,0 +1,63 @@
+import math
+
+import pytest
+
+from onedof_sim import tutorial_physics as tp
+
+
+@pytest.mark.parametrize('command', [0.3, 1.0, 2.0, 2.5, -1.0])
+def test_settled_angle_balances_gravity(command):
+    q = tp.settled_angle(command)
+    assert tp.KP * (command - q) + tp.gravity_torque(q) == pytest.approx(0, abs=1e-9)
+
+
+def test_low_gain_droops_past_the_command():
+    assert tp.settled_angle(1.0) > 1.0
+    assert tp.settled_angle(2.0) > 2.0
+    assert tp.settled_angle(2.0) == pytest.approx(2.35, abs=0.01)  # "hangs near 2.35"
+
+
+def test_pendulum_period():
+    assert tp.pendulum_period() == pytest.approx(2 * math.pi * math.sqrt(0.35 / 4.9))
+
+
+def test_table_contact_angle_puts_the_edge_one_radius_from_the_axis():
+    q = tp.table_contact_angle(0.85)
+    edge_x, edge_z = tp.table_edge(0.85)
+    assert edge_x == pytest.approx(0.3935)
+    # Distance from the edge to the link's axis line through the joint.
+    ax, az = math.sin(q), math.cos(q)
+    rx, rz = edge_x, edge_z - tp.JOINT_HEIGHT
+    along = rx * ax + rz * az
+    assert math.hypot(rx - along * ax, rz - along * az) == pytest.approx(tp.LINK_RADIUS)
+    assert 0 < along < tp.LINK_LENGTH
+    # Short of the command 2.5, and of where it would hang without the table (2.35 for 2.0).
+    assert 1.8 < q < 1.9
+
+
+def test_table_out_of_reach_is_an_error():
+    with pytest.raises(ValueError, match='out of the link'):
+        tp.table_contact_angle(3.0)
+
+
+def test_step_metrics_of_a_damped_response():
+    times = [i * 0.01 for i in range(1001)]
+    # Second-order step from 0 to 1 with overshoot exp(-zeta pi / sqrt(1 - zeta^2)).
+    zeta, wn = 0.3, 5.0
+    wd = wn * math.sqrt(1 - zeta ** 2)
+    q = [1 - math.exp(-zeta * wn * t) * (math.cos(wd * t) + zeta * wn / wd * math.sin(wd * t))
+         for t in times]
+    m = tp.step_metrics(times, q, [2.0] * len(times), start_value=0.0)
+    assert m['settled'] == pytest.approx(1.0, abs=1e-4)
+    assert m['overshoot'] == pytest.approx(math.exp(-zeta * math.pi / math.sqrt(1 - zeta ** 2)),
+                                           rel=1e-3)
+    assert m['holding_torque'] == 2.0
+    # Envelope exp(-zeta wn t) / sqrt(1 - zeta^2) falls under 0.02 near t = 2.7 s.
+    assert 2.0 < m['settling_time'] < 2.8
+
+
+def test_step_metrics_downward_step():
+    times = [0, 1, 2, 3]
+    m = tp.step_metrics(times, [2.0, -0.2, 0.0, 0.0], [0, 0, 0, 0], start_value=2.0, window=1)
+    assert m['settled'] == 0.0
+    assert m['overshoot'] == pytest.approx(0.2)
