@@ -1,0 +1,483 @@
+"""rqt_plot's job without Qt: plot numeric fields of ROS topics against ROS time, live or headless.
+
+Field specs use rqt_plot's syntax: `/topic/field/sub`, `field[i]` for an array element
+(`/joint_states/position[0]`), `/topic/a:b` for several fields of one topic, and several specs in one
+argument separated by commas. The topic part is the longest published topic that prefixes the spec.
+
+The pure part (parsing, field resolution, the bounded sample buffer, CSV and figure writing) is
+usable on its own: write_png() and write_csv() take {label: (times, values)}.
+
+CSV format (wide): a header `time,<label>,<label>...`, then one row per received message in time
+order; a row holds the values of the fields of the topic that sent it and leaves the other columns
+empty. Fields of one topic share rows. Time is in seconds of ROS time (sim time under
+/use_sim_time) relative to the first sample: the message's header stamp when it has a nonzero one,
+else the ROS time at reception.
+"""
+import argparse
+import collections
+import csv
+import math
+import os
+import re
+import sys
+import threading
+import time
+
+import roslib.message
+
+# Field types that plot as a number; time and duration plot as seconds.
+NUMERIC_TYPES = frozenset(('bool', 'byte', 'char', 'int8', 'uint8', 'int16', 'uint16', 'int32',
+                           'uint32', 'int64', 'uint64', 'float32', 'float64'))
+TIME_TYPES = frozenset(('time', 'duration'))
+# Samples kept per field: at 100 Hz, about 17 minutes; older samples are dropped first.
+DEFAULT_BUFFER_LENGTH = 100000
+
+_PATH_PART = re.compile(r'^([A-Za-z_][A-Za-z0-9_]*)(?:\[(\d+)\])?$')
+_ARRAY_TYPE = re.compile(r'^(.*)\[(\d*)\]$')
+
+
+class _TimeFields:
+    """Stands in for a message class in field_accessor: a time or duration plots as seconds, or
+    through its secs and nsecs fields."""
+
+    def __init__(self, type_name, secs_type):
+        self._type = type_name
+        self.__slots__ = ('secs', 'nsecs')
+        self._slot_types = (secs_type, 'int32')
+
+
+_TIME_FIELDS = {'time': _TimeFields('time', 'uint32'), 'duration': _TimeFields('duration', 'int32')}
+
+
+class PlotError(Exception):
+    """A problem the user must fix (bad spec, unknown topic or field, no data); the message says
+    which."""
+
+
+def expand_specs(args):
+    """rqt_plot's shorthand expanded: 'a,b' is two specs and '/t/x:y:z' is /t/x, /t/y, /t/z."""
+    specs = []
+    for arg in args:
+        for spec in (s for s in arg.split(',') if s):
+            if ':' not in spec:
+                specs.append(spec)
+                continue
+            first, *more = spec.split(':')
+            if '/' not in first:
+                raise PlotError("'%s': the part before ':' must be topic/field" % spec)
+            base = first[:first.rfind('/') + 1]
+            specs.append(first)
+            for field in more:
+                if not field:
+                    raise PlotError("'%s': empty field name after ':'" % spec)
+                specs.append(base + field)
+    return specs
+
+
+def split_topic_field(spec, topics):
+    """(topic, field path) for the longest topic among `topics` that prefixes `spec`; None if no
+    topic does. `spec` and the topics are resolved (absolute) names."""
+    best = None
+    for topic in topics:
+        if spec == topic or spec.startswith(topic.rstrip('/') + '/'):
+            if best is None or len(topic) > len(best):
+                best = topic
+    if best is None:
+        return None
+    return best, spec[len(best):].strip('/')
+
+
+def parse_field_path(path):
+    """'pose[0]/position/x' -> [('pose', 0), ('position', None), ('x', None)]."""
+    if not path:
+        return []
+    parts = []
+    for part in path.split('/'):
+        match = _PATH_PART.match(part)
+        if not match:
+            raise PlotError("bad field '%s' in '%s': expected name or name[index]" % (part, path))
+        parts.append((match.group(1), None if match.group(2) is None else int(match.group(2))))
+    return parts
+
+
+def _element_type(slot_type):
+    """('float64', True) for 'float64[]' or 'float64[3]', (slot_type, False) otherwise."""
+    match = _ARRAY_TYPE.match(slot_type)
+    return (match.group(1), True) if match else (slot_type, False)
+
+
+def _fields_of(msg_class):
+    return ', '.join(msg_class.__slots__) or '(none)'
+
+
+def field_accessor(msg_class, path, message_class=roslib.message.get_message_class):
+    """A function msg -> float reading the field `path` of messages of `msg_class`.
+
+    The path is checked against the message definition first: a PlotError names an unknown field
+    and the valid ones, a missing or extra index, or a field that is not a number. Reading an array
+    element that a message does not have raises IndexError.
+    """
+    steps = []
+    current = msg_class
+    current_type = msg_class._type
+    parts = parse_field_path(path)
+    if not parts:
+        raise PlotError('%s is a message: pick one of its fields: %s'
+                        % (current_type, _fields_of(current)))
+    for depth, (name, index) in enumerate(parts):
+        last = depth == len(parts) - 1
+        if current is None:
+            raise PlotError("'%s' has no field '%s': it is a %s" % (
+                '/'.join(p for p, _ in parts[:depth]), name, current_type))
+        if name not in current.__slots__:
+            raise PlotError("%s has no field '%s'; its fields: %s"
+                            % (current_type, name, _fields_of(current)))
+        slot_type, is_array = _element_type(current._slot_types[current.__slots__.index(name)])
+        if index is not None and not is_array:
+            raise PlotError("field '%s' of %s is a %s, not an array: drop [%d]"
+                            % (name, current_type, slot_type, index))
+        if is_array and index is None:
+            raise PlotError("field '%s' of %s is an array of %s: pick an element, e.g. %s[0]"
+                            % (name, current_type, slot_type, name))
+        steps.append((name, index))
+        if slot_type in NUMERIC_TYPES:
+            current, current_type = None, slot_type
+        elif slot_type in TIME_TYPES:
+            current, current_type = _TIME_FIELDS[slot_type], slot_type
+        elif slot_type == 'string':
+            raise PlotError("field '%s' of %s is a string, not a number" % (name, current_type))
+        else:
+            current = message_class(slot_type)
+            current_type = slot_type
+            if current is None:
+                raise PlotError("cannot load message type %s (field '%s')" % (slot_type, name))
+            if last:
+                raise PlotError("field '%s' is a %s: pick one of its fields: %s"
+                                % (name, slot_type, _fields_of(current)))
+    if current_type not in NUMERIC_TYPES and current_type not in TIME_TYPES:
+        raise PlotError("'%s' is a %s, not a number" % (path, current_type))
+
+    def read(msg):
+        value = msg
+        for name, index in steps:
+            value = getattr(value, name)
+            if index is not None:
+                value = value[index]
+        if hasattr(value, 'to_sec'):
+            return value.to_sec()
+        return float(value)
+    return read
+
+
+def header_stamp(msg):
+    """The message's header stamp in seconds, or None when it has no header or a zero stamp."""
+    if not getattr(msg, '_has_header', False):
+        return None
+    stamp = msg.header.stamp
+    if stamp.is_zero():
+        return None
+    return stamp.to_sec()
+
+
+class SampleBuffer:
+    """Thread-safe (time, value) samples per label, at most `maxlen` per label (oldest dropped),
+    so memory stays bounded however long it runs."""
+
+    def __init__(self, labels, maxlen=DEFAULT_BUFFER_LENGTH):
+        if maxlen < 1:
+            raise ValueError('maxlen must be >= 1')
+        self._lock = threading.Lock()
+        self._samples = {label: collections.deque(maxlen=maxlen) for label in labels}
+        self._origin = None
+
+    def append(self, label, t, value):
+        with self._lock:
+            if self._origin is None:
+                self._origin = t
+            self._samples[label].append((t, value))
+
+    def count(self, label):
+        with self._lock:
+            return len(self._samples[label])
+
+    def series(self):
+        """{label: (times, values)}, times relative to the first sample ever appended."""
+        with self._lock:
+            origin = self._origin or 0.0
+            return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
+                    for label, samples in self._samples.items()}
+
+
+def write_csv(path, series):
+    """Writes {label: (times, values)} as a wide CSV (see the module docstring)."""
+    rows = collections.defaultdict(dict)
+    for label, (times, values) in series.items():
+        seen = collections.Counter()
+        for t, value in zip(times, values):
+            # A repeated time within one series gets its own row (the k-th sample at time t).
+            rows[(t, seen[t])][label] = value
+            seen[t] += 1
+    labels = list(series)
+    with open(path, 'w', newline='') as f:
+        writer = csv.writer(f)
+        writer.writerow(['time'] + labels)
+        for t, occurrence in sorted(rows):
+            row = rows[(t, occurrence)]
+            writer.writerow([repr(t)] + [repr(row[label]) if label in row else ''
+                                         for label in labels])
+
+
+def read_csv(path):
+    """The {label: (times, values)} that write_csv wrote."""
+    with open(path, newline='') as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        if not header or header[0] != 'time':
+            raise ValueError('%s: not a plot CSV (first column must be time)' % path)
+        series = {label: ([], []) for label in header[1:]}
+        for row in reader:
+            t = float(row[0])
+            for label, cell in zip(header[1:], row[1:]):
+                if cell != '':
+                    series[label][0].append(t)
+                    series[label][1].append(float(cell))
+    return series
+
+
+def _draw_series(ax, series, title=None, ylabel=None):
+    lines = {label: ax.plot(times, values, label=label)[0]
+             for label, (times, values) in series.items()}
+    ax.set_xlabel('time [s]')
+    if ylabel:
+        ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title)
+    ax.grid(True)
+    if series:
+        ax.legend(loc='best')
+    return lines
+
+
+def make_figure(series, title=None, ylabel=None, size=(10, 6)):
+    """A matplotlib Figure of {label: (times, values)}, one line per label, independent of pyplot
+    (so saving it works on any backend, headless included)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    figure = Figure(figsize=size)
+    FigureCanvasAgg(figure)
+    _draw_series(figure.add_subplot(1, 1, 1), series, title, ylabel)
+    figure.tight_layout()
+    return figure
+
+
+def write_png(path, series, title=None, ylabel=None):
+    """Writes the figure of {label: (times, values)} to `path` (format from its extension)."""
+    make_figure(series, title, ylabel).savefig(path, dpi=100)
+
+
+# ---- ROS side: find the topics, subscribe, record or show ----
+
+class TopicRecorder:
+    """Subscribes to the topics of the given resolved specs and buffers their fields' values."""
+
+    def __init__(self, specs, buffer_length=DEFAULT_BUFFER_LENGTH, timeout=10.0):
+        self.specs = specs
+        self.buffer = SampleBuffer(specs, buffer_length)
+        self.message_counts = collections.Counter()
+        self._fields = self._resolve(specs, timeout)  # topic -> [(label, read)]
+        self._missing_index = set()
+        self._subscribers = []
+
+    @staticmethod
+    def _resolve(specs, timeout):
+        import rosgraph
+        import rospy
+        master = rosgraph.Master(rospy.get_name())
+        deadline = time.monotonic() + timeout
+        while True:
+            types = dict(master.getPublishedTopics('/'))
+            splits = {spec: split_topic_field(spec, types) for spec in specs}
+            unmatched = [spec for spec, split in splits.items() if split is None]
+            if not unmatched:
+                break
+            if time.monotonic() > deadline or rospy.is_shutdown():
+                raise PlotError('no published topic matches %s (waited %g s; published: %s)' % (
+                    ', '.join(unmatched), timeout, ', '.join(sorted(types)) or 'none'))
+            time.sleep(0.1)
+        fields = collections.defaultdict(list)
+        for spec, (topic, path) in splits.items():
+            msg_class = roslib.message.get_message_class(types[topic])
+            if msg_class is None:
+                raise PlotError('%s: cannot load message type %s of %s'
+                                % (spec, types[topic], topic))
+            try:
+                read = field_accessor(msg_class, path)
+            except PlotError as error:
+                raise PlotError('%s: %s' % (spec, error)) from None
+            fields[topic].append((spec, read, msg_class))
+        return fields
+
+    def start(self):
+        import rospy
+        for topic, fields in self._fields.items():
+            self._subscribers.append(rospy.Subscriber(
+                topic, fields[0][2], self._on_message, callback_args=topic, queue_size=100))
+
+    def stop(self):
+        for subscriber in self._subscribers:
+            subscriber.unregister()
+        self._subscribers = []
+
+    def _on_message(self, msg, topic):
+        import rospy
+        t = header_stamp(msg)
+        if t is None:
+            t = rospy.get_rostime().to_sec()
+        self.message_counts[topic] += 1
+        for label, read, _ in self._fields[topic]:
+            try:
+                value = read(msg)
+            except IndexError:
+                if label not in self._missing_index:
+                    self._missing_index.add(label)
+                    rospy.logwarn('%s: a message on %s has no such element; skipping those',
+                                  label, topic)
+                continue
+            self.buffer.append(label, t, value)
+
+    def check_received(self, duration):
+        """PlotError naming every topic that sent nothing and every field that got no sample."""
+        problems = ['no message on %s in %g s' % (topic, duration)
+                    for topic in self._fields if not self.message_counts[topic]]
+        problems += ['%s: no message on %s had that element' % (label, topic)
+                     for topic, fields in self._fields.items() if self.message_counts[topic]
+                     for label, _, _ in fields if not self.buffer.count(label)]
+        if problems:
+            raise PlotError('; '.join(problems))
+
+
+def _wait_for_ros_time(timeout):
+    """The current ROS time in seconds once it is nonzero (under sim time: the first /clock)."""
+    import rospy
+    deadline = time.monotonic() + timeout
+    while True:
+        now = rospy.get_rostime()
+        if not now.is_zero():
+            return now.to_sec()
+        if time.monotonic() > deadline:
+            raise PlotError('ROS time is 0 after %g s: /use_sim_time is set but nothing '
+                            'publishes /clock' % timeout)
+        time.sleep(0.01)
+
+
+def record(recorder, duration, timeout):
+    """Records `duration` seconds of ROS time; PlotError if ROS time stalls for `timeout` s."""
+    import rospy
+    start = _wait_for_ros_time(timeout)
+    recorder.start()
+    last_time, last_progress = start, time.monotonic()
+    while not rospy.is_shutdown():
+        now = rospy.get_rostime().to_sec()
+        if now - start >= duration:
+            break
+        if now != last_time:
+            last_time, last_progress = now, time.monotonic()
+        elif time.monotonic() - last_progress > timeout:
+            recorder.stop()
+            raise PlotError('ROS time stopped at %.3f s for %g s (is /clock still published?)'
+                            % (now, timeout))
+        time.sleep(0.01)
+    recorder.stop()
+    recorder.check_received(duration)
+
+
+def show_live(recorder, refresh_hz=10.0):
+    """A window redrawn at `refresh_hz` until it is closed."""
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation
+    if plt.get_backend().lower() in ('agg', 'pdf', 'ps', 'svg', 'cairo', 'template'):
+        raise PlotError('matplotlib has no interactive backend here (%s): record headless with '
+                        '--duration S --png F --csv F' % plt.get_backend())
+    figure, ax = plt.subplots(figsize=(10, 6))
+    figure.canvas.manager.set_window_title('onedof_sim plot')
+    lines = _draw_series(ax, {label: ([], []) for label in recorder.specs})
+
+    def update(_frame):
+        for label, (times, values) in recorder.buffer.series().items():
+            lines[label].set_data(times, values)
+        ax.relim()
+        ax.autoscale_view()
+        return list(lines.values())
+
+    recorder.start()
+    animation = FuncAnimation(figure, update, interval=1000.0 / refresh_hz,
+                              cache_frame_data=False)
+    plt.show()
+    del animation
+    recorder.stop()
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(
+        prog='rosrun onedof_sim plot',
+        description="Plots numeric fields of ROS topics against ROS time, in place of rqt_plot. "
+                    "Without --png/--csv it opens a live window; with them it records "
+                    "--duration seconds of ROS time headless and writes the files.",
+        epilog='example: rosrun onedof_sim plot /jnt_pos/data /jnt_trq/data /jnt_vel/data')
+    parser.add_argument('fields', nargs='+', metavar='TOPIC/FIELD',
+                        help="rqt_plot syntax: /topic/field, /topic/array[i], /topic/a:b")
+    parser.add_argument('--duration', type=float, metavar='S',
+                        help='record S seconds of ROS time (required with --png/--csv)')
+    parser.add_argument('--png', metavar='F', help='write the figure to F (headless)')
+    parser.add_argument('--csv', metavar='F', help='write the samples to F (headless)')
+    parser.add_argument('--title', help='figure title')
+    parser.add_argument('--timeout', type=float, default=10.0, metavar='T',
+                        help='wall seconds to wait for topics to appear and for ROS time to move '
+                             '(default %(default)s)')
+    parser.add_argument('--buffer', type=int, default=DEFAULT_BUFFER_LENGTH, metavar='N',
+                        help='samples kept per field, oldest dropped (default %(default)s)')
+    args = parser.parse_args(argv)
+    headless = args.png is not None or args.csv is not None
+    if headless and (args.duration is None or not args.duration > 0):
+        parser.error('--png/--csv record headless: give --duration S (S > 0)')
+    if args.duration is not None and not headless:
+        parser.error('--duration records headless: give --png F and/or --csv F')
+    if not args.timeout > 0 or args.buffer < 1:
+        parser.error('--timeout must be > 0 and --buffer >= 1')
+    return args, headless
+
+
+def main(argv=None):
+    import rospy
+    argv = rospy.myargv(sys.argv if argv is None else argv)[1:]
+    args, headless = parse_args(argv)
+    if headless:
+        import matplotlib
+        matplotlib.use('Agg')
+    elif not (os.environ.get('DISPLAY') or os.environ.get('WAYLAND_DISPLAY')):
+        sys.stderr.write('plot: no display: record headless with --duration S --png F --csv F\n')
+        return 2
+    rospy.init_node('plot', anonymous=True, disable_signals=True)
+    try:
+        specs = [rospy.resolve_name(spec) for spec in expand_specs(args.fields)]
+        recorder = TopicRecorder(specs, args.buffer, args.timeout)
+        if not headless:
+            show_live(recorder)
+            return 0
+        record(recorder, args.duration, args.timeout)
+        series = recorder.buffer.series()
+        if args.png:
+            write_png(args.png, series, title=args.title)
+        if args.csv:
+            write_csv(args.csv, series)
+        print('plot: %s samples of %s over %g s of ROS time -> %s' % (
+            sum(len(t) for t, _ in series.values()), ', '.join(specs), args.duration,
+            ', '.join(f for f in (args.png, args.csv) if f)))
+        return 0
+    except PlotError as error:
+        sys.stderr.write('plot: error: %s\n' % error)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+    finally:
+        rospy.signal_shutdown('plot finished')

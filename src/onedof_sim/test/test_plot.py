@@ -1,0 +1,193 @@
+"""Unit tests of the plot logic (no ROS graph needed)."""
+import csv
+import math
+
+import genpy
+import pytest
+from geometry_msgs.msg import PoseArray, PoseStamped
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Bool, Float64, Header
+
+from onedof_sim.plot import (PlotError, SampleBuffer, expand_specs, field_accessor, header_stamp,
+                             make_figure, parse_args, parse_field_path, read_csv,
+                             split_topic_field, write_csv, write_png)
+
+
+def test_expand_specs_keeps_plain_specs():
+    assert expand_specs(['/jnt_pos/data', '/jnt_trq/data']) == ['/jnt_pos/data', '/jnt_trq/data']
+
+
+def test_expand_specs_colon_gives_several_fields_of_one_topic():
+    assert expand_specs(['/pose/position/x:y:z']) == [
+        '/pose/position/x', '/pose/position/y', '/pose/position/z']
+    assert expand_specs(['/joint_states/position[0]:velocity[0]']) == [
+        '/joint_states/position[0]', '/joint_states/velocity[0]']
+
+
+def test_expand_specs_comma_separates_specs():
+    assert expand_specs(['/a/data,/b/data', '/c/x']) == ['/a/data', '/b/data', '/c/x']
+
+
+@pytest.mark.parametrize('bad', ['data:x', '/t/a:'])
+def test_expand_specs_rejects_malformed_colon_shorthand(bad):
+    with pytest.raises(PlotError, match='topic/field|empty field'):
+        expand_specs([bad])
+
+
+def test_split_takes_the_longest_published_topic_prefix():
+    topics = ['/gazebo', '/gazebo/link_states', '/jnt_pos']
+    assert split_topic_field('/gazebo/link_states/pose[1]/position/z', topics) == (
+        '/gazebo/link_states', 'pose[1]/position/z')
+    assert split_topic_field('/jnt_pos/data', topics) == ('/jnt_pos', 'data')
+    assert split_topic_field('/jnt_pos', topics) == ('/jnt_pos', '')
+
+
+def test_split_needs_a_whole_name_component():
+    assert split_topic_field('/jnt_position/data', ['/jnt_pos']) is None
+    assert split_topic_field('/other/data', ['/jnt_pos']) is None
+
+
+def test_parse_field_path():
+    assert parse_field_path('pose[12]/position/x') == [('pose', 12), ('position', None),
+                                                       ('x', None)]
+    assert parse_field_path('') == []
+
+
+@pytest.mark.parametrize('bad', ['pose[]', 'pose[-1]', 'a//b', '1abc', 'pose[0]x'])
+def test_parse_field_path_rejects_bad_syntax(bad):
+    with pytest.raises(PlotError, match='bad field'):
+        parse_field_path(bad)
+
+
+def test_accessor_reads_scalars_array_elements_and_nested_fields():
+    assert field_accessor(Float64, 'data')(Float64(2.5)) == 2.5
+    state = JointState(name=['a', 'b'], position=[0.1, -0.7], velocity=[3.0, 4.0])
+    assert field_accessor(JointState, 'position[1]')(state) == -0.7
+    assert field_accessor(JointState, 'velocity[0]')(state) == 3.0
+    pose = PoseStamped()
+    pose.pose.position.z = 1.25
+    assert field_accessor(PoseStamped, 'pose/position/z')(pose) == 1.25
+    poses = PoseArray(poses=[PoseStamped().pose, pose.pose])
+    assert field_accessor(PoseArray, 'poses[1]/position/z')(poses) == 1.25
+    assert field_accessor(Bool, 'data')(Bool(True)) == 1.0
+
+
+def test_accessor_reads_times_as_seconds_or_through_secs():
+    clock = Clock(clock=genpy.Time(3, 500000000))
+    assert field_accessor(Clock, 'clock')(clock) == 3.5
+    assert field_accessor(Clock, 'clock/nsecs')(clock) == 500000000
+    state = JointState(header=Header(stamp=genpy.Time(7, 0)))
+    assert field_accessor(JointState, 'header/stamp')(state) == 7.0
+
+
+def test_unknown_field_names_it_and_lists_the_valid_ones():
+    with pytest.raises(PlotError) as error:
+        field_accessor(Float64, 'value')
+    assert "'value'" in str(error.value) and 'data' in str(error.value)
+    with pytest.raises(PlotError) as error:
+        field_accessor(JointState, 'positions[0]')
+    message = str(error.value)
+    assert "'positions'" in message
+    for field in ('header', 'name', 'position', 'velocity', 'effort'):
+        assert field in message
+    with pytest.raises(PlotError, match="'w'.*x, y, z"):
+        field_accessor(PoseStamped, 'pose/position/w')
+
+
+@pytest.mark.parametrize('msg_class, path, pattern', [
+    (JointState, 'position', r'array of float64: pick an element, e\.g\. position\[0\]'),
+    (Float64, 'data[0]', 'not an array'),
+    (JointState, 'name[0]', 'string, not a number'),
+    (PoseStamped, 'pose/position', 'pick one of its fields: x, y, z'),
+    (Float64, '', 'is a message: pick one of its fields: data'),
+    (Float64, 'data/x', "has no field 'x'"),
+])
+def test_unplottable_paths_are_refused_with_a_reason(msg_class, path, pattern):
+    with pytest.raises(PlotError, match=pattern):
+        field_accessor(msg_class, path)
+
+
+def test_accessor_raises_index_error_on_a_message_without_that_element():
+    with pytest.raises(IndexError):
+        field_accessor(JointState, 'position[2]')(JointState(position=[1.0]))
+
+
+def test_header_stamp():
+    assert header_stamp(Float64(1.0)) is None
+    assert header_stamp(JointState()) is None  # zero stamp: use reception time
+    assert header_stamp(JointState(header=Header(stamp=genpy.Time(2, 250000000)))) == 2.25
+
+
+def test_buffer_times_are_relative_to_the_first_sample_of_any_label():
+    buffer = SampleBuffer(['a', 'b'])
+    buffer.append('b', 10.0, 1.0)
+    buffer.append('a', 10.5, 2.0)
+    buffer.append('b', 11.0, 3.0)
+    assert buffer.series() == {'a': ([0.5], [2.0]), 'b': ([0.0, 1.0], [1.0, 3.0])}
+    assert buffer.count('b') == 2
+
+
+def test_buffer_is_bounded_and_keeps_the_newest_samples():
+    buffer = SampleBuffer(['a'], maxlen=100)
+    for i in range(10000):
+        buffer.append('a', float(i), float(i) * 2)
+    times, values = buffer.series()['a']
+    assert len(times) == 100
+    assert times[0] == 9900.0 and values[-1] == 19998.0
+
+
+def test_csv_is_wide_with_shared_rows_for_one_topic_and_round_trips_exactly(tmp_path):
+    series = {
+        '/jnt_pos/data': ([0.0, 0.01, 0.02], [0.1, 1.0 / 3.0, math.pi]),
+        '/jnt_vel/data': ([0.0, 0.01, 0.02], [-1e-300, 2.0, 3.0]),
+        '/joint_states/position[0]': ([0.005, 0.015], [0.7, 0.8]),
+    }
+    path = str(tmp_path / 'samples.csv')
+    write_csv(path, series)
+    with open(path, newline='') as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == ['time', '/jnt_pos/data', '/jnt_vel/data', '/joint_states/position[0]']
+    assert [row[0] for row in rows[1:]] == ['0.0', '0.005', '0.01', '0.015', '0.02']
+    assert rows[2] == ['0.005', '', '', '0.7']
+    assert rows[3] == ['0.01', repr(1.0 / 3.0), '2.0', '']
+    assert read_csv(path) == series
+
+
+def test_csv_keeps_samples_that_share_a_time(tmp_path):
+    series = {'a': ([1.0, 1.0, 2.0], [5.0, 6.0, 7.0])}
+    write_csv(str(tmp_path / 's.csv'), series)
+    assert read_csv(str(tmp_path / 's.csv')) == series
+
+
+def test_figure_has_one_line_per_label_with_the_data(tmp_path):
+    series = {'/a/data': ([0.0, 1.0, 2.0], [1.0, 4.0, 9.0]), '/b/data': ([0.5], [-1.0])}
+    figure = make_figure(series, title='phase 1', ylabel='rad')
+    ax = figure.axes[0]
+    assert [line.get_label() for line in ax.lines] == ['/a/data', '/b/data']
+    assert list(ax.lines[0].get_ydata()) == [1.0, 4.0, 9.0]
+    assert ax.get_title() == 'phase 1' and ax.get_xlabel() == 'time [s]'
+
+    png = tmp_path / 'plot.png'
+    write_png(str(png), series, title='phase 1')
+    data = png.read_bytes()
+    assert data[:8] == b'\x89PNG\r\n\x1a\n' and len(data) > 5000
+
+
+@pytest.mark.parametrize('argv, message', [
+    (['/a/data', '--png', 'x.png'], '--duration'),
+    (['/a/data', '--csv', 'x.csv', '--duration', '0'], '--duration'),
+    (['/a/data', '--duration', '3'], '--png'),
+    (['/a/data', '--png', 'x.png', '--duration', '1', '--timeout', '0'], '--timeout'),
+])
+def test_argument_errors(argv, message, capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        parse_args(argv)
+    assert exit_info.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_headless_arguments():
+    args, headless = parse_args(['/a/data:b', '--duration', '2', '--csv', 'x.csv'])
+    assert headless and args.duration == 2.0 and args.fields == ['/a/data:b']
+    assert parse_args(['/a/data'])[1] is False
