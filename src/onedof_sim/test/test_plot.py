@@ -11,7 +11,7 @@ from std_msgs.msg import Bool, Float64, Header
 
 from onedof_sim.plot import (PlotError, SampleBuffer, expand_specs, field_accessor, header_stamp,
                              make_figure, parse_args, parse_field_path, read_csv,
-                             split_topic_field, write_csv, write_png)
+                             split_topic_field, write_csv, write_figure)
 
 
 def test_expand_specs_keeps_plain_specs():
@@ -144,7 +144,7 @@ def test_csv_is_wide_with_shared_rows_for_one_topic_and_round_trips_exactly(tmp_
         '/joint_states/position[0]': ([0.005, 0.015], [0.7, 0.8]),
     }
     path = str(tmp_path / 'samples.csv')
-    write_csv(path, series)
+    write_csv(series, path)
     with open(path, newline='') as f:
         rows = list(csv.reader(f))
     assert rows[0] == ['time', '/jnt_pos/data', '/jnt_vel/data', '/joint_states/position[0]']
@@ -156,7 +156,7 @@ def test_csv_is_wide_with_shared_rows_for_one_topic_and_round_trips_exactly(tmp_
 
 def test_csv_keeps_samples_that_share_a_time(tmp_path):
     series = {'a': ([1.0, 1.0, 2.0], [5.0, 6.0, 7.0])}
-    write_csv(str(tmp_path / 's.csv'), series)
+    write_csv(series, str(tmp_path / 's.csv'))
     assert read_csv(str(tmp_path / 's.csv')) == series
 
 
@@ -166,10 +166,10 @@ def test_figure_has_one_line_per_label_with_the_data(tmp_path):
     ax = figure.axes[0]
     assert [line.get_label() for line in ax.lines] == ['/a/data', '/b/data']
     assert list(ax.lines[0].get_ydata()) == [1.0, 4.0, 9.0]
-    assert ax.get_title() == 'phase 1' and ax.get_xlabel() == 'time [s]'
+    assert ax.get_title() == 'phase 1' and ax.get_xlabel() == 'ROS time since the first sample [s]'
 
     png = tmp_path / 'plot.png'
-    write_png(str(png), series, title='phase 1')
+    write_figure(series, str(png), title='phase 1', xlabel='sim time (s)')
     data = png.read_bytes()
     assert data[:8] == b'\x89PNG\r\n\x1a\n' and len(data) > 5000
 

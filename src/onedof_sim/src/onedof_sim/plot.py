@@ -5,7 +5,7 @@ Field specs use rqt_plot's syntax: `/topic/field/sub`, `field[i]` for an array e
 argument separated by commas. The topic part is the longest published topic that prefixes the spec.
 
 The pure part (parsing, field resolution, the bounded sample buffer, CSV and figure writing) is
-usable on its own: write_png() and write_csv() take {label: (times, values)}.
+usable on its own: write_figure() and write_csv() take {label: (times, values)} and a path.
 
 CSV format (wide): a header `time,<label>,<label>...`, then one row per received message in time
 order; a row holds the values of the fields of the topic that sent it and leaves the other columns
@@ -31,6 +31,7 @@ NUMERIC_TYPES = frozenset(('bool', 'byte', 'char', 'int8', 'uint8', 'int16', 'ui
 TIME_TYPES = frozenset(('time', 'duration'))
 # Samples kept per field: at 100 Hz, about 17 minutes; older samples are dropped first.
 DEFAULT_BUFFER_LENGTH = 100000
+TIME_LABEL = 'ROS time since the first sample [s]'
 
 _PATH_PART = re.compile(r'^([A-Za-z_][A-Za-z0-9_]*)(?:\[(\d+)\])?$')
 _ARRAY_TYPE = re.compile(r'^(.*)\[(\d*)\]$')
@@ -208,7 +209,7 @@ class SampleBuffer:
                     for label, samples in self._samples.items()}
 
 
-def write_csv(path, series):
+def write_csv(series, path):
     """Writes {label: (times, values)} as a wide CSV (see the module docstring)."""
     rows = collections.defaultdict(dict)
     for label, (times, values) in series.items():
@@ -244,10 +245,10 @@ def read_csv(path):
     return series
 
 
-def _draw_series(ax, series, title=None, ylabel=None):
+def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None):
     lines = {label: ax.plot(times, values, label=label)[0]
              for label, (times, values) in series.items()}
-    ax.set_xlabel('time [s]')
+    ax.set_xlabel(xlabel)
     if ylabel:
         ax.set_ylabel(ylabel)
     if title:
@@ -258,21 +259,21 @@ def _draw_series(ax, series, title=None, ylabel=None):
     return lines
 
 
-def make_figure(series, title=None, ylabel=None, size=(10, 6)):
+def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=(10, 6)):
     """A matplotlib Figure of {label: (times, values)}, one line per label, independent of pyplot
     (so saving it works on any backend, headless included)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     figure = Figure(figsize=size)
     FigureCanvasAgg(figure)
-    _draw_series(figure.add_subplot(1, 1, 1), series, title, ylabel)
+    _draw_series(figure.add_subplot(1, 1, 1), series, title, xlabel, ylabel)
     figure.tight_layout()
     return figure
 
 
-def write_png(path, series, title=None, ylabel=None):
+def write_figure(series, path, title=None, xlabel=TIME_LABEL, ylabel=None):
     """Writes the figure of {label: (times, values)} to `path` (format from its extension)."""
-    make_figure(series, title, ylabel).savefig(path, dpi=100)
+    make_figure(series, title, xlabel, ylabel).savefig(path, dpi=100)
 
 
 # ---- ROS side: find the topics, subscribe, record or show ----
@@ -467,9 +468,9 @@ def main(argv=None):
         record(recorder, args.duration, args.timeout)
         series = recorder.buffer.series()
         if args.png:
-            write_png(args.png, series, title=args.title)
+            write_figure(series, args.png, title=args.title)
         if args.csv:
-            write_csv(args.csv, series)
+            write_csv(series, args.csv)
         print('plot: %s samples of %s over %g s of ROS time -> %s' % (
             sum(len(t) for t, _ in series.values()), ', '.join(specs), args.duration,
             ', '.join(f for f in (args.png, args.csv) if f)))
