@@ -215,7 +215,8 @@ def test_link_frame_velocity_is_that_of_its_origin(weightless):
 
 def test_free_body_with_offset_inertial_keeps_its_link_frame(world):
     urdf = """<robot name="b"><link name="base"><inertial><origin xyz="0.1 0.2 0.3" rpy="0 0.3 0"/>
-      <mass value="2"/><inertia ixx="0.1" iyy="0.2" izz="0.3"/></inertial></link></robot>"""
+      <mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.3"/>
+      </inertial></link></robot>"""
     yaw = 0.6
     spawn = Pose(Vec3(1, 2, 3), Quat(math.cos(yaw / 2), 0, 0, math.sin(yaw / 2)))
     assert world.spawn('b', urdf, ModelFormat.URDF, spawn).ok
@@ -352,16 +353,22 @@ def snapshot(world):
 @pytest.mark.parametrize('name, xml, model_format, reference, words', [
     (ROBOT, TUTORIAL_URDF, ModelFormat.URDF, '', 'already exists'),
     ('', TUTORIAL_URDF, ModelFormat.URDF, '', 'name is empty'),
-    ('r2', '<robot name="r"><link name="a"></robot>', ModelFormat.URDF, '', 'bad XML'),
-    ('r2', '<sdf/>', ModelFormat.URDF, '', 'bad XML'),
+    ('r2', '<robot name="r"><link name="a"></robot>', ModelFormat.URDF, '', 'invalid URDF'),
+    ('r2', '<sdf/>', ModelFormat.URDF, '', 'invalid URDF'),
     ('r2', TUTORIAL_URDF.replace('"continuous"', '"floating"'), ModelFormat.URDF, '',
-     'unsupported'),
+     'only revolute, continuous, prismatic and fixed joints are supported'),
     ('r2', TUTORIAL_URDF.replace('parent link="link1"', 'parent link="nowhere"'),
-     ModelFormat.URDF, '', 'does not exist'),
-    ('r2', TUTORIAL_URDF, ModelFormat.URDF, 'nowhere', 'reference frame'),
+     ModelFormat.URDF, '', "unknown parent link 'nowhere'"),
+    ('r2', TUTORIAL_URDF.replace('<mass value="1"/>', '<mass value="-1"/>'), ModelFormat.URDF, '',
+     'negative mass'),
+    ('r2', TUTORIAL_URDF.replace('<link name="link2">', '<link name="link2"><!--')
+     .replace('<visual>\n      <origin xyz="0 0 0.5" rpy="0 0 0"/>\n      <geometry>\n'
+              '        <cylinder', '--><visual><geometry><cylinder'), ModelFormat.URDF, '',
+     "link 'link2' moves but has no mass"),
+    ('r2', TUTORIAL_URDF, ModelFormat.URDF, 'nowhere', "reference frame 'nowhere' not found"),
     ('t2', CAFE_TABLE_SDF.replace('<box>', '<mesh>').replace('</box>', '</mesh>'),
-     ModelFormat.SDF, '', 'unsupported'),
-    ('t2', TUTORIAL_URDF, ModelFormat.SDF, '', 'bad XML'),
+     ModelFormat.SDF, '', 'only box, cylinder and sphere collisions are supported'),
+    ('t2', TUTORIAL_URDF, ModelFormat.SDF, '', 'invalid SDF'),
 ])
 def test_bad_spawn_is_refused_and_changes_nothing(world, name, xml, model_format, reference,
                                                   words):
@@ -369,13 +376,13 @@ def test_bad_spawn_is_refused_and_changes_nothing(world, name, xml, model_format
     before = snapshot(world)
     status = world.spawn(name, xml, model_format, Pose(), reference)
     assert not status.ok and words in status.message, status.message
+    assert status.message.startswith('SpawnModel: ')
     assert snapshot(world) == before
 
 
 @pytest.mark.parametrize('joints, positions, words', [
     (['joint1'], [1.0, 2.0], 'differ in length'),
     (['joint1', 'nope'], [2.0, 2.0], 'not found'),
-    (['joint1', 'glue_robot_to_world'], [2.0, 0.0], 'fixed'),
     (['joint1'], [math.nan], 'not finite'),
 ])
 def test_bad_configuration_is_refused_and_changes_nothing(world, joints, positions, words):
@@ -401,12 +408,18 @@ def test_bad_physics_params_are_refused(world, change):
 
 def test_unknown_names_are_reported(world):
     spawn_robot(world)
-    assert world.joint_info('nope')[0].message == 'joint not found'
-    assert world.apply_joint_effort('nope', 1, 0, -1).message == 'joint not found'
+    assert world.joint_info('nope')[0].message == 'GetJointProperties: joint not found'
+    assert world.apply_joint_effort('nope', 1, 0, -1).message == (
+        'ApplyJointEffort: joint not found')
     assert world.link_state('link2')[0].message == (
-        'link not found, did you forget to scope the link by model name?')
-    assert world.model_state('nope')[0].message == 'model does not exist'
-    assert world.delete_model('nope').message == 'model does not exist'
+        'GetLinkState: link not found, did you forget to scope the link by model name?')
+    assert world.model_state('nope')[0].message == 'GetModelState: model does not exist'
+    assert world.delete_model('nope').message == 'DeleteModel: model does not exist'
+    assert world.apply_joint_effort('glue_robot_to_world', 1, 0, -1).message == (
+        "ApplyJointEffort: joint 'glue_robot_to_world' is fixed and takes no effort")
+    assert world.set_link_state(ROBOT + '::link1', Pose(), Twist()).message == (
+        "SetLinkState: link 'one_DOF_robot::link1' is anchored to the world; move its model "
+        "with set_model_state")
     assert not world.model_state(ROBOT, 'nowhere')[0].ok
     assert world.joint_info(ROBOT + '::joint1')[0].ok
     assert not world.joint_info('other::joint1')[0].ok
@@ -418,3 +431,26 @@ def test_a_new_step_size_is_used(world):
     world.step()
     world.step()
     assert world.time_ns == 4 * MS and world.step_count == 2
+
+
+def test_a_wrench_pushes_a_free_box_by_f_t_over_m(world):
+    assert world.set_params(PhysicsParams(gravity=Vec3(0, 0, 0))).ok
+    assert world.spawn('box', BOX_SDF, ModelFormat.SDF, Pose(Vec3(0, 0, 1.0))).ok
+    status = world.apply_body_wrench('box::link', '', Vec3(), Vec3(1.0, 0, 0), Vec3(), 0,
+                                     100 * MS)
+    assert status == (True, 'ApplyBodyWrench: wrench set')
+    for _ in range(150):
+        world.step()
+    _, _, twist = world.model_state('box')
+    assert twist.linear.x == pytest.approx(1.0 * 0.1 / 2.0, abs=1e-9)  # 1 N for 0.1 s on 2 kg
+    assert tuple(twist.angular) == pytest.approx((0, 0, 0), abs=1e-9)
+
+
+def test_only_a_free_root_link_can_be_set(world):
+    spawn_robot(world)
+    status = world.set_link_state(ROBOT + '::link2', Pose(), Twist())
+    assert not status.ok and 'set_model_configuration' in status.message
+    assert world.spawn('box', BOX_SDF, ModelFormat.SDF, Pose(Vec3(0, 0, 1.0))).ok
+    assert world.set_link_state('box::link', Pose(Vec3(0, 1, 0.5)), Twist()).ok
+    _, pose, _ = world.link_state('box::link')
+    assert tuple(pose.position) == pytest.approx((0, 1, 0.5))

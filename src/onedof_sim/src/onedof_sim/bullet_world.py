@@ -226,10 +226,16 @@ def _twist_is_finite(twist):
 
 
 # ------------------------------------------------------------------------------------------------
-# Model descriptions parsed from URDF and SDF, before anything is built.
+# Model descriptions parsed from URDF and SDF, before anything is built. Every message below is
+# the ODE core's (src/core/model_loader.cpp and world.cpp), so both engines refuse alike; only
+# the parser's own detail after "invalid URDF: " / "invalid SDF: " differs.
 
 class ModelError(Exception):
-    """Bad or unsupported model XML; the message is the status text."""
+    """Bad or unsupported model XML; the message is the status text after "SpawnModel: "."""
+
+
+class _SyntaxError(ModelError):
+    """Malformed content that the ODE core's parsers (urdfdom, libsdformat) reject."""
 
 
 @dataclasses.dataclass
@@ -243,6 +249,7 @@ class _Collision:
 @dataclasses.dataclass
 class _LinkSpec:
     name: str
+    has_inertial: bool = False
     com: tuple = IDENTITY  # inertial frame in the link frame
     mass: float = 0.0
     inertia: tuple = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # ixx ixy ixz iyy iyz izz
@@ -257,34 +264,34 @@ class _JointSpec:
     type: JointType
     parent: str
     child: str
-    damping: float = None  # None: not declared
-    effort_limit: float = None  # None: no limit given
+    has_damping: bool = False
+    damping: float = 0.0
+    effort_limit: float = math.inf
 
 
 @dataclasses.dataclass
 class _ModelSpec:
-    links: list  # _LinkSpec in tree order, root first; a URDF `world` root is not among them
-    joints: list  # _JointSpec in tree order
+    links: list  # _LinkSpec parents first (depth first); a URDF `world` root is not among them
+    joints: list  # _JointSpec in the same order
     world_rooted: bool  # URDF root link named `world`: the model is fixed to the world
     is_static: bool
-    pose: tuple = IDENTITY  # SDF <model><pose>
 
 
 def _floats(text, count, what):
     try:
         values = [float(v) for v in (text or '').split()]
     except ValueError:
-        raise ModelError('bad XML: %s is not %d numbers: "%s"' % (what, count, text))
+        values = []
     if len(values) != count or not all(math.isfinite(v) for v in values):
-        raise ModelError('bad XML: %s is not %d finite numbers: "%s"' % (what, count, text))
+        raise _SyntaxError('%s is not %d finite numbers: "%s"' % (what, count, text))
     return values
 
 
-def _number(element, attribute, what, default=None):
+def _attribute(element, attribute, what, default=None):
     text = element.get(attribute)
     if text is None:
         if default is None:
-            raise ModelError('bad XML: %s has no %s' % (what, attribute))
+            raise _SyntaxError('%s has no %s' % (what, attribute))
         return default
     return _floats(text, 1, '%s %s' % (what, attribute))[0]
 
@@ -293,36 +300,45 @@ def _parse_xml(xml, root_tag):
     try:
         root = ElementTree.fromstring(xml)
     except ElementTree.ParseError as error:
-        raise ModelError('bad XML: %s' % error)
+        raise _SyntaxError(str(error))
     if root.tag != root_tag:
-        raise ModelError('bad XML: the root element is <%s>, expected <%s>' % (root.tag, root_tag))
+        raise _SyntaxError('the root element is <%s>, expected <%s>' % (root.tag, root_tag))
     return root
 
 
-def _geometry(geometry, what):
-    """(shape, size) of a <geometry> element; URDF attributes or SDF child elements."""
-    if geometry is None or len(geometry) != 1:
-        raise ModelError('bad XML: %s needs exactly one geometry' % what)
+def _collision_name(given, link, index):
+    """Gazebo's URDF conversion names unnamed collisions this way (as the ODE core)."""
+    if given:
+        return given
+    return link + '_collision' + ('' if index == 0 else '_%d' % index)
+
+
+def _geometry(collision, link, name):
+    """(shape, size) of a collision's <geometry>: URDF attributes or SDF child elements."""
+    geometry = collision.find('geometry')
+    if geometry is None or len(geometry) == 0:
+        raise ModelError("collision of link '%s' has no geometry" % link)
     shape = geometry[0]
+
+    def value(key):
+        text = shape.get(key) if shape.get(key) is not None else shape.findtext(key)
+        return _floats(text, 3 if key == 'size' else 1, "link '%s' %s %s" % (link, shape.tag, key))
+
     if shape.tag == 'box':
-        text = shape.get('size') if shape.get('size') is not None else shape.findtext('size')
-        size = _floats(text, 3, what + ' box size')
-        if min(size) <= 0:
-            raise ModelError('bad XML: %s box size must be > 0' % what)
-        return GeometryShape.BOX, tuple(size)
-    if shape.tag == 'cylinder':
-        radius = _floats(shape.get('radius', shape.findtext('radius')), 1, what + ' radius')[0]
-        length = _floats(shape.get('length', shape.findtext('length')), 1, what + ' length')[0]
-        if radius <= 0 or length <= 0:
-            raise ModelError('bad XML: %s cylinder radius and length must be > 0' % what)
-        return GeometryShape.CYLINDER, (radius, 0.0, length)
-    if shape.tag == 'sphere':
-        radius = _floats(shape.get('radius', shape.findtext('radius')), 1, what + ' radius')[0]
-        if radius <= 0:
-            raise ModelError('bad XML: %s sphere radius must be > 0' % what)
-        return GeometryShape.SPHERE, (radius, 0.0, 0.0)
-    raise ModelError('unsupported content: %s geometry <%s> (box, cylinder and sphere are)'
-                     % (what, shape.tag))
+        kind, size = GeometryShape.BOX, tuple(value('size'))
+        ok = min(size) > 0
+    elif shape.tag == 'cylinder':
+        kind, size = GeometryShape.CYLINDER, (value('radius')[0], 0.0, value('length')[0])
+        ok = size[0] > 0 and size[2] > 0
+    elif shape.tag == 'sphere':
+        kind, size = GeometryShape.SPHERE, (value('radius')[0], 0.0, 0.0)
+        ok = size[0] > 0
+    else:
+        raise ModelError("link '%s': only box, cylinder and sphere collisions are supported" % link)
+    if not ok:
+        raise ModelError("link '%s': collision '%s' has a non-positive or non-finite size or pose"
+                         % (link, name))
+    return kind, size
 
 
 def _urdf_origin(element):
@@ -334,95 +350,143 @@ def _urdf_origin(element):
     return tuple(xyz), _quat_from_rpy(*rpy)
 
 
+def _element_link(joint, tag):
+    element = joint.find(tag)
+    return element.get('link') if element is not None else None
+
+
 def parse_urdf(xml):
     """The _ModelSpec of a URDF document; raises ModelError."""
+    try:
+        return _parse_urdf(xml)
+    except _SyntaxError as error:
+        raise ModelError('invalid URDF: %s' % error)
+
+
+def _parse_urdf(xml):
     robot = _parse_xml(xml, 'robot')
-    links = {}
+    links = collections.OrderedDict()
     for link in robot.findall('link'):
         name = link.get('name')
         if not name:
-            raise ModelError('bad XML: a <link> has no name')
+            raise _SyntaxError('a <link> has no name')
         if name in links:
-            raise ModelError('bad XML: link [%s] is declared twice' % name)
+            raise _SyntaxError("duplicate link '%s'" % name)
         spec = _LinkSpec(name)
         inertial = link.find('inertial')
         if inertial is not None:
+            spec.has_inertial = True
             spec.com = _urdf_origin(inertial)
             mass = inertial.find('mass')
-            spec.mass = _number(mass, 'value', 'link [%s] mass' % name) if mass is not None else 0.0
+            if mass is None:
+                raise _SyntaxError("link '%s' <inertial> has no <mass>" % name)
+            spec.mass = _attribute(mass, 'value', "link '%s' mass" % name)
             inertia = inertial.find('inertia')
-            if inertia is not None:
-                spec.inertia = tuple(_number(inertia, key, 'link [%s] inertia' % name, 0.0)
-                                     for key in ('ixx', 'ixy', 'ixz', 'iyy', 'iyz', 'izz'))
-            if spec.mass < 0:
-                raise ModelError('bad XML: link [%s] has a negative mass' % name)
+            if inertia is None:
+                raise _SyntaxError("link '%s' <inertial> has no <inertia>" % name)
+            spec.inertia = tuple(_attribute(inertia, key, "link '%s' inertia" % name)
+                                 for key in ('ixx', 'ixy', 'ixz', 'iyy', 'iyz', 'izz'))
         for index, collision in enumerate(link.findall('collision')):
-            what = 'link [%s] collision' % name
-            shape, size = _geometry(collision.find('geometry'), what)
-            spec.collisions.append(_Collision(collision.get('name') or '%s_collision_%d'
-                                              % (name, index), shape, size,
+            collision_name = _collision_name(collision.get('name'), name, index)
+            shape, size = _geometry(collision, name, collision_name)
+            spec.collisions.append(_Collision(collision_name, shape, size,
                                               _urdf_origin(collision)))
         links[name] = spec
     if not links:
-        raise ModelError('bad XML: the robot has no link')
+        raise _SyntaxError('no <link> in the robot')
 
-    joints = {}
+    joints = collections.OrderedDict()
     children = collections.defaultdict(list)
     parent_of = {}
     for joint in robot.findall('joint'):
         name = joint.get('name')
         if not name:
-            raise ModelError('bad XML: a <joint> has no name')
+            raise _SyntaxError('a <joint> has no name')
         if name in joints:
-            raise ModelError('bad XML: joint [%s] is declared twice' % name)
+            raise ModelError("duplicate joint '%s'" % name)
+        parent, child = _element_link(joint, 'parent'), _element_link(joint, 'child')
+        for role, link in (('parent', parent), ('child', child)):
+            if link not in links:
+                raise ModelError("joint '%s' has unknown %s link '%s'" % (name, role, link))
         try:
             joint_type = JointType(joint.get('type'))
         except ValueError:
-            raise ModelError('unsupported content: joint [%s] of type "%s" (revolute, continuous, '
-                             'prismatic and fixed are)' % (name, joint.get('type')))
-        parent = (joint.find('parent') if joint.find('parent') is not None
-                  else ElementTree.Element('parent')).get('link')
-        child = (joint.find('child') if joint.find('child') is not None
-                 else ElementTree.Element('child')).get('link')
-        for role, link in (('parent', parent), ('child', child)):
-            if link not in links:
-                raise ModelError('bad XML: joint [%s] %s link [%s] does not exist'
-                                 % (name, role, link))
+            raise ModelError("joint '%s': only revolute, continuous, prismatic and fixed joints "
+                             "are supported" % name)
         if child in parent_of:
-            raise ModelError('bad XML: link [%s] is the child of two joints' % child)
+            raise ModelError("link '%s' is the child of more than one joint" % child)
         spec = _JointSpec(name, joint_type, parent, child)
+        _urdf_origin(joint)
+        axis = joint.find('axis')
+        if joint_type != JointType.FIXED and axis is not None:
+            if not any(_floats(axis.get('xyz', '1 0 0'), 3, "joint '%s' axis" % name)):
+                raise ModelError("joint '%s' has a zero axis" % name)
         dynamics = joint.find('dynamics')
-        if dynamics is not None and dynamics.get('damping') is not None:
-            spec.damping = _number(dynamics, 'damping', 'joint [%s] damping' % name)
-            if spec.damping < 0:
-                raise ModelError('bad XML: joint [%s] has a negative damping' % name)
+        if dynamics is not None:
+            spec.damping = _attribute(dynamics, 'damping', "joint '%s' damping" % name, 0.0)
+            friction = _attribute(dynamics, 'friction', "joint '%s' friction" % name, 0.0)
+            # As urdfdom reads it: damping was declared if non-zero or if friction is zero.
+            spec.has_damping = spec.damping != 0 or friction == 0
         limit = joint.find('limit')
-        if limit is not None and limit.get('effort') is not None:
-            spec.effort_limit = abs(_number(limit, 'effort', 'joint [%s] limit' % name))
+        if limit is not None:
+            effort = _attribute(limit, 'effort', "joint '%s' limit effort" % name, 0.0)
+            # A missing effort reads as 0 and a joint that takes no effort is not what anyone
+            # writes, so only a positive value limits.
+            if effort > 0:
+                spec.effort_limit = effort
         joints[name] = spec
         parent_of[child] = name
         children[parent].append(spec)
 
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
-        raise ModelError('bad XML: the links form %s' % ('a loop' if not roots else
-                                                       'no single tree (roots %s)' % roots))
+        raise _SyntaxError('the links form no single tree (roots: %s)'
+                           % (', '.join(roots) or 'none, the joints form a loop'))
     ordered_links, ordered_joints = [], []
-    pending = [roots[0]]
-    while pending:
-        name = pending.pop(0)
+
+    def visit(name):
         ordered_links.append(links[name])
         for joint in children[name]:
             ordered_joints.append(joint)
-            pending.append(joint.child)
+            visit(joint.child)
+
+    visit(roots[0])
     if len(ordered_links) != len(links):
-        raise ModelError('bad XML: the links form a loop')
+        raise ModelError('the joints form a loop')
     world_rooted = roots[0] == 'world'
     if world_rooted:
         ordered_links.pop(0)
     if not ordered_links:
-        raise ModelError('bad XML: the robot has no link besides world')
-    return _ModelSpec(ordered_links, ordered_joints, world_rooted, is_static=False)
+        raise ModelError("the URDF has no link besides 'world'")
+    if any(link.name == 'world' for link in ordered_links):
+        raise ModelError("a model link may not be called 'world'")
+    spec = _ModelSpec(ordered_links, ordered_joints, world_rooted, is_static=False)
+    _check_masses(spec)
+    return spec
+
+
+def _check_masses(spec):
+    """What the ODE core refuses about masses, for the links that move."""
+    joint_of = {joint.child: joint for joint in spec.joints}
+    welded_to = {}  # link -> the moving link it rides on through fixed joints (None: the world)
+    for link in spec.links:
+        if link.mass < 0:
+            raise ModelError("link '%s' has a negative mass" % link.name)
+        joint = joint_of.get(link.name)
+        if spec.is_static:
+            welded_to[link.name] = None
+        elif joint is None or joint.type != JointType.FIXED:
+            welded_to[link.name] = link.name
+        else:
+            welded_to[link.name] = welded_to.get(joint.parent)  # `world`: None
+    mass = collections.defaultdict(float)
+    for link in spec.links:
+        if welded_to[link.name] is not None and link.has_inertial:
+            mass[welded_to[link.name]] += link.mass
+    for link in spec.links:
+        if welded_to[link.name] == link.name and not mass[link.name] > 0:
+            raise ModelError("link '%s' moves but has no mass (give it an <inertial>)"
+                             % link.name)
 
 
 def _sdf_pose(element):
@@ -430,7 +494,7 @@ def _sdf_pose(element):
     if pose is None:
         return IDENTITY
     if pose.get('relative_to'):
-        raise ModelError('unsupported content: <pose relative_to>')
+        raise ModelError('the bullet engine does not support <pose relative_to>')
     x, y, z, roll, pitch, yaw = _floats(pose.text, 6, 'pose')
     return (x, y, z), _quat_from_rpy(roll, pitch, yaw)
 
@@ -438,60 +502,69 @@ def _sdf_pose(element):
 def parse_sdf(xml):
     """The _ModelSpec of an SDF document with one model; raises ModelError.
 
-    Supported: static models of any number of links, and dynamic models of one link (a free body),
-    with box, cylinder and sphere collisions.
+    The bullet engine builds static models of any number of links and dynamic models of one link
+    (a free body), with box, cylinder and sphere collisions; articulated models come as URDF.
     """
+    try:
+        return _parse_sdf(xml)
+    except _SyntaxError as error:
+        raise ModelError('invalid SDF: %s' % error)
+
+
+def _parse_sdf(xml):
     sdf = _parse_xml(xml, 'sdf')
     models = sdf.findall('model')
-    if len(models) != 1:
-        raise ModelError('bad XML: the SDF must hold exactly one <model>, it holds %d'
-                         % len(models))
+    if not models:
+        raise _SyntaxError('no <model> at the top level')
     model = models[0]
     for tag in ('include', 'joint', 'model'):
         if model.find(tag) is not None:
-            raise ModelError('unsupported content: <%s> in an SDF model' % tag)
+            raise ModelError('the bullet engine does not support <%s> in SDF models (give '
+                             'articulated models as URDF)' % tag)
     is_static = (model.findtext('static') or 'false').strip() in ('true', '1')
     links = []
     for link in model.findall('link'):
         name = link.get('name')
         if not name:
-            raise ModelError('bad XML: a <link> has no name')
+            raise _SyntaxError('a <link> has no name')
         if any(other.name == name for other in links):
-            raise ModelError('bad XML: link [%s] is declared twice' % name)
-        spec = _LinkSpec(name, pose=_sdf_pose(link))
+            raise ModelError("duplicate link '%s'" % name)
+        # libsdformat's defaults for a link without <inertial>: 1 kg, unit inertia.
+        spec = _LinkSpec(name, has_inertial=True, mass=1.0, inertia=(1.0, 0, 0, 1.0, 0, 1.0),
+                         pose=_sdf_pose(link))
         inertial = link.find('inertial')
         if inertial is not None:
             spec.com = _sdf_pose(inertial)
-            spec.mass = _floats(inertial.findtext('mass', '1'), 1, 'link [%s] mass' % name)[0]
+            spec.mass = _floats(inertial.findtext('mass', '1'), 1, "link '%s' mass" % name)[0]
             inertia = inertial.find('inertia')
+            defaults = dict(zip(('ixx', 'ixy', 'ixz', 'iyy', 'iyz', 'izz'), spec.inertia))
             spec.inertia = tuple(
-                _floats(inertia.findtext(key, '0') if inertia is not None else '0', 1,
-                        'link [%s] %s' % (name, key))[0]
-                for key in ('ixx', 'ixy', 'ixz', 'iyy', 'iyz', 'izz'))
-            if spec.mass <= 0:
-                raise ModelError('bad XML: link [%s] mass must be > 0' % name)
-            if any(spec.inertia[i] for i in (1, 2, 4)) and not is_static:
-                raise ModelError('unsupported content: link [%s] has products of inertia (give '
-                                 'the inertia in its principal axes)' % name)
-        elif not is_static:
-            # SDF's defaults for a link without <inertial>.
-            spec.mass, spec.inertia = 1.0, (1.0, 0.0, 0.0, 1.0, 0.0, 1.0)
+                _floats(inertia.findtext(key, str(default)) if inertia is not None
+                        else str(default), 1, "link '%s' %s" % (name, key))[0]
+                for key, default in defaults.items())
+        if (link.findtext('gravity') or 'true').strip() not in ('true', '1') and not is_static:
+            raise ModelError('the bullet engine does not support <gravity>false</gravity>')
         for index, collision in enumerate(link.findall('collision')):
-            what = 'link [%s] collision' % name
-            shape, size = _geometry(collision.find('geometry'), what)
-            spec.collisions.append(_Collision(collision.get('name') or '%s_collision_%d'
-                                              % (name, index), shape, size,
+            collision_name = collision.get('name') or _collision_name('', name, index)
+            shape, size = _geometry(collision, name, collision_name)
+            spec.collisions.append(_Collision(collision_name, shape, size,
                                               _sdf_pose(collision)))
             mu = collision.findtext('surface/friction/ode/mu')
             if mu is not None:
-                spec.friction = _floats(mu, 1, what + ' mu')[0]
+                spec.friction = _floats(mu, 1, "collision '%s' mu" % collision_name)[0]
         links.append(spec)
     if not links:
-        raise ModelError('bad XML: the model has no link')
-    if not is_static and len(links) > 1:
-        raise ModelError('unsupported content: a dynamic SDF model of %d links (one link, or '
-                         'static; use URDF for articulated models)' % len(links))
-    return _ModelSpec(links, [], world_rooted=False, is_static=is_static, pose=_sdf_pose(model))
+        raise _SyntaxError('the model has no link')
+    if not is_static:
+        if len(links) > 1:
+            raise ModelError('the bullet engine builds dynamic SDF models of one link only (give '
+                             'articulated models as URDF)')
+        if any(links[0].inertia[i] for i in (1, 2, 4)):
+            raise ModelError("the bullet engine needs the inertia of SDF link '%s' in its "
+                             "principal axes (ixy = ixz = iyz = 0)" % links[0].name)
+    spec = _ModelSpec(links, [], world_rooted=False, is_static=is_static)
+    _check_masses(spec)
+    return spec
 
 
 # ------------------------------------------------------------------------------------------------
@@ -499,7 +572,6 @@ def parse_sdf(xml):
 
 @dataclasses.dataclass
 class _Joint:
-    model: str
     spec: _JointSpec
     index: int  # pybullet joint index (== index of its child link)
 
@@ -509,36 +581,74 @@ class _Model:
     name: str
     spec: _ModelSpec
     body: int  # pybullet body id
-    link_index: dict  # link name -> pybullet link index (-1: base)
-    joints: dict  # joint name -> _Joint, tree order
-    base_to_model: tuple  # the model frame in the base link frame
+    link_index: dict  # link name -> pybullet link index (-1: the base)
+    joints: dict  # joint name -> _Joint, in spec order
     base_inertial: tuple  # the base inertial frame in the base link frame (pybullet's base pose)
-    spawn_pose: tuple  # model frame in the world at spawn
+    spawn_base: tuple  # world transform of the base link frame at spawn
+    anchored: set  # links welded to the world (all links of a static model)
+
+    @property
+    def canonical(self):
+        return self.spec.links[0].name
 
 
 @dataclasses.dataclass
 class _Job:
-    """An effort job on a joint, or a wrench job on a link; end_ns None: until cleared."""
+    """An effort job on a joint, or a wrench job on a link, active on [start_ns, end_ns)."""
     model: str
     target: str  # bare joint name, or bare link name
     start_ns: int
     end_ns: int
     effort: float = 0.0
-    force: tuple = (0.0, 0.0, 0.0)  # world frame
-    torque: tuple = (0.0, 0.0, 0.0)  # world frame
-    point: tuple = (0.0, 0.0, 0.0)  # in the link frame
+    reference_frame: str = ''  # wrench: force, torque and point are in this frame
+    force: tuple = (0.0, 0.0, 0.0)
+    torque: tuple = (0.0, 0.0, 0.0)
+    point: tuple = (0.0, 0.0, 0.0)
 
 
 def step_ns_of(step):
     return int(round(step * 1e9))
 
 
+def _format_number(value):
+    """As C++'s default ostream formatting (the ODE core's messages)."""
+    return '%g' % value
+
+
+def validate_params(params):
+    """The ODE core's checks and messages (world.cpp validateParams)."""
+    numbers = (params.step, *params.gravity, params.sor_pgs_w, params.sor_pgs_rms_error_tol,
+               params.contact_surface_layer, params.contact_max_correcting_vel, params.cfm,
+               params.erp)
+    if not all(math.isfinite(n) for n in numbers):
+        return Status.Error('SetPhysicsProperties: values must be finite')
+    if params.step <= 0 or step_ns_of(params.step) < 1:
+        return Status.Error('SetPhysicsProperties: time_step must be at least 1 ns')
+    if not 0 <= params.erp <= 1:
+        return Status.Error('SetPhysicsProperties: erp must be in [0, 1]')
+    if (params.cfm < 0 or params.contact_surface_layer < 0 or params.contact_max_correcting_vel < 0
+            or params.sor_pgs_rms_error_tol < 0 or params.sor_pgs_w <= 0):
+        return Status.Error(
+            'SetPhysicsProperties: cfm, contact_surface_layer, contact_max_correcting_vel and '
+            'sor_pgs_rms_error_tol must be >= 0, sor_pgs_w > 0')
+    if params.sor_pgs_iters < 1:
+        return Status.Error('SetPhysicsProperties: sor_pgs_iters must be >= 1')
+    if params.max_contacts > 0xffff:
+        return Status.Error('SetPhysicsProperties: max_contacts must be <= 65535')
+    if params.sor_pgs_precon_iters < 0 or params.max_contacts < 0:
+        return Status.Error('SetPhysicsProperties: iteration and contact counts must be >= 0')
+    return Status.Ok()
+
+
 class BulletWorld:
     """A world of rigid-body models over pybullet, one physics client per world."""
 
     def __init__(self, params=None):
+        params = params or PhysicsParams()
+        status = validate_params(params)
+        if not status.ok:
+            raise ValueError(status.message)
         self._client = bullet_client.BulletClient(connection_mode=pybullet.DIRECT)
-        self._params = PhysicsParams()
         self._time_ns = 0
         self._step_count = 0
         self._models = collections.OrderedDict()
@@ -548,9 +658,7 @@ class BulletWorld:
             baseMass=0, baseCollisionShapeIndex=self._client.createCollisionShape(
                 pybullet.GEOM_PLANE))
         self._client.changeDynamics(self._ground, -1, lateralFriction=GROUND_FRICTION)
-        status = self.set_params(params or PhysicsParams())
-        if not status.ok:
-            raise ValueError(status.message)
+        self._apply_params(params)
 
     def close(self):
         """Ends the physics client; the world is unusable afterwards."""
@@ -561,15 +669,16 @@ class BulletWorld:
     # --- time and stepping --------------------------------------------------------------------
 
     def step(self):
-        """Advances one step: applies the jobs covering the step's start time, integrates."""
+        """Advances one step: applies the jobs covering the step's start time and the joint
+        damping, integrates, resolves contacts, then advances time."""
         now = self._time_ns
         torques = collections.defaultdict(float)
         for job in self._joint_jobs:
-            if job.start_ns <= now and (job.end_ns is None or now < job.end_ns):
+            if job.start_ns <= now < job.end_ns:
                 torques[(job.model, job.target)] += job.effort
         for model in self._models.values():
             for joint in model.joints.values():
-                if joint.spec.damping:
+                if joint.spec.damping and joint.spec.type != JointType.FIXED:
                     rate = self._client.getJointState(model.body, joint.index)[1]
                     torques[(model.name, joint.spec.name)] -= joint.spec.damping * rate
         for (model_name, joint_name), torque in torques.items():
@@ -577,22 +686,25 @@ class BulletWorld:
             self._client.setJointMotorControl2(model.body, model.joints[joint_name].index,
                                                pybullet.TORQUE_CONTROL, force=torque)
         for job in self._wrench_jobs:
-            if job.start_ns <= now and (job.end_ns is None or now < job.end_ns):
-                model = self._models[job.model]
-                link = model.link_index[job.target]
-                frame = self._link_frame(model, link)
-                point = _compose(frame, (job.point, IDENTITY[1]))[0]
-                self._client.applyExternalForce(model.body, link, job.force, point,
-                                                pybullet.WORLD_FRAME)
-                self._client.applyExternalTorque(model.body, link, job.torque,
-                                                 pybullet.WORLD_FRAME)
+            if job.start_ns <= now < job.end_ns:
+                self._apply_wrench(job)
         self._client.stepSimulation()
         self._time_ns += step_ns_of(self._params.step)
         self._step_count += 1
-        self._joint_jobs = [j for j in self._joint_jobs
-                            if j.end_ns is None or j.end_ns > self._time_ns]
-        self._wrench_jobs = [j for j in self._wrench_jobs
-                             if j.end_ns is None or j.end_ns > self._time_ns]
+        self._joint_jobs = [j for j in self._joint_jobs if j.end_ns > self._time_ns]
+        self._wrench_jobs = [j for j in self._wrench_jobs if j.end_ns > self._time_ns]
+
+    def _apply_wrench(self, job):
+        reference = self._entity_frame(job.reference_frame)
+        if reference is None:  # the reference entity was deleted
+            return
+        frame = reference[0]
+        model = self._models[job.model]
+        self._client.applyExternalForce(
+            model.body, model.link_index[job.target], _rotate(frame[1], job.force),
+            _compose(frame, (job.point, IDENTITY[1]))[0], pybullet.WORLD_FRAME)
+        self._client.applyExternalTorque(model.body, model.link_index[job.target],
+                                         _rotate(frame[1], job.torque), pybullet.WORLD_FRAME)
 
     @property
     def time_ns(self):
@@ -611,47 +723,34 @@ class BulletWorld:
         return dataclasses.replace(self._params)
 
     def set_params(self, params):
-        """Refuses non-finite numbers, step <= 0, negative iteration counts: world unchanged."""
-        reals = {'time_step': params.step, 'sor_pgs_w': params.sor_pgs_w,
-                 'sor_pgs_rms_error_tol': params.sor_pgs_rms_error_tol,
-                 'contact_surface_layer': params.contact_surface_layer,
-                 'contact_max_correcting_vel': params.contact_max_correcting_vel,
-                 'cfm': params.cfm, 'erp': params.erp}
-        for name, value in reals.items():
-            if not math.isfinite(value):
-                return Status.Error('%s is not a finite number' % name)
-        if not all(math.isfinite(g) for g in params.gravity):
-            return Status.Error('gravity is not finite')
-        if params.step <= 0:
-            return Status.Error('time_step must be > 0')
-        if step_ns_of(params.step) <= 0:
-            return Status.Error('time_step must be at least 1 ns')
-        for name in ('sor_pgs_precon_iters', 'sor_pgs_iters', 'max_contacts'):
-            if getattr(params, name) < 0:
-                return Status.Error('%s must be >= 0' % name)
-        self._params = dataclasses.replace(params, gravity=Vec3(*params.gravity))
-        self._apply_params()
-        return Status.Ok()
+        """Refuses what the ODE core refuses (non-finite numbers, step < 1 ns, ...): world
+        unchanged."""
+        status = validate_params(params)
+        if not status.ok:
+            return status
+        self._apply_params(params)
+        return Status.Ok('SetPhysicsProperties: physics parameters set')
 
-    def _apply_params(self):
-        params = self._params
+    def _apply_params(self, params):
+        self._params = dataclasses.replace(params, gravity=Vec3(*params.gravity))
         self._client.setTimeStep(params.step)
         self._client.setGravity(*params.gravity)
-        # Fields with a bullet counterpart. ODE's erp applies to joints and contacts alike;
-        # rms_error_tol is the residual at which the solver may stop early (0: run every
-        # iteration); contact_surface_layer is the penetration allowed without correction.
-        # Not meaningful in bullet, kept and echoed only: quick_step (bullet has one solver),
-        # sor_pgs_precon_iters, sor_pgs_w (not exposed by pybullet), contact_max_correcting_vel,
-        # max_contacts (bullet keeps at most 4 points per body pair).
+        # The fields with a bullet counterpart. ODE's erp acts on joints and contacts alike;
+        # sor_pgs_rms_error_tol becomes the residual at which bullet's solver may stop early
+        # (0: every iteration, as ODE); contact_surface_layer is the penetration allowed without
+        # correction in both. Kept and echoed only, without meaning here: quick_step (bullet has
+        # one solver), sor_pgs_precon_iters and sor_pgs_w (pybullet exposes no SOR setting),
+        # contact_max_correcting_vel, max_contacts (bullet keeps at most 4 points per pair).
         self._client.setPhysicsEngineParameter(
-            numSolverIterations=max(1, params.sor_pgs_iters), erp=params.erp,
-            contactERP=params.erp, frictionERP=params.erp, globalCFM=params.cfm,
+            numSolverIterations=params.sor_pgs_iters, erp=params.erp, contactERP=params.erp,
+            frictionERP=params.erp, globalCFM=params.cfm,
             solverResidualThreshold=params.sor_pgs_rms_error_tol,
             contactSlop=params.contact_surface_layer)
         for model in self._models.values():
             self._set_sleeping(model.body)
 
     def _set_sleeping(self, body):
+        """auto_disable_bodies is bullet's sleeping of bodies at rest."""
         state = (pybullet.ACTIVATION_STATE_ENABLE_SLEEPING if self._params.auto_disable_bodies
                  else pybullet.ACTIVATION_STATE_DISABLE_SLEEPING)
         self._client.changeDynamics(body, -1, activationState=state)
@@ -661,28 +760,29 @@ class BulletWorld:
     def spawn(self, name, xml, model_format, pose, reference_frame=''):
         """Builds a model from URDF or SDF with its model frame at pose in reference_frame."""
         if not name:
-            return Status.Error('Failure - model name is empty')
+            return Status.Error('SpawnModel: the model name is empty')
         if name in self._models:
-            return Status.Error('Failure - entity [%s] already exists' % name)
+            return Status.Error("SpawnModel: a model named '%s' already exists" % name)
         if not _pose_is_finite(pose):
-            return Status.Error('Failure - the initial pose is not finite')
+            return Status.Error('SpawnModel: the initial pose is not finite or its quaternion '
+                                'is zero')
         frame = self._entity_frame(reference_frame)
         if frame is None:
-            return Status.Error('Failure - reference frame [%s] not found' % reference_frame)
+            return Status.Error("SpawnModel: reference frame '%s' not found" % reference_frame)
         try:
             spec = parse_urdf(xml) if model_format == ModelFormat.URDF else parse_sdf(xml)
         except ModelError as error:
-            return Status.Error('Failure - %s' % error)
-        model_pose = _compose(_compose(frame[0], _transform_from_pose(pose)), spec.pose)
+            return Status.Error('SpawnModel: %s' % error)
+        model_pose = _compose(frame[0], _transform_from_pose(pose))
         try:
             model = (self._build_urdf(name, xml, spec, model_pose)
                      if model_format == ModelFormat.URDF else
                      self._build_sdf(name, spec, model_pose))
         except pybullet.error as error:
-            return Status.Error('Failure - bullet could not build the model: %s' % error)
+            return Status.Error('SpawnModel: bullet could not build the model: %s' % error)
         self._models[name] = model
         self._set_sleeping(model.body)
-        return Status.Ok('Successfully spawned entity')
+        return Status.Ok('SpawnModel: Successfully spawned entity')
 
     def _build_urdf(self, name, xml, spec, model_pose):
         robot = ElementTree.fromstring(xml)
@@ -704,43 +804,48 @@ class BulletWorld:
         joint_specs = {joint.name: joint for joint in spec.joints}
         for index in range(self._client.getNumJoints(body)):
             info = self._client.getJointInfo(body, index)
-            joint_name, link_name = info[1].decode(), info[12].decode()
-            link_index[link_name] = index
-            joints[joint_name] = _Joint(name, joint_specs[joint_name], index)
+            link_index[info[12].decode()] = index
+            joints[info[1].decode()] = _Joint(joint_specs[info[1].decode()], index)
             self._client.setJointMotorControl2(body, index, pybullet.VELOCITY_CONTROL, force=0)
         for index in link_index.values():
             self._client.changeDynamics(body, index, linearDamping=0, angularDamping=0,
                                         lateralFriction=DEFAULT_FRICTION,
                                         maxJointVelocity=MAX_JOINT_VELOCITY)
-        base_inertial = (tuple(self._client.getDynamicsInfo(body, -1)[3]),
-                         tuple(self._client.getDynamicsInfo(body, -1)[4]))
-        ordered = collections.OrderedDict((j.name, joints[j.name]) for j in spec.joints)
-        return _Model(name, spec, body, link_index, ordered, IDENTITY, base_inertial, model_pose)
+        joint_of = {joint.child: joint for joint in spec.joints}
+        anchored = set()
+        if spec.world_rooted:
+            for link in spec.links:  # parents first
+                joint = joint_of[link.name]
+                if joint.type == JointType.FIXED and (joint.parent == 'world'
+                                                      or joint.parent in anchored):
+                    anchored.add(link.name)
+        return _Model(name, spec, body, link_index,
+                      collections.OrderedDict((j.name, joints[j.name]) for j in spec.joints),
+                      self._base_inertial(body), model_pose, anchored)
+
+    def _base_inertial(self, body):
+        info = self._client.getDynamicsInfo(body, -1)
+        return tuple(info[3]), tuple(info[4])
 
     def _build_sdf(self, name, spec, model_pose):
-        shapes = []
-        for link in spec.links:
-            shapes.append(self._compound_shape(link.collisions))
+        shapes = [self._compound_shape(link.collisions) for link in spec.links]
         base = spec.links[0]
-        if spec.is_static:
-            masses, inertial = [0.0] * len(spec.links), IDENTITY
-        else:
-            masses, inertial = [base.mass], base.com
+        others = spec.links[1:]  # static models only: welded to the base
+        base_pose = _compose(model_pose, base.pose)
+        in_base = [_compose(_invert(base.pose), link.pose) for link in others]
         body = self._client.createMultiBody(
-            baseMass=masses[0], baseCollisionShapeIndex=shapes[0],
-            basePosition=_compose(model_pose, base.pose)[0],
-            baseOrientation=_compose(model_pose, base.pose)[1],
-            baseInertialFramePosition=inertial[0], baseInertialFrameOrientation=inertial[1],
-            linkMasses=masses[1:], linkCollisionShapeIndices=shapes[1:],
-            linkVisualShapeIndices=[-1] * (len(spec.links) - 1),
-            linkPositions=[_compose(_invert(base.pose), link.pose)[0] for link in spec.links[1:]],
-            linkOrientations=[_compose(_invert(base.pose), link.pose)[1]
-                              for link in spec.links[1:]],
-            linkInertialFramePositions=[(0, 0, 0)] * (len(spec.links) - 1),
-            linkInertialFrameOrientations=[(0, 0, 0, 1)] * (len(spec.links) - 1),
-            linkParentIndices=[0] * (len(spec.links) - 1),
-            linkJointTypes=[pybullet.JOINT_FIXED] * (len(spec.links) - 1),
-            linkJointAxis=[(0, 0, 1)] * (len(spec.links) - 1))
+            baseMass=0.0 if spec.is_static else base.mass, baseCollisionShapeIndex=shapes[0],
+            basePosition=base_pose[0], baseOrientation=base_pose[1],
+            baseInertialFramePosition=IDENTITY[0] if spec.is_static else base.com[0],
+            baseInertialFrameOrientation=IDENTITY[1] if spec.is_static else base.com[1],
+            linkMasses=[0.0] * len(others), linkCollisionShapeIndices=shapes[1:],
+            linkVisualShapeIndices=[-1] * len(others),
+            linkPositions=[t[0] for t in in_base], linkOrientations=[t[1] for t in in_base],
+            linkInertialFramePositions=[IDENTITY[0]] * len(others),
+            linkInertialFrameOrientations=[IDENTITY[1]] * len(others),
+            linkParentIndices=[0] * len(others),
+            linkJointTypes=[pybullet.JOINT_FIXED] * len(others),
+            linkJointAxis=[(0, 0, 1)] * len(others))
         link_index = {link.name: index - 1 for index, link in enumerate(spec.links)}
         for link in spec.links:
             self._client.changeDynamics(body, link_index[link.name], linearDamping=0,
@@ -748,38 +853,32 @@ class BulletWorld:
         if not spec.is_static:
             ixx, _, _, iyy, _, izz = base.inertia
             self._client.changeDynamics(body, -1, localInertiaDiagonal=(ixx, iyy, izz))
-        base_inertial = (tuple(self._client.getDynamicsInfo(body, -1)[3]),
-                         tuple(self._client.getDynamicsInfo(body, -1)[4]))
+        anchored = {link.name for link in spec.links} if spec.is_static else set()
         return _Model(name, spec, body, link_index, collections.OrderedDict(),
-                      _invert(base.pose), base_inertial, model_pose)
+                      self._base_inertial(body), base_pose, anchored)
 
     def _compound_shape(self, collisions):
         if not collisions:
             return -1
-        kwargs = {'shapeTypes': [], 'halfExtents': [], 'radii': [], 'lengths': [],
-                  'collisionFramePositions': [], 'collisionFrameOrientations': []}
-        for collision in collisions:
-            size = collision.size
-            kwargs['shapeTypes'].append({GeometryShape.BOX: pybullet.GEOM_BOX,
-                                         GeometryShape.CYLINDER: pybullet.GEOM_CYLINDER,
-                                         GeometryShape.SPHERE: pybullet.GEOM_SPHERE}[collision.shape])
-            kwargs['halfExtents'].append([s / 2 for s in size] if collision.shape ==
-                                         GeometryShape.BOX else [0, 0, 0])
-            kwargs['radii'].append(size[0])
-            kwargs['lengths'].append(size[2])
-            kwargs['collisionFramePositions'].append(collision.origin[0])
-            kwargs['collisionFrameOrientations'].append(collision.origin[1])
-        return self._client.createCollisionShapeArray(**kwargs)
+        kinds = {GeometryShape.BOX: pybullet.GEOM_BOX, GeometryShape.CYLINDER:
+                 pybullet.GEOM_CYLINDER, GeometryShape.SPHERE: pybullet.GEOM_SPHERE}
+        return self._client.createCollisionShapeArray(
+            shapeTypes=[kinds[c.shape] for c in collisions],
+            halfExtents=[[s / 2 for s in c.size] if c.shape == GeometryShape.BOX else [0, 0, 0]
+                         for c in collisions],
+            radii=[c.size[0] for c in collisions], lengths=[c.size[2] for c in collisions],
+            collisionFramePositions=[c.origin[0] for c in collisions],
+            collisionFrameOrientations=[c.origin[1] for c in collisions])
 
     def delete_model(self, name):
         model = self._models.get(name)
         if model is None:
-            return Status.Error('model does not exist')
+            return Status.Error('DeleteModel: model does not exist')
         self._client.removeBody(model.body)
         del self._models[name]
         self._joint_jobs = [j for j in self._joint_jobs if j.model != name]
         self._wrench_jobs = [j for j in self._wrench_jobs if j.model != name]
-        return Status.Ok('successfully deleted model')
+        return Status.Ok('DeleteModel: successfully deleted model')
 
     def model_names(self):
         return list(self._models)
@@ -791,65 +890,84 @@ class BulletWorld:
         """(Status, ModelInfo or None)."""
         model = self._models.get(name)
         if model is None:
-            return Status.Error('model does not exist'), None
+            return Status.Error('GetModelProperties: model does not exist'), None
         links = model.spec.links
-        return Status.Ok('got properties'), ModelInfo(
-            name=name, canonical_link='%s::%s' % (name, links[0].name),
+        return Status.Ok('GetModelProperties: got properties'), ModelInfo(
+            name=name, canonical_link='%s::%s' % (name, model.canonical),
             links=['%s::%s' % (name, link.name) for link in links],
             geoms=[c.name for link in links for c in link.collisions],
             joints=list(model.joints), is_static=model.spec.is_static)
 
     def model_state(self, name, reference_frame=''):
-        """(Status, Pose, Twist) of the model frame in reference_frame."""
+        """(Status, Pose, Twist) of the model's canonical (root) link frame in reference_frame."""
         model = self._models.get(name)
         if model is None:
-            return Status.Error('model does not exist'), None, None
-        state = self._frame_state(model, -1, model.base_to_model)
-        return self._relative_state(state, reference_frame)
+            return Status.Error('GetModelState: model does not exist'), None, None
+        reference = self._entity_frame(reference_frame)
+        if reference is None:
+            return (Status.Error("GetModelState: reference frame '%s' not found"
+                                 % reference_frame), None, None)
+        pose, twist = _relative(self._link_state(model, model.canonical), reference)
+        return Status.Ok('GetModelState: got properties'), pose, twist
 
     def set_model_state(self, name, pose, twist, reference_frame=''):
+        """Moves the whole model rigidly, its joints kept, so that its canonical link frame gets
+        pose and twist in reference_frame; the joint rates become zero."""
         model = self._models.get(name)
         if model is None:
-            return Status.Error('model does not exist')
-        return self._set_base_state(model, model.base_to_model, pose, twist, reference_frame)
+            return Status.Error('SetModelState: model does not exist')
+        if not _pose_is_finite(pose) or not _twist_is_finite(twist):
+            return Status.Error('SetModelState: the pose or twist is not finite, or the '
+                                'quaternion is zero')
+        reference = self._entity_frame(reference_frame)
+        if reference is None:
+            return Status.Error("SetModelState: reference frame '%s' not found" % reference_frame)
+        self._move_model(model, model.canonical, reference[0], pose, twist)
+        return Status.Ok('SetModelState: set model state done')
 
     def set_model_configuration(self, name, joints, positions):
         """Sets joint positions with zero velocity, moving the links below each joint."""
         model = self._models.get(name)
         if model is None:
-            return Status.Error('model does not exist')
+            return Status.Error('SetModelConfiguration: model does not exist')
         if len(joints) != len(positions):
-            return Status.Error('joint_names and joint_positions differ in length (%d and %d)'
-                                % (len(joints), len(positions)))
+            return Status.Error('SetModelConfiguration: joint_names and joint_positions differ '
+                                'in length')
         for joint, position in zip(joints, positions):
             if joint not in model.joints:
-                return Status.Error('joint [%s] not found in model [%s]' % (joint, name))
-            if model.joints[joint].spec.type == JointType.FIXED:
-                return Status.Error('joint [%s] is fixed' % joint)
+                return Status.Error("SetModelConfiguration: joint '%s' not found in model"
+                                    % joint)
             if not math.isfinite(position):
-                return Status.Error('position of joint [%s] is not finite' % joint)
-        for joint, position in zip(joints, positions):
-            self._client.resetJointState(model.body, model.joints[joint].index, position, 0.0)
-        return Status.Ok('success')
+                return Status.Error("SetModelConfiguration: position of '%s' is not finite"
+                                    % joint)
+        wanted = dict(zip(joints, positions))
+        for joint in model.joints.values():
+            if joint.spec.type != JointType.FIXED:
+                position = wanted.get(joint.spec.name,
+                                      self._client.getJointState(model.body, joint.index)[0])
+                self._client.resetJointState(model.body, joint.index, position, 0.0)
+        self._client.resetBaseVelocity(model.body, (0, 0, 0), (0, 0, 0))
+        return Status.Ok('SetModelConfiguration: success')
 
     # --- links --------------------------------------------------------------------------------
 
     def _find_link(self, scoped_link):
-        model_name, _, link_name = scoped_link.partition('::')
-        model = self._models.get(model_name)
-        if model is None or not link_name or link_name not in model.link_index:
-            return None, None
-        if model.spec.world_rooted and link_name == 'world':
-            return None, None
-        return model, link_name
+        """(model, bare link name) of "model::link", or (None, None)."""
+        for model in self._models.values():
+            prefix = model.name + '::'
+            if scoped_link.startswith(prefix) and scoped_link[len(prefix):] in model.link_index:
+                bare = scoped_link[len(prefix):]
+                if not (model.spec.world_rooted and bare == 'world'):
+                    return model, bare
+        return None, None
 
     def link_properties(self, scoped_link):
         """(Status, LinkInfo or None)."""
         model, link_name = self._find_link(scoped_link)
         if model is None:
-            return Status.Error(LINK_NOT_FOUND), None
+            return Status.Error('GetLinkProperties: link not found'), None
         spec = next(link for link in model.spec.links if link.name == link_name)
-        return Status.Ok('got properties'), LinkInfo(
+        return Status.Ok('GetLinkProperties: got properties'), LinkInfo(
             model.name, link_name, _pose_from_transform(spec.com), spec.mass, *spec.inertia,
             gravity_mode=True)
 
@@ -857,23 +975,37 @@ class BulletWorld:
         """(Status, Pose, Twist) of the link frame in reference_frame."""
         model, link_name = self._find_link(scoped_link)
         if model is None:
-            return Status.Error(LINK_NOT_FOUND), None, None
-        state = self._frame_state(model, model.link_index[link_name], IDENTITY)
-        return self._relative_state(state, reference_frame)
+            return (Status.Error('GetLinkState: link not found, did you forget to scope the link '
+                                 'by model name?'), None, None)
+        reference = self._entity_frame(reference_frame)
+        if reference is None:
+            return (Status.Error("GetLinkState: reference frame '%s' not found"
+                                 % reference_frame), None, None)
+        pose, twist = _relative(self._link_state(model, link_name), reference)
+        return Status.Ok('GetLinkState: got state'), pose, twist
 
     def set_link_state(self, scoped_link, pose, twist, reference_frame=''):
-        """Moves a model's base link, or a link welded to it by fixed joints, with the model.
-
-        Bullet articulations keep every other link on its joint, so those are refused.
-        """
+        """Sets the state of a model's free root link (with the links welded to it), which moves
+        the model. A bullet articulation keeps its other links on their joints, so those are
+        refused (the ODE engine sets them and lets the joints pull them back)."""
         model, link_name = self._find_link(scoped_link)
         if model is None:
-            return Status.Error(LINK_NOT_FOUND)
-        base_to_link = self._welded_to_base(model, link_name)
-        if base_to_link is None:
-            return Status.Error('link [%s] moves on a joint: the bullet engine sets the state of '
-                                'a model\'s root link only' % scoped_link)
-        return self._set_base_state(model, base_to_link, pose, twist, reference_frame)
+            return Status.Error('SetLinkState: link not found')
+        if link_name in model.anchored:
+            return Status.Error("SetLinkState: link '%s' is anchored to the world; move its model "
+                                "with set_model_state" % scoped_link)
+        if not self._welded_to_base(model, link_name):
+            return Status.Error("SetLinkState: link '%s' hangs on a joint, and the bullet engine "
+                                "sets only a model's free root link; use set_model_configuration"
+                                % scoped_link)
+        if not _pose_is_finite(pose) or not _twist_is_finite(twist):
+            return Status.Error('SetLinkState: the pose or twist is not finite, or the quaternion '
+                                'is zero')
+        reference = self._entity_frame(reference_frame)
+        if reference is None:
+            return Status.Error("SetLinkState: reference frame '%s' not found" % reference_frame)
+        self._move_model(model, link_name, reference[0], pose, twist)
+        return Status.Ok('SetLinkState: success')
 
     def link_names(self):
         return ['%s::%s' % (model.name, link.name) for model in self._models.values()
@@ -882,101 +1014,98 @@ class BulletWorld:
     # --- joints -------------------------------------------------------------------------------
 
     def _find_joint(self, joint):
-        model_name, scoped, joint_name = joint.rpartition('::')
+        """Scoped "model::joint" first, then the bare name in spawn order (as the ODE core)."""
         for model in self._models.values():
-            if scoped and model.name != model_name:
-                continue
-            if joint_name in model.joints:
-                return model, model.joints[joint_name]
+            prefix = model.name + '::'
+            if joint.startswith(prefix) and joint[len(prefix):] in model.joints:
+                return model, model.joints[joint[len(prefix):]]
+        for model in self._models.values():
+            if joint in model.joints:
+                return model, model.joints[joint]
         return None, None
 
     def joint_info(self, joint):
         """(Status, JointInfo or None)."""
         model, found = self._find_joint(joint)
         if model is None:
-            return Status.Error('joint not found'), None
+            return Status.Error('GetJointProperties: joint not found'), None
         position, rate = 0.0, 0.0
         if found.spec.type != JointType.FIXED:
             position, rate = self._client.getJointState(model.body, found.index)[:2]
-        return Status.Ok('got properties'), JointInfo(
-            model.name, found.spec.name, found.spec.type, found.spec.damping is not None,
-            found.spec.damping or 0.0, position, rate)
+        return Status.Ok('GetJointProperties: got properties'), JointInfo(
+            model.name, found.spec.name, found.spec.type, found.spec.has_damping,
+            found.spec.damping, position, rate)
 
     def apply_joint_effort(self, joint, effort, start_ns, duration_ns):
-        """Queues an effort job; see world.h for the window rules."""
+        """Queues an effort job on the window rules of world.h."""
         model, found = self._find_joint(joint)
         if model is None:
-            return Status.Error('joint not found')
+            return Status.Error('ApplyJointEffort: joint not found')
+        if found.spec.type == JointType.FIXED:
+            return Status.Error("ApplyJointEffort: joint '%s' is fixed and takes no effort"
+                                % joint)
         if not math.isfinite(effort):
-            return Status.Error('effort is not a finite number')
-        status, window = self._job_window(start_ns, duration_ns)
-        if window is None:
-            return status
-        limit = found.spec.effort_limit
-        clamped = limit is not None and abs(effort) > limit
-        if clamped:
-            effort = math.copysign(limit, effort)
-        self._joint_jobs.append(_Job(model.name, found.spec.name, *window, effort=effort))
-        message = status.message
-        if clamped:
-            message += ' (clamped to the effort limit %g)' % limit
-        return Status.Ok(message)
+            return Status.Error('ApplyJointEffort: effort is not finite')
+        window, note = self._job_window(start_ns, duration_ns)
+        if window is not None:
+            limit = found.spec.effort_limit
+            if abs(effort) > limit:
+                effort = math.copysign(limit, effort)
+                note += "; clamped to the joint's effort limit " + _format_number(limit)
+            self._joint_jobs.append(_Job(model.name, found.spec.name, *window, effort=effort))
+        return Status.Ok('ApplyJointEffort: effort set' + note)
 
     def clear_joint_forces(self, joint):
-        """Drops every pending job on joints of that bare name (any model)."""
-        self._joint_jobs = [j for j in self._joint_jobs if j.target != joint]
+        """Drops every pending job on joints of that name, bare (any model) or scoped."""
+        self._joint_jobs = [j for j in self._joint_jobs
+                            if joint not in (j.target, '%s::%s' % (j.model, j.target))]
 
     def apply_body_wrench(self, scoped_link, reference_frame, reference_point, force, torque,
                           start_ns, duration_ns):
-        """Wrench on a link, force applied at reference_point; force, torque and point in
-        reference_frame, fixed in the world at the time of the call (as Gazebo)."""
+        """Wrench on a link: force and torque in reference_frame's orientation, the force applied
+        at reference_point (in reference_frame), the frame followed at every step."""
         model, link_name = self._find_link(scoped_link)
         if model is None:
-            return Status.Error(BODY_NOT_FOUND)
-        values = tuple(reference_point) + tuple(force) + tuple(torque)
-        if not all(math.isfinite(v) for v in values):
-            return Status.Error('wrench or reference point is not finite')
-        frame = self._entity_frame(reference_frame)
-        if frame is None:
-            return Status.Error('reference frame [%s] not found' % reference_frame)
-        status, window = self._job_window(start_ns, duration_ns)
-        if window is None:
-            return status
-        frame = frame[0]
-        link_frame = self._link_frame(model, model.link_index[link_name])
-        point_world = _compose(frame, (tuple(reference_point), IDENTITY[1]))[0]
-        point_in_link = _compose(_invert(link_frame), (point_world, IDENTITY[1]))[0]
-        self._wrench_jobs.append(_Job(model.name, link_name, *window,
-                                      force=_rotate(frame[1], tuple(force)),
-                                      torque=_rotate(frame[1], tuple(torque)),
-                                      point=point_in_link))
-        return Status.Ok(status.message.replace('effort', 'wrench'))
+            return Status.Error('ApplyBodyWrench: body does not exist')
+        if link_name in model.anchored:
+            return Status.Error("ApplyBodyWrench: body '%s' is anchored to the world"
+                                % scoped_link)
+        if self._entity_frame(reference_frame) is None:
+            return Status.Error("ApplyBodyWrench: reference frame '%s' not found"
+                                % reference_frame)
+        if not all(math.isfinite(v) for v in (*reference_point, *force, *torque)):
+            return Status.Error('ApplyBodyWrench: wrench or reference point is not finite')
+        window, note = self._job_window(start_ns, duration_ns)
+        if window is not None:
+            self._wrench_jobs.append(_Job(model.name, link_name, *window,
+                                          reference_frame=reference_frame, force=tuple(force),
+                                          torque=tuple(torque), point=tuple(reference_point)))
+        return Status.Ok('ApplyBodyWrench: wrench set' + note)
 
     def clear_body_wrenches(self, scoped_link):
-        model_name, _, link_name = scoped_link.partition('::')
         self._wrench_jobs = [j for j in self._wrench_jobs
-                             if (j.model, j.target) != (model_name, link_name)]
+                             if '%s::%s' % (j.model, j.target) != scoped_link]
 
     def _job_window(self, start_ns, duration_ns):
-        """(Status, (start_ns, end_ns) or None): the half-open window of a job."""
-        step_ns = step_ns_of(self._params.step)
-        start_ns = max(int(start_ns), self._time_ns)
+        """((start_ns, end_ns) or None for nothing to do, note for the status message)."""
         if duration_ns == 0:
-            return Status.Ok('duration is 0: nothing to apply'), None
+            return None, '; duration is 0, so nothing was applied'
+        start_ns = max(int(start_ns), self._time_ns)
+        step_ns = step_ns_of(self._params.step)
         if duration_ns < 0:
-            return Status.Ok('effort set'), (start_ns, None)
+            return (start_ns, math.inf), ''
         if duration_ns < step_ns:
-            return (Status.Ok('effort set (the duration is shorter than a step: applied for '
-                              'exactly one step)'), (start_ns, start_ns + step_ns))
-        return Status.Ok('effort set'), (start_ns, start_ns + int(duration_ns))
+            # [start, start + step) holds exactly one step start, wherever start falls.
+            return ((start_ns, start_ns + step_ns),
+                    '; duration is shorter than the step, so it acts for exactly one step')
+        return (start_ns, start_ns + int(duration_ns)), ''
 
     # --- reset --------------------------------------------------------------------------------
 
     def reset_world(self):
         """Every model back to its spawn pose and configuration, zero velocity; drops jobs."""
         for model in self._models.values():
-            base = _compose(model.spawn_pose, _invert(model.base_to_model))
-            inertial = _compose(base, model.base_inertial)
+            inertial = _compose(model.spawn_base, model.base_inertial)
             self._client.resetBasePositionAndOrientation(model.body, *inertial)
             self._client.resetBaseVelocity(model.body, (0, 0, 0), (0, 0, 0))
             for joint in model.joints.values():
@@ -988,6 +1117,7 @@ class BulletWorld:
     def reset_simulation(self):
         self.reset_world()
         self._time_ns = 0
+        self._step_count = 0
 
     # --- introspection ------------------------------------------------------------------------
 
@@ -1006,16 +1136,18 @@ class BulletWorld:
     # --- frames -------------------------------------------------------------------------------
 
     def _link_frame(self, model, index):
-        """World transform of a link frame (pybullet index, -1: base)."""
+        """World transform of a link frame (pybullet index, -1: base). pybullet keeps the base
+        at its inertial frame, and reports a link's frame apart from its centre of mass."""
         if index == -1:
             inertial = self._client.getBasePositionAndOrientation(model.body)
             return _compose(inertial, _invert(model.base_inertial))
         state = self._client.getLinkState(model.body, index, computeForwardKinematics=True)
         return tuple(state[4]), tuple(state[5])
 
-    def _frame_state(self, model, index, offset):
-        """(transform, linear velocity, angular velocity) in the world of the frame `offset`
-        fixed in a link: the velocity is that of the frame's origin."""
+    def _link_state(self, model, link_name):
+        """(world transform, linear, angular) of a link frame; the linear velocity is that of
+        the frame's origin, as the ODE core and Gazebo report it."""
+        index = model.link_index[link_name]
         if index == -1:
             com = self._client.getBasePositionAndOrientation(model.body)[0]
             linear, angular = self._client.getBaseVelocity(model.body)
@@ -1023,67 +1155,56 @@ class BulletWorld:
             state = self._client.getLinkState(model.body, index, computeLinkVelocity=True,
                                               computeForwardKinematics=True)
             com, linear, angular = state[0], state[6], state[7]
-        frame = _compose(self._link_frame(model, index), offset)
-        linear = _add(linear, _cross(angular, _sub(frame[0], com)))
-        return frame, tuple(linear), tuple(angular)
+        frame = self._link_frame(model, index)
+        return frame, _add(linear, _cross(angular, _sub(frame[0], com))), tuple(angular)
 
     def _entity_frame(self, entity):
-        """(transform, linear, angular) of "" / "world", a model, or "model::link"; None: unknown."""
+        """(transform, linear, angular) of "" / "world", a model (its canonical link) or
+        "model::link"; None if there is no such entity."""
         if entity in WORLD_FRAMES:
             return IDENTITY, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
         if entity in self._models:
             model = self._models[entity]
-            return self._frame_state(model, -1, model.base_to_model)
+            return self._link_state(model, model.canonical)
         model, link_name = self._find_link(entity)
         if model is None:
             return None
-        return self._frame_state(model, model.link_index[link_name], IDENTITY)
-
-    def _relative_state(self, state, reference_frame):
-        reference = self._entity_frame(reference_frame)
-        if reference is None:
-            return (Status.Error('reference frame [%s] not found' % reference_frame), None, None)
-        (frame, linear, angular), (ref, ref_linear, ref_angular) = state, reference
-        # As Gazebo: pose relative to the reference, velocity differences in its orientation.
-        inverse = _invert(ref)
-        pose = _compose(inverse, frame)
-        linear = _rotate(inverse[1], _sub(linear, ref_linear))
-        angular = _rotate(inverse[1], _sub(angular, ref_angular))
-        return (Status.Ok('got state'), _pose_from_transform(pose),
-                Twist(Vec3(*linear), Vec3(*angular)))
+        return self._link_state(model, link_name)
 
     def _welded_to_base(self, model, link_name):
-        """The transform base link frame -> link frame if only fixed joints lie between them."""
+        """Whether only fixed joints lie between the link and the pybullet base."""
         parent_joint = {joint.spec.child: joint for joint in model.joints.values()}
-        name = link_name
-        while name in parent_joint:
-            if parent_joint[name].spec.type != JointType.FIXED:
-                return None
-            name = parent_joint[name].spec.parent
-        # Welded: the current transform is the constant one.
-        return _compose(_invert(self._link_frame(model, -1)),
-                        self._link_frame(model, model.link_index[link_name]))
+        while link_name in parent_joint:
+            if parent_joint[link_name].spec.type != JointType.FIXED:
+                return False
+            link_name = parent_joint[link_name].spec.parent
+        return True
 
-    def _set_base_state(self, model, base_to_frame, pose, twist, reference_frame):
-        """Moves the model so that the frame base_to_frame (fixed in the base link) reaches pose
-        and twist in reference_frame."""
-        if not _pose_is_finite(pose) or not _twist_is_finite(twist):
-            return Status.Error('pose or twist is not finite')
-        reference = self._entity_frame(reference_frame)
-        if reference is None:
-            return Status.Error('reference frame [%s] not found' % reference_frame)
-        ref, ref_linear, ref_angular = reference
-        frame = _compose(ref, _transform_from_pose(pose))
-        linear = _add(_rotate(ref[1], tuple(twist.linear)), ref_linear)
-        angular = _add(_rotate(ref[1], tuple(twist.angular)), ref_angular)
-        inertial = _compose(_compose(frame, _invert(base_to_frame)), model.base_inertial)
+    def _move_model(self, model, link_name, reference, pose, twist):
+        """Moves the model rigidly, joint positions kept and joint rates zeroed, so that the
+        frame of link_name gets pose and twist (in the reference transform's axes)."""
+        target = _compose(reference, _transform_from_pose(pose))
+        motion = _compose(target, _invert(self._link_frame(model, model.link_index[link_name])))
+        inertial = _compose(_compose(motion, self._link_frame(model, -1)), model.base_inertial)
         self._client.resetBasePositionAndOrientation(model.body, *inertial)
-        # pybullet's base velocity is that of the centre of mass.
-        com_linear = _add(linear, _cross(angular, _sub(inertial[0], frame[0])))
+        for joint in model.joints.values():
+            if joint.spec.type != JointType.FIXED:
+                position = self._client.getJointState(model.body, joint.index)[0]
+                self._client.resetJointState(model.body, joint.index, position, 0.0)
+        linear = _rotate(reference[1], tuple(twist.linear))
+        angular = _rotate(reference[1], tuple(twist.angular))
+        # pybullet's base velocity is that of its centre of mass. A base fixed to the world
+        # does not move: the twist is ignored there.
+        com_linear = _add(linear, _cross(angular, _sub(inertial[0], target[0])))
         self._client.resetBaseVelocity(model.body, com_linear, angular)
-        return Status.Ok('set model state')
 
 
-LINK_NOT_FOUND = 'link not found, did you forget to scope the link by model name?'
-BODY_NOT_FOUND = 'body not found, did you forget to scope the body by model name?'
-
+def _relative(state, reference):
+    """Gazebo's convention for a state relative to an entity: pose in the entity frame,
+    velocities relative to the entity's and expressed in its axes."""
+    (frame, linear, angular), (ref, ref_linear, ref_angular) = state, reference
+    inverse = _invert(ref)
+    pose = _compose(inverse, frame)
+    linear = _rotate(inverse[1], _sub(linear, ref_linear))
+    angular = _rotate(inverse[1], _sub(angular, ref_angular))
+    return _pose_from_transform(pose), Twist(Vec3(*linear), Vec3(*angular))
