@@ -119,13 +119,16 @@ def test_header_stamp():
     assert header_stamp(JointState(header=Header(stamp=genpy.Time(2, 250000000)))) == 2.25
 
 
-def test_buffer_times_are_relative_to_the_first_sample_of_any_label():
+def test_buffer_times_are_relative_to_the_earliest_sample_of_any_label():
     buffer = SampleBuffer(['a', 'b'])
     buffer.append('b', 10.0, 1.0)
     buffer.append('a', 10.5, 2.0)
     buffer.append('b', 11.0, 3.0)
     assert buffer.series() == {'a': ([0.5], [2.0]), 'b': ([0.0, 1.0], [1.0, 3.0])}
     assert buffer.count('b') == 2
+    # A header stamp older than what arrived before it moves the origin back.
+    buffer.append('a', 9.75, 4.0)
+    assert buffer.series() == {'a': ([0.75, 0.0], [2.0, 4.0]), 'b': ([0.25, 1.25], [1.0, 3.0])}
 
 
 def test_buffer_is_bounded_and_keeps_the_newest_samples():

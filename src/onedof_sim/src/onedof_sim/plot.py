@@ -10,7 +10,7 @@ usable on its own: write_figure() and write_csv() take {label: (times, values)} 
 CSV format (wide): a header `time,<label>,<label>...`, then one row per received message in time
 order; a row holds the values of the fields of the topic that sent it and leaves the other columns
 empty. Fields of one topic share rows. Time is in seconds of ROS time (sim time under
-/use_sim_time) relative to the first sample: the message's header stamp when it has a nonzero one,
+/use_sim_time) relative to the earliest sample: the message's header stamp when it has a nonzero one,
 else the ROS time at reception.
 """
 import argparse
@@ -193,7 +193,8 @@ class SampleBuffer:
 
     def append(self, label, t, value):
         with self._lock:
-            if self._origin is None:
+            # Header stamps can precede the reception time of a sample appended earlier.
+            if self._origin is None or t < self._origin:
                 self._origin = t
             self._samples[label].append((t, value))
 
@@ -202,7 +203,7 @@ class SampleBuffer:
             return len(self._samples[label])
 
     def series(self):
-        """{label: (times, values)}, times relative to the first sample ever appended."""
+        """{label: (times, values)}, times relative to the earliest sample ever appended."""
         with self._lock:
             origin = self._origin or 0.0
             return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
