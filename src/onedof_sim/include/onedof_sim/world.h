@@ -178,6 +178,10 @@ class World {
   // --- introspection -------------------------------------------------------------------------
   std::vector<CollisionShape> collisionShapes() const;
 
+  // What step() had to do on its own since the last call, for the owner to log: a model's speed
+  // capped, a non-finite state undone. Drains the list (at most 100 kept between calls).
+  std::vector<std::string> takeWarnings();
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -1,0 +1,402 @@
+// URDF (urdfdom) and SDF (libsdformat 12) to ModelDescription.
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <functional>
+#include <ignition/math/Pose3.hh>
+#include <map>
+#include <sdf/sdf.hh>
+#include <set>
+#include <sstream>
+
+#include "model_description.h"
+#include "pose_math.h"
+
+namespace onedof_sim {
+namespace core {
+namespace {
+
+// urdfdom reports why it rejects a file only through console_bridge; this collects those lines so
+// that the spawn status can carry the parser's reason.
+class CapturedParserErrors : public console_bridge::OutputHandler {
+ public:
+  CapturedParserErrors() { console_bridge::useOutputHandler(this); }
+  ~CapturedParserErrors() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) lines_ += (lines_.empty() ? "" : "; ") + text;
+  }
+  const std::string& text() const { return lines_; }
+
+ private:
+  std::string lines_;
+};
+
+Pose toPose(const urdf::Pose& p) {
+  return {{p.position.x, p.position.y, p.position.z},
+          normalized({p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z})};
+}
+
+Pose toPose(const ignition::math::Pose3d& p) {
+  return {{p.Pos().X(), p.Pos().Y(), p.Pos().Z()},
+          normalized({p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z()})};
+}
+
+Vec3 unit(const Vec3& v) { return (1.0 / norm(v)) * v; }
+
+std::string collisionName(const std::string& given, const std::string& link, size_t index) {
+  // Gazebo's URDF conversion names unnamed collisions this way; clients see them as geom names.
+  if (!given.empty()) return given;
+  return link + "_collision" + (index == 0 ? "" : "_" + std::to_string(index));
+}
+
+// Checks the kinematic tree shared by both formats and orders links parents first, which the
+// world relies on when it walks the tree.
+Status finish(ModelDescription* model) {
+  std::map<std::string, size_t> link_index;
+  for (size_t i = 0; i < model->links.size(); ++i) {
+    const std::string& name = model->links[i].name;
+    if (name == kWorldLink) return Status::Error("a model link may not be called 'world'");
+    if (!link_index.emplace(name, i).second) return Status::Error("duplicate link '" + name + "'");
+  }
+  if (model->links.empty()) return Status::Error("the model has no link");
+  std::map<std::string, const JointDescription*> parent_joint;
+  std::set<std::string> joint_names;
+  for (const JointDescription& joint : model->joints) {
+    if (!joint_names.insert(joint.name).second)
+      return Status::Error("duplicate joint '" + joint.name + "'");
+    if (!link_index.count(joint.child))
+      return Status::Error("joint '" + joint.name + "' has unknown child link '" + joint.child + "'");
+    if (joint.parent != kWorldLink && !link_index.count(joint.parent))
+      return Status::Error("joint '" + joint.name + "' has unknown parent link '" + joint.parent +
+                           "'");
+    if (!parent_joint.emplace(joint.child, &joint).second)
+      return Status::Error("link '" + joint.child + "' is the child of more than one joint");
+    if (!isFinite(joint.anchor) || !isFinite(joint.axis) || norm(joint.axis) < 1e-9)
+      return Status::Error("joint '" + joint.name + "' has an invalid axis");
+  }
+  std::vector<LinkDescription> ordered;
+  std::set<std::string> placed;
+  std::function<bool(const std::string&, int)> place = [&](const std::string& name, int depth) {
+    if (placed.count(name) || name == kWorldLink) return true;
+    if (depth > static_cast<int>(model->links.size())) return false;  // a loop of joints
+    auto parent = parent_joint.find(name);
+    if (parent != parent_joint.end() && !place(parent->second->parent, depth + 1)) return false;
+    ordered.push_back(model->links[link_index.at(name)]);
+    placed.insert(name);
+    return true;
+  };
+  for (const LinkDescription& link : model->links)
+    if (!place(link.name, 0)) return Status::Error("the joints form a loop");
+  model->links = std::move(ordered);
+  if (!link_index.count(model->canonical_link))
+    return Status::Error("unknown canonical link '" + model->canonical_link + "'");
+  return Status::Ok();
+}
+
+Status addUrdfCollision(const urdf::Collision& collision, size_t index, LinkDescription* link) {
+  CollisionDescription out;
+  out.name = collisionName(collision.name, link->name, index);
+  out.pose = toPose(collision.origin);
+  if (!collision.geometry) return Status::Error("collision of link '" + link->name + "' has no geometry");
+  switch (collision.geometry->type) {
+    case urdf::Geometry::BOX: {
+      const auto& box = static_cast<const urdf::Box&>(*collision.geometry);
+      out.shape = GeometryShape::Box;
+      out.size = {box.dim.x, box.dim.y, box.dim.z};
+      break;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(*collision.geometry);
+      out.shape = GeometryShape::Cylinder;
+      out.size = {cylinder.radius, 0, cylinder.length};
+      break;
+    }
+    case urdf::Geometry::SPHERE: {
+      out.shape = GeometryShape::Sphere;
+      out.size = {static_cast<const urdf::Sphere&>(*collision.geometry).radius, 0, 0};
+      break;
+    }
+    default:
+      return Status::Error("link '" + link->name +
+                           "': only box, cylinder and sphere collisions are supported");
+  }
+  link->collisions.push_back(out);
+  return Status::Ok();
+}
+
+Status checkShape(const CollisionDescription& collision, const std::string& link) {
+  const Vec3& s = collision.size;
+  const bool ok = collision.shape == GeometryShape::Box ? (s.x > 0 && s.y > 0 && s.z > 0)
+                  : collision.shape == GeometryShape::Cylinder ? (s.x > 0 && s.z > 0)
+                                                                 : s.x > 0;
+  if (ok && isFinite(s) && isFinite(collision.pose)) return Status::Ok();
+  return Status::Error("link '" + link + "': collision '" + collision.name +
+                       "' has a non-positive or non-finite size or pose");
+}
+
+Pose childPose(const Pose& parent_pose, const urdf::Joint& joint) {
+  return compose(parent_pose, toPose(joint.parent_to_joint_origin_transform));
+}
+
+// Adds one URDF link (at its model-frame pose) and the joints to its children.
+Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* out) {
+  if (link.name != kWorldLink) {
+    LinkDescription desc;
+    desc.name = link.name;
+    desc.pose = pose;
+    if (link.inertial) {
+      const urdf::Inertial& inertial = *link.inertial;
+      desc.has_inertial = true;
+      desc.mass = inertial.mass;
+      desc.com = toPose(inertial.origin);
+      desc.ixx = inertial.ixx, desc.ixy = inertial.ixy, desc.ixz = inertial.ixz;
+      desc.iyy = inertial.iyy, desc.iyz = inertial.iyz, desc.izz = inertial.izz;
+    }
+    // urdfdom keeps a lone <collision> only in `collision`, several in `collision_array`.
+    std::vector<urdf::CollisionSharedPtr> collisions = link.collision_array;
+    if (collisions.empty() && link.collision) collisions.push_back(link.collision);
+    for (size_t i = 0; i < collisions.size(); ++i) {
+      Status status = addUrdfCollision(*collisions[i], i, &desc);
+      if (!status.ok) return status;
+      status = checkShape(desc.collisions.back(), desc.name);
+      if (!status.ok) return status;
+    }
+    out->links.push_back(desc);
+  }
+  for (const urdf::JointSharedPtr& joint : link.child_joints) {
+    JointDescription desc;
+    desc.name = joint->name;
+    desc.parent = link.name;
+    desc.child = joint->child_link_name;
+    switch (joint->type) {
+      case urdf::Joint::REVOLUTE: desc.type = JointType::Revolute; break;
+      case urdf::Joint::CONTINUOUS: desc.type = JointType::Continuous; break;
+      case urdf::Joint::PRISMATIC: desc.type = JointType::Prismatic; break;
+      case urdf::Joint::FIXED: desc.type = JointType::Fixed; break;
+      default:
+        return Status::Error("joint '" + joint->name +
+                             "': only revolute, continuous, prismatic and fixed joints are supported");
+    }
+    // The URDF joint frame is the child link frame.
+    const Pose child_pose = childPose(pose, *joint);
+    desc.anchor = child_pose.position;
+    const Vec3 axis{joint->axis.x, joint->axis.y, joint->axis.z};
+    if (desc.type != JointType::Fixed) {
+      if (!(norm(axis) > 1e-9)) return Status::Error("joint '" + joint->name + "' has a zero axis");
+      desc.axis = unit(rotate(child_pose.orientation, axis));
+    }
+    if (joint->limits) {
+      if (desc.type == JointType::Revolute || desc.type == JointType::Prismatic) {
+        desc.has_limits = true;
+        desc.lower = joint->limits->lower;
+        desc.upper = joint->limits->upper;
+      }
+      // urdfdom reads a missing effort as 0; a joint that can take no effort at all is not what
+      // anyone writes, so only a positive value limits.
+      if (joint->limits->effort > 0) desc.effort_limit = joint->limits->effort;
+    }
+    if (joint->dynamics) {
+      // urdfdom rejects <dynamics> with neither attribute and reads a missing one as 0, so damping
+      // was declared if it is non-zero or if friction (the only alternative) is zero.
+      desc.has_damping = joint->dynamics->damping != 0 || joint->dynamics->friction == 0;
+      desc.damping = joint->dynamics->damping;
+      desc.friction = joint->dynamics->friction;
+    }
+    out->joints.push_back(desc);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status parseUrdf(const std::string& xml, ModelDescription* out) {
+  urdf::ModelInterfaceSharedPtr urdf;
+  std::string parser_errors;
+  {
+    CapturedParserErrors errors;
+    urdf = urdf::parseURDF(xml);
+    parser_errors = errors.text();
+  }
+  if (!urdf) return Status::Error("invalid URDF: " + (parser_errors.empty() ? "parse failed" : parser_errors));
+  ModelDescription model;
+  std::function<Status(const urdf::Link&, const Pose&)> visit = [&](const urdf::Link& link,
+                                                                     const Pose& pose) {
+    Status status = addUrdfLink(link, pose, &model);
+    if (!status.ok) return status;
+    for (const urdf::JointSharedPtr& joint : link.child_joints) {
+      const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
+      status = visit(*child, childPose(pose, *joint));
+      if (!status.ok) return status;
+    }
+    return Status::Ok();
+  };
+  Status status = visit(*urdf->getRoot(), Pose());
+  if (!status.ok) return status;
+  if (model.links.empty()) return Status::Error("the URDF has no link besides 'world'");
+  model.canonical_link = model.links.front().name;
+  status = finish(&model);
+  if (!status.ok) return status;
+  *out = std::move(model);
+  return Status::Ok();
+}
+
+namespace {
+
+std::string joinErrors(const sdf::Errors& errors) {
+  std::ostringstream text;
+  for (size_t i = 0; i < errors.size(); ++i) text << (i ? "; " : "") << errors[i].Message();
+  return text.str();
+}
+
+// libsdformat 12 has no accessor for <surface><friction><ode>, so read the element.
+void readSdfFriction(const sdf::Collision& collision, CollisionDescription* out) {
+  sdf::ElementPtr element = collision.Element();
+  for (const char* name : {"surface", "friction", "ode"}) {
+    if (!element || !element->HasElement(name)) return;
+    element = element->GetElement(name);
+  }
+  if (element->HasElement("mu")) out->mu = element->Get<double>("mu");
+  if (element->HasElement("mu2")) out->mu2 = element->Get<double>("mu2");
+}
+
+Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::string& prefix,
+                  ModelDescription* out) {
+  LinkDescription desc;
+  desc.name = prefix + link.Name();
+  ignition::math::Pose3d pose;
+  sdf::Errors errors = link.SemanticPose().Resolve(pose, "__model__");
+  if (!errors.empty()) return Status::Error("link '" + desc.name + "': " + joinErrors(errors));
+  desc.pose = compose(model_pose, toPose(pose));
+  const ignition::math::Inertiald& inertial = link.Inertial();
+  desc.has_inertial = true;
+  desc.mass = inertial.MassMatrix().Mass();
+  desc.com = toPose(inertial.Pose());
+  desc.ixx = inertial.MassMatrix().Ixx(), desc.ixy = inertial.MassMatrix().Ixy();
+  desc.ixz = inertial.MassMatrix().Ixz(), desc.iyy = inertial.MassMatrix().Iyy();
+  desc.iyz = inertial.MassMatrix().Iyz(), desc.izz = inertial.MassMatrix().Izz();
+  if (link.Element() && link.Element()->HasElement("gravity"))
+    desc.gravity = link.Element()->Get<bool>("gravity");
+  for (uint64_t i = 0; i < link.CollisionCount(); ++i) {
+    const sdf::Collision& collision = *link.CollisionByIndex(i);
+    CollisionDescription c;
+    c.name = collision.Name();
+    errors = collision.SemanticPose().Resolve(pose, link.Name());
+    if (!errors.empty()) return Status::Error("collision '" + c.name + "': " + joinErrors(errors));
+    c.pose = toPose(pose);
+    const sdf::Geometry& geometry = *collision.Geom();
+    if (geometry.Type() == sdf::GeometryType::BOX) {
+      const auto& size = geometry.BoxShape()->Size();
+      c.shape = GeometryShape::Box;
+      c.size = {size.X(), size.Y(), size.Z()};
+    } else if (geometry.Type() == sdf::GeometryType::CYLINDER) {
+      c.shape = GeometryShape::Cylinder;
+      c.size = {geometry.CylinderShape()->Radius(), 0, geometry.CylinderShape()->Length()};
+    } else if (geometry.Type() == sdf::GeometryType::SPHERE) {
+      c.shape = GeometryShape::Sphere;
+      c.size = {geometry.SphereShape()->Radius(), 0, 0};
+    } else {
+      return Status::Error("link '" + desc.name +
+                           "': only box, cylinder and sphere collisions are supported");
+    }
+    readSdfFriction(collision, &c);
+    Status status = checkShape(c, desc.name);
+    if (!status.ok) return status;
+    desc.collisions.push_back(c);
+  }
+  out->links.push_back(desc);
+  return Status::Ok();
+}
+
+Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::string& prefix,
+                   ModelDescription* out) {
+  JointDescription desc;
+  desc.name = prefix + joint.Name();
+  switch (joint.Type()) {
+    case sdf::JointType::REVOLUTE: desc.type = JointType::Revolute; break;
+    case sdf::JointType::CONTINUOUS: desc.type = JointType::Continuous; break;
+    case sdf::JointType::PRISMATIC: desc.type = JointType::Prismatic; break;
+    case sdf::JointType::FIXED: desc.type = JointType::Fixed; break;
+    default:
+      return Status::Error("joint '" + desc.name +
+                           "': only revolute, continuous, prismatic and fixed joints are supported");
+  }
+  const std::string& parent = joint.ParentLinkName();
+  desc.parent = parent == kWorldLink ? parent : prefix + parent;
+  desc.child = prefix + joint.ChildLinkName();
+  ignition::math::Pose3d pose;
+  sdf::Errors errors = joint.SemanticPose().Resolve(pose, "__model__");
+  if (!errors.empty()) return Status::Error("joint '" + desc.name + "': " + joinErrors(errors));
+  desc.anchor = transformPoint(model_pose, toPose(pose).position);
+  if (const sdf::JointAxis* axis = joint.Axis(0)) {
+    ignition::math::Vector3d xyz;
+    errors = axis->ResolveXyz(xyz, "__model__");
+    if (!errors.empty()) return Status::Error("joint '" + desc.name + "': " + joinErrors(errors));
+    const Vec3 model_axis = rotate(model_pose.orientation, {xyz.X(), xyz.Y(), xyz.Z()});
+    if (!(norm(model_axis) > 1e-9)) return Status::Error("joint '" + desc.name + "' has a zero axis");
+    desc.axis = unit(model_axis);
+    // SDF's "no limit" defaults are +-1e16.
+    if (desc.type != JointType::Continuous && std::abs(axis->Lower()) < 1e15 &&
+        std::abs(axis->Upper()) < 1e15) {
+      desc.has_limits = true;
+      desc.lower = axis->Lower();
+      desc.upper = axis->Upper();
+    }
+    if (axis->Effort() > 0) desc.effort_limit = axis->Effort();
+    sdf::ElementPtr element = axis->Element();
+    desc.has_damping = element && element->HasElement("dynamics") &&
+                       element->GetElement("dynamics")->HasElement("damping");
+    desc.damping = axis->Damping();
+    desc.friction = axis->Friction();
+  } else if (desc.type != JointType::Fixed) {
+    return Status::Error("joint '" + desc.name + "' has no <axis>");
+  }
+  out->joints.push_back(desc);
+  return Status::Ok();
+}
+
+// Nested models become links and joints named "nested::name" in one flat model.
+Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::string& prefix,
+                   ModelDescription* out) {
+  for (uint64_t i = 0; i < model.LinkCount(); ++i) {
+    Status status = addSdfLink(*model.LinkByIndex(i), model_pose, prefix, out);
+    if (!status.ok) return status;
+  }
+  for (uint64_t i = 0; i < model.JointCount(); ++i) {
+    Status status = addSdfJoint(*model.JointByIndex(i), model_pose, prefix, out);
+    if (!status.ok) return status;
+  }
+  for (uint64_t i = 0; i < model.ModelCount(); ++i) {
+    const sdf::Model& nested = *model.ModelByIndex(i);
+    ignition::math::Pose3d pose;
+    sdf::Errors errors = nested.SemanticPose().Resolve(pose, "__model__");
+    if (!errors.empty()) return Status::Error("model '" + nested.Name() + "': " + joinErrors(errors));
+    Status status =
+        addSdfModel(nested, compose(model_pose, toPose(pose)), prefix + nested.Name() + "::", out);
+    if (!status.ok) return status;
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status parseSdf(const std::string& xml, ModelDescription* out) {
+  sdf::Root root;
+  const sdf::Errors errors = root.LoadSdfString(xml);
+  if (!errors.empty()) return Status::Error("invalid SDF: " + joinErrors(errors));
+  const sdf::Model* model = root.Model();
+  if (!model) return Status::Error("invalid SDF: no <model> at the top level");
+  ModelDescription desc;
+  desc.is_static = model->Static();
+  Status status = addSdfModel(*model, Pose(), "", &desc);
+  if (!status.ok) return status;
+  const auto canonical = model->CanonicalLinkAndRelativeName();
+  if (!canonical.first) return Status::Error("invalid SDF: the model has no link");
+  desc.canonical_link = canonical.second;
+  status = finish(&desc);
+  if (!status.ok) return status;
+  *out = std::move(desc);
+  return Status::Ok();
+}
+
+}  // namespace core
+}  // namespace onedof_sim

@@ -1,0 +1,67 @@
+// A parsed model, independent of its file format: what the world needs to build ODE objects.
+// Every pose is in the model frame with all joints at zero, so that URDF (poses chained through
+// joints) and SDF (poses relative to arbitrary frames) reduce to the same thing. Private to the core.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "onedof_sim/world.h"
+
+namespace onedof_sim {
+namespace core {
+
+// The parent name of a joint attached to the static environment (URDF's `world` link, SDF's
+// reserved frame name).
+constexpr const char* kWorldLink = "world";
+
+struct CollisionDescription {
+  std::string name;
+  GeometryShape shape = GeometryShape::Box;
+  Vec3 size;  // as CollisionShape::size
+  Pose pose;  // in the link frame
+  // Gazebo's defaults for a model surface; a contact uses the smaller value of the two geoms.
+  double mu = 1, mu2 = 1;
+};
+
+struct LinkDescription {
+  std::string name;
+  Pose pose;  // link frame in the model frame, all joints at zero
+  // URDF links may have no <inertial>; they can only ride on a moving link through a fixed joint.
+  bool has_inertial = false;
+  double mass = 0;
+  Pose com;  // inertial frame in the link frame
+  double ixx = 0, ixy = 0, ixz = 0, iyy = 0, iyz = 0, izz = 0;  // in the inertial frame
+  bool gravity = true;
+  std::vector<CollisionDescription> collisions;
+};
+
+struct JointDescription {
+  std::string name;
+  JointType type = JointType::Fixed;
+  std::string parent;  // a link name, or kWorldLink
+  std::string child;
+  Vec3 anchor;       // in the model frame, all joints at zero
+  Vec3 axis{1, 0, 0};  // unit, in the model frame
+  bool has_limits = false;
+  double lower = 0, upper = 0;
+  double effort_limit = std::numeric_limits<double>::infinity();
+  bool has_damping = false;
+  double damping = 0;
+  double friction = 0;
+};
+
+struct ModelDescription {
+  bool is_static = false;
+  std::vector<LinkDescription> links;  // parents before children
+  std::vector<JointDescription> joints;
+  std::string canonical_link;
+};
+
+// Both fill `out` only on success; the error message names the problem (parser reasons included).
+Status parseUrdf(const std::string& xml, ModelDescription* out);
+Status parseSdf(const std::string& xml, ModelDescription* out);
+
+}  // namespace core
+}  // namespace onedof_sim

@@ -1,0 +1,72 @@
+// Rigid-transform arithmetic on the public Vec3/Quat/Pose types, shared by the loader and the
+// world. Private to the core.
+#pragma once
+
+#include <cmath>
+
+#include "onedof_sim/world.h"
+
+namespace onedof_sim {
+namespace core {
+
+inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
+inline Vec3 operator*(double s, const Vec3& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+inline Quat multiply(const Quat& a, const Quat& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+          a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+          a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+inline Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
+inline double quatNorm(const Quat& q) {
+  return std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+}
+inline Quat normalized(const Quat& q) {
+  const double n = quatNorm(q);
+  return {q.w / n, q.x / n, q.y / n, q.z / n};
+}
+inline Vec3 rotate(const Quat& q, const Vec3& v) {
+  const Vec3 u{q.x, q.y, q.z};
+  const Vec3 t = 2.0 * cross(u, v);
+  return v + q.w * t + cross(u, t);
+}
+inline Quat axisAngle(const Vec3& unit_axis, double angle) {
+  const double s = std::sin(angle / 2);
+  return {std::cos(angle / 2), s * unit_axis.x, s * unit_axis.y, s * unit_axis.z};
+}
+// Fixed-axis roll, pitch, yaw (URDF and SDF): R = Rz(yaw) Ry(pitch) Rx(roll).
+inline Quat fromRpy(double roll, double pitch, double yaw) {
+  return multiply(multiply(axisAngle({0, 0, 1}, yaw), axisAngle({0, 1, 0}, pitch)),
+                  axisAngle({1, 0, 0}, roll));
+}
+
+inline Pose compose(const Pose& a, const Pose& b) {
+  return {a.position + rotate(a.orientation, b.position),
+          normalized(multiply(a.orientation, b.orientation))};
+}
+inline Pose inverse(const Pose& a) {
+  const Quat qi = conjugate(a.orientation);
+  return {-rotate(qi, a.position), qi};
+}
+inline Vec3 transformPoint(const Pose& a, const Vec3& p) {
+  return a.position + rotate(a.orientation, p);
+}
+
+inline bool isFinite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+inline bool isFinite(const Quat& q) {
+  return std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+}
+inline bool isFinite(const Pose& p) { return isFinite(p.position) && isFinite(p.orientation); }
+
+}  // namespace core
+}  // namespace onedof_sim
