@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -37,6 +39,13 @@ constexpr double kGroundMu = 100, kGroundMu2 = 50;
 // Above this a link crosses 0.1 m per default step: contacts tunnel and the state means nothing,
 // so it is a blow-up being born, not motion. Nothing in a robot arm gets near it.
 constexpr double kMaxLinearSpeed = 100;
+// Several contact points constraining the same motion (a cylinder end on the ground gives four)
+// make dWorldStep's Dantzig LCP singular with Gazebo's CFM of 0: it fails a pivot ("LCP internal
+// error") in the tutorial's own scenes, the arm lying on the ground or pressing the table. ODE's
+// own double-precision default CFM, 1e-10 (a compliance of 0.1 nm per N), regularises that and
+// removed every such failure in those scenes; it is a floor for contacts only, so joints and the
+// reported cfm stay exact.
+constexpr double kMinContactCfm = 1e-10;
 // At most this many step warnings are kept between two takeWarnings() calls; a stuck model would
 // otherwise fill memory at the step rate.
 constexpr size_t kMaxWarnings = 100;
@@ -139,6 +148,29 @@ struct BodyWrenchJob {
   Vec3 point, force, torque;
   int64_t start_ns, end_ns;
 };
+
+// ODE reports solver trouble (typically "LCP internal error" while deep interpenetration is being
+// pushed apart) through one process-wide message handler that prints to stderr, once per step it
+// happens: thousands of lines for one bad spawn. step() points this at its world so that the
+// messages become one warning per episode instead; outside step() they still go to stderr.
+struct OdeMessages {
+  int count = 0;
+  std::string first;
+};
+thread_local OdeMessages* stepping_world_messages = nullptr;
+
+void collectOdeMessage(int, const char* format, va_list args) {
+  if (!stepping_world_messages) {
+    std::vfprintf(stderr, format, args);
+    std::fputc('\n', stderr);
+    return;
+  }
+  if (stepping_world_messages->count++ == 0) {
+    char text[256];
+    std::vsnprintf(text, sizeof text, format, args);
+    stepping_world_messages->first = text;
+  }
+}
 
 struct BodyState {
   dBodyID body;
@@ -287,9 +319,12 @@ struct World::Impl {
   std::vector<BodyWrenchJob> wrench_jobs;
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
+  OdeMessages ode_messages;
+  bool ode_struggled = false;  // warned already, until a step passes without an ODE message
 
   explicit Impl(const PhysicsParams& p) {
     dInitODE2(0);
+    dSetMessageHandler(&collectOdeMessage);
     world = dWorldCreate();
     space = dSimpleSpaceCreate(nullptr);
     contact_group = dJointGroupCreate(0);
@@ -688,7 +723,7 @@ struct World::Impl {
       contact.surface.mu = std::min(record_a->mu, record_b->mu);
       contact.surface.mu2 = std::min(record_a->mu2, record_b->mu2);
       contact.surface.soft_erp = params.erp;
-      contact.surface.soft_cfm = params.cfm;
+      contact.surface.soft_cfm = std::max(params.cfm, kMinContactCfm);
       dJointID joint = dJointCreateContact(world, contact_group, &contact);
       dJointAttach(joint, body_a, body_b);
     }
@@ -798,11 +833,17 @@ struct World::Impl {
     applyJobs(time_ns);
     applyDamping();
     saveStates();
+    ode_messages = OdeMessages();
+    stepping_world_messages = &ode_messages;
     dSpaceCollide(space, this, &nearCallback);
     if (params.quick_step)
       dWorldQuickStep(world, params.step);
     else
       dWorldStep(world, params.step);
+    stepping_world_messages = nullptr;
+    if (ode_messages.count > 0 && !ode_struggled)
+      warn("ODE: " + ode_messages.first);
+    ode_struggled = ode_messages.count > 0;
     dJointGroupEmpty(contact_group);
     guardStates();
     for (const auto& model : models) updateJointPositions(model.get());

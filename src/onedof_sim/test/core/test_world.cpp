@@ -542,7 +542,8 @@ TEST(Models, SevenJointArmLoadsAndMoves) {
   ASSERT_TRUE(world.linkState("arm::link7", "", &tip, &twist).ok);
   EXPECT_LT(tip.position.z, tip_before.position.z - 0.3) << "the arm folds down under gravity";
   for (const std::string& joint : joints) EXPECT_TRUE(std::isfinite(jointPosition(world, joint)));
-  EXPECT_TRUE(world.takeWarnings().empty());
+  const std::vector<std::string> warnings = world.takeWarnings();
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
 }
 
 TEST(Models, CafeTableIsStaticAndHoldsABox) {
