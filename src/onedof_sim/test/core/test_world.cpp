@@ -573,6 +573,79 @@ TEST(Models, CafeTableIsStaticAndHoldsABox) {
   EXPECT_NEAR(table_pose.position.z, 0.0, 1e-12);
 }
 
+// An SDF pendulum: a base welded to `world` at z 1, an arm hanging from a revolute joint about y
+// (limits +-1), its COM 0.5 m below the joint. Spawned 0.6 m up so that it clears the ground.
+std::string sdfPendulum() {
+  const std::string inertia =
+      "<inertia><ixx>0.1</ixx><ixy>0</ixy><ixz>0</ixz><iyy>0.1</iyy><iyz>0</iyz><izz>0.005</izz>"
+      "</inertia>";
+  return "<sdf version=\"1.6\"><model name=\"pendulum\">"
+         "<link name=\"base\"><pose>0 0 1 0 0 0</pose><inertial><mass>1</mass>" + inertia +
+         "</inertial></link>"
+         "<joint name=\"glue\" type=\"fixed\"><parent>world</parent><child>base</child></joint>"
+         "<link name=\"arm\"><pose>0 0 1 0 0 0</pose><inertial><pose>0 0 -0.5 0 0 0</pose>"
+         "<mass>1</mass>" + inertia + "</inertial><collision name=\"rod\"><pose>0 0 -0.5 0 0 0</pose>"
+         "<geometry><cylinder><radius>0.05</radius><length>1</length></cylinder></geometry>"
+         "</collision></link>"
+         "<joint name=\"hinge\" type=\"revolute\"><parent>base</parent><child>arm</child>"
+         "<axis><xyz>0 1 0</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis></joint>"
+         "</model></sdf>";
+}
+
+TEST(Models, SdfJointsLinkPosesAndLimits) {
+  World world;
+  const Status status = world.spawn("pendulum", sdfPendulum(), ModelFormat::Sdf, at(0, 0, 0.6));
+  ASSERT_TRUE(status.ok) << status.message;
+  JointInfo info;
+  ASSERT_TRUE(world.jointInfo("hinge", &info).ok);
+  EXPECT_EQ(info.type, JointType::Revolute);
+  ASSERT_TRUE(world.setModelConfiguration("pendulum", {"hinge"}, {0.5}).ok);
+  Pose pose;
+  Twist twist;
+  ASSERT_TRUE(world.linkState("pendulum::arm", "", &pose, &twist).ok);
+  EXPECT_NEAR(pose.position.z, 1.6, 1e-12);
+  EXPECT_NEAR(pose.orientation.y, std::sin(0.25), 1e-12);
+  // Released at 0.5 it swings to about -0.5 and back, never past the limits.
+  double lowest = 0;
+  for (int i = 0; i < 2000; ++i) {
+    world.step();
+    lowest = std::min(lowest, jointPosition(world, "hinge"));
+  }
+  EXPECT_NEAR(lowest, -0.5, 0.01);
+  // Pushed hard toward +q, it stops at the upper limit.
+  ASSERT_TRUE(world.applyJointEffort("hinge", 20, 0, -1).ok);
+  steps(&world, 2000);
+  EXPECT_NEAR(jointPosition(world, "hinge"), 1.0, 0.01);
+}
+
+// Two boxes welded by a fixed joint, with a massless tool frame on the second, fall as one body.
+TEST(Models, FixedJointWeldsMovingLinks) {
+  World world;
+  const std::string box =
+      "<collision><geometry><box size=\"0.2 0.2 0.2\"/></geometry></collision>";
+  const std::string urdf =
+      "<robot name=\"pair\"><link name=\"a\">" + inertial(1, 0.0067, 0.0067, 0.0067) + box +
+      "</link><joint name=\"weld\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/>"
+      "<origin xyz=\"0.3 0 0\"/></joint><link name=\"b\">" + inertial(1, 0.0067, 0.0067, 0.0067) +
+      box + "</link><joint name=\"tool_joint\" type=\"fixed\"><parent link=\"b\"/>"
+      "<child link=\"tool\"/><origin xyz=\"0 0 0.1\"/></joint><link name=\"tool\"/></robot>";
+  const Status status = world.spawn("pair", urdf, ModelFormat::Urdf, at(0, 0, 0.5));
+  ASSERT_TRUE(status.ok) << status.message;
+  JointInfo info;
+  ASSERT_TRUE(world.jointInfo("weld", &info).ok);
+  EXPECT_EQ(info.type, JointType::Fixed);
+  steps(&world, 2000);
+  Pose a, b, tool;
+  Twist twist;
+  ASSERT_TRUE(world.linkState("pair::a", "", &a, &twist).ok);
+  ASSERT_TRUE(world.linkState("pair::b", "", &b, &twist).ok);
+  ASSERT_TRUE(world.linkState("pair::tool", "", &tool, &twist).ok);
+  EXPECT_NEAR(a.position.z, 0.1, 0.005);
+  EXPECT_NEAR(b.position.x - a.position.x, 0.3, 1e-9);
+  EXPECT_NEAR(b.position.z - a.position.z, 0, 1e-9);
+  EXPECT_NEAR(tool.position.z - b.position.z, 0.1, 1e-9);
+}
+
 // 10.
 TEST(State, ResetPutsModelsBackAndDropsJobs) {
   World world;
