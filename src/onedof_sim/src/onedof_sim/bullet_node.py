@@ -373,7 +373,7 @@ class BulletGazeboApi:
                 return None
             world = self._world
             world.step()
-            now_ns = world.time_ns
+            now_ns = world.time_ns()
             out = {'time_ns': now_ns, 'max_update_rate': self._max_update_rate}
             states_due = is_due(now_ns, self._last_states_ns, self._states_publish_frequency)
             if states_due and (want_model_states or want_link_states):
@@ -584,7 +584,7 @@ class BulletGazeboApi:
     def get_model_state(self, req):
         res = GetModelStateResponse()
         with self._lock:
-            now_ns = self._world.time_ns
+            now_ns = self._world.time_ns()
             state, pose, twist = self._world.model_state(req.model_name,
                                                          req.relative_entity_name)
         if not state.ok:
@@ -650,7 +650,7 @@ class BulletGazeboApi:
     def get_world_properties(self, req):
         res = GetWorldPropertiesResponse()
         with self._lock:
-            res.sim_time = self._world.time
+            res.sim_time = self._world.time()
             res.model_names = self._world.model_names()
         res.rendering_enabled = False  # there is no renderer
         return succeed(res, 'GetWorldProperties: got properties')
@@ -663,7 +663,7 @@ class BulletGazeboApi:
         BulletWorld._apply_params."""
         res = GetPhysicsPropertiesResponse()
         with self._lock:
-            p = self._world.params
+            p = self._world.params()
             res.pause = self._paused
             res.max_update_rate = self._max_update_rate
         res.time_step = p.step
@@ -681,7 +681,7 @@ class BulletGazeboApi:
             return refuse(res, 'SetPhysicsProperties: max_update_rate must be finite and >= 0 '
                                '(0 = as fast as possible), got %g' % req.max_update_rate)
         with self._lock:
-            p = self._world.params  # keeps what ODEPhysics can't say (quick_step)
+            p = self._world.params()  # keeps what ODEPhysics can't say (quick_step)
             p.step = req.time_step
             p.gravity = Vec3(req.gravity.x, req.gravity.y, req.gravity.z)
             for field in ('auto_disable_bodies', 'sor_pgs_precon_iters', 'sor_pgs_iters',

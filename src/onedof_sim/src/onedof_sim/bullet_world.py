@@ -706,21 +706,24 @@ class BulletWorld:
         self._client.applyExternalTorque(model.body, model.link_index[job.target],
                                          _rotate(frame[1], job.torque), pybullet.WORLD_FRAME)
 
-    @property
     def time_ns(self):
         return self._time_ns
 
-    @property
     def time(self):
+        """Sim time in seconds."""
         return self._time_ns * 1e-9
 
-    @property
     def step_count(self):
         return self._step_count
 
-    @property
     def params(self):
         return dataclasses.replace(self._params)
+
+    @property
+    def physics_client(self):
+        """The pybullet client of this world, for measurements and tests that reach past the
+        API (stepping bare pybullet, setting a joint rate)."""
+        return self._client
 
     def set_params(self, params):
         """Refuses what the ODE core refuses (non-finite numbers, step < 1 ns, ...): world
