@@ -1,0 +1,862 @@
+#include "gazebo_api.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <rosgraph_msgs/Clock.h>
+#include <tinyxml2.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <onedof_sim/LinkStates.h>
+#include <onedof_sim/ModelStates.h>
+
+namespace onedof_sim {
+namespace {
+
+constexpr int64_t kNsPerS = 1000000000;
+// If the paced loop falls further behind than this, it drops the backlog instead of racing.
+constexpr std::chrono::milliseconds kMaxPacingLag(100);
+constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
+constexpr double kGroundMarkerSize = 10.0;           // m, the plane drawn as a thin square
+
+// --- conversions between ROS messages and the core's types -------------------------------------
+
+bool isFinite(const geometry_msgs::Point& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+bool isFinite(const geometry_msgs::Vector3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+bool isFinite(const geometry_msgs::Pose& p) {
+  const auto& q = p.orientation;
+  return isFinite(p.position) && std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) &&
+         std::isfinite(q.z);
+}
+bool isFinite(const geometry_msgs::Twist& t) { return isFinite(t.linear) && isFinite(t.angular); }
+
+Vec3 toCore(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
+Vec3 toCore(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
+
+// Normalises the quaternion as Gazebo does; an all-zero one (an unset message field) is identity.
+Pose toCore(const geometry_msgs::Pose& p) {
+  Pose pose;
+  pose.position = toCore(p.position);
+  const auto& q = p.orientation;
+  const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (norm > 1e-12) pose.orientation = {q.w / norm, q.x / norm, q.y / norm, q.z / norm};
+  return pose;
+}
+
+Twist toCore(const geometry_msgs::Twist& t) { return {toCore(t.linear), toCore(t.angular)}; }
+
+geometry_msgs::Vector3 toVector3(const Vec3& v) {
+  geometry_msgs::Vector3 m;
+  m.x = v.x;
+  m.y = v.y;
+  m.z = v.z;
+  return m;
+}
+
+geometry_msgs::Pose toMsg(const Pose& p) {
+  geometry_msgs::Pose m;
+  m.position.x = p.position.x;
+  m.position.y = p.position.y;
+  m.position.z = p.position.z;
+  m.orientation.w = p.orientation.w;
+  m.orientation.x = p.orientation.x;
+  m.orientation.y = p.orientation.y;
+  m.orientation.z = p.orientation.z;
+  return m;
+}
+
+geometry_msgs::Twist toMsg(const Twist& t) {
+  geometry_msgs::Twist m;
+  m.linear = toVector3(t.linear);
+  m.angular = toVector3(t.angular);
+  return m;
+}
+
+// ROS time and duration to nanoseconds; sec/nsec are widened first so nothing overflows.
+int64_t toNs(const ros::Time& t) { return int64_t(t.sec) * kNsPerS + int64_t(t.nsec); }
+int64_t toNs(const ros::Duration& d) { return int64_t(d.sec) * kNsPerS + int64_t(d.nsec); }
+
+std::string bareName(const std::string& scoped) {
+  const auto pos = scoped.rfind("::");
+  return pos == std::string::npos ? scoped : scoped.substr(pos + 2);
+}
+
+// Gazebo's status messages start with the service name; the core's messages don't know it.
+std::string prefixed(const std::string& service, const std::string& message) {
+  const std::string prefix = service + ": ";
+  return message.compare(0, prefix.size(), prefix) == 0 ? message : prefix + message;
+}
+
+// Bad input: the call succeeds with success False and the reason, and the node says it too.
+template <class Response>
+bool refuse(Response& res, const std::string& message) {
+  res.success = false;
+  res.status_message = message;
+  ROS_WARN_STREAM(message);
+  return true;
+}
+
+template <class Response>
+bool succeed(Response& res, const std::string& message) {
+  res.success = true;
+  res.status_message = message;
+  return true;
+}
+
+// Whether a throttled output is due at sim time now_ns (frequency <= 0: every step). Time going
+// back (reset_simulation) makes it due at once.
+bool isDue(int64_t now_ns, int64_t last_ns, double frequency) {
+  if (frequency <= 0 || last_ns < 0 || now_ns < last_ns) return true;
+  return double(now_ns - last_ns) >= 1e9 / frequency;
+}
+
+// Which format model_xml is, from its root element; Gazebo accepts either on both spawn services.
+Status detectModelFormat(const std::string& xml, ModelFormat* format) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    const char* detail = doc.ErrorStr();
+    return Status::Error(std::string("model_xml is not well-formed XML: ") +
+                         (detail ? detail : "parse error"));
+  }
+  const tinyxml2::XMLElement* root = doc.RootElement();
+  const std::string root_name = root ? root->Name() : "";
+  if (root_name == "robot") {
+    *format = ModelFormat::Urdf;
+  } else if (root_name == "sdf") {
+    *format = ModelFormat::Sdf;
+  } else {
+    return Status::Error("model_xml has root element <" + root_name +
+                         ">, expected <robot> (URDF) or <sdf> (SDF)");
+  }
+  return Status::Ok();
+}
+
+uint8_t toJointTypeConstant(JointType type) {
+  switch (type) {
+    case JointType::Prismatic:
+      return GetJointProperties::Response::PRISMATIC;
+    case JointType::Fixed:
+      return GetJointProperties::Response::FIXED;
+    case JointType::Revolute:
+    case JointType::Continuous:
+      break;
+  }
+  return GetJointProperties::Response::REVOLUTE;
+}
+
+visualization_msgs::Marker toMarker(const CollisionShape& shape, int id) {
+  visualization_msgs::Marker marker;
+  marker.header.frame_id = "world";
+  marker.ns = shape.model + "::" + shape.link;
+  marker.id = id;
+  marker.action = visualization_msgs::Marker::ADD;
+  marker.pose = toMsg(shape.pose);
+  marker.color.r = marker.color.g = marker.color.b = 0.6f;
+  marker.color.a = 0.8f;
+  switch (shape.shape) {
+    case GeometryShape::Box:
+      marker.type = visualization_msgs::Marker::CUBE;
+      marker.scale = toVector3(shape.size);
+      break;
+    case GeometryShape::Cylinder:
+      marker.type = visualization_msgs::Marker::CYLINDER;
+      marker.scale.x = marker.scale.y = 2 * shape.size.x;
+      marker.scale.z = shape.size.z;
+      break;
+    case GeometryShape::Sphere:
+      marker.type = visualization_msgs::Marker::SPHERE;
+      marker.scale.x = marker.scale.y = marker.scale.z = 2 * shape.size.x;
+      break;
+    case GeometryShape::Plane:
+      marker.type = visualization_msgs::Marker::CUBE;
+      marker.scale.x = marker.scale.y = kGroundMarkerSize;
+      marker.scale.z = 0.001;
+      marker.color.a = 0.3f;
+      break;
+  }
+  return marker;
+}
+
+// --- start-up parameters --------------------------------------------------------------------
+
+// Reads ~name into *value when set; a value of the wrong type is an error, not a silent default.
+template <class T>
+bool readParam(const ros::NodeHandle& nh, const std::string& name, T* value, std::string* error) {
+  if (!nh.hasParam(name) || nh.getParam(name, *value)) return true;
+  *error = "parameter " + nh.resolveName(name) + " has the wrong type";
+  return false;
+}
+
+bool readCount(const ros::NodeHandle& nh, const std::string& name, uint32_t* value,
+               std::string* error) {
+  int count = int(*value);
+  if (!readParam(nh, name, &count, error)) return false;
+  if (count < 0) {
+    *error = "parameter " + nh.resolveName(name) + " must be >= 0";
+    return false;
+  }
+  *value = uint32_t(count);
+  return true;
+}
+
+bool readRate(const ros::NodeHandle& nh, const std::string& name, double* value,
+              std::string* error) {
+  if (!readParam(nh, name, value, error)) return false;
+  if (!std::isfinite(*value) || *value < 0) {
+    *error = "parameter " + nh.resolveName(name) + " must be finite and >= 0";
+    return false;
+  }
+  return true;
+}
+
+// ~gravity as a list [x, y, z] (rosparam, launch files) or a string "x y z" / "[x, y, z]" (what
+// _gravity:=... on the rosrun command line gives, as roscpp does not parse lists there).
+bool readGravity(const ros::NodeHandle& nh, Vec3* gravity, std::string* error) {
+  if (!nh.hasParam("gravity")) return true;
+  std::vector<double> values;
+  std::string text;
+  if (!nh.getParam("gravity", values) && nh.getParam("gravity", text)) {
+    for (char& c : text) {
+      if (c == '[' || c == ']' || c == ',') c = ' ';
+    }
+    std::istringstream in(text);
+    double value;
+    while (in >> value) values.push_back(value);
+    if (!in.eof()) values.clear();
+  }
+  if (values.size() != 3) {
+    *error = "parameter " + nh.resolveName("gravity") + " must be three numbers [x, y, z]";
+    return false;
+  }
+  *gravity = {values[0], values[1], values[2]};
+  return true;
+}
+
+}  // namespace
+
+// Private start-up parameters (all optional; set them before starting the node, on the command
+// line as _name:=value, or in a launch file):
+//   ~time_step (s, 0.001)  ~max_update_rate (steps per wall second, 1000; 0 = as fast as possible)
+//   ~paused (false; gzserver's -u flag does the same)  ~gravity ([0, 0, -9.8], or "0 0 -9.8")
+//   ~quick_step (false: dWorldStep; true: dWorldQuickStep)
+//   ODE solver settings named as the fields of ODEPhysics: ~auto_disable_bodies,
+//   ~sor_pgs_precon_iters, ~sor_pgs_iters, ~sor_pgs_w, ~sor_pgs_rms_error_tol,
+//   ~contact_surface_layer, ~contact_max_correcting_vel, ~cfm, ~erp, ~max_contacts
+//   ~states_publish_frequency (Hz of sim time for model_states/link_states; 0 = every step)
+// and, read while running, ~pub_clock_frequency (Hz of sim time; unset or <= 0 = every step).
+bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& args,
+                     NodeOptions* options, std::string* error) {
+  PhysicsParams& p = options->physics;
+  if (!readParam(nh, "time_step", &p.step, error) ||
+      !readRate(nh, "max_update_rate", &options->max_update_rate, error) ||
+      !readParam(nh, "paused", &options->paused, error) ||
+      !readGravity(nh, &p.gravity, error) ||
+      !readParam(nh, "quick_step", &p.quick_step, error) ||
+      !readParam(nh, "auto_disable_bodies", &p.auto_disable_bodies, error) ||
+      !readCount(nh, "sor_pgs_precon_iters", &p.sor_pgs_precon_iters, error) ||
+      !readCount(nh, "sor_pgs_iters", &p.sor_pgs_iters, error) ||
+      !readParam(nh, "sor_pgs_w", &p.sor_pgs_w, error) ||
+      !readParam(nh, "sor_pgs_rms_error_tol", &p.sor_pgs_rms_error_tol, error) ||
+      !readParam(nh, "contact_surface_layer", &p.contact_surface_layer, error) ||
+      !readParam(nh, "contact_max_correcting_vel", &p.contact_max_correcting_vel, error) ||
+      !readParam(nh, "cfm", &p.cfm, error) || !readParam(nh, "erp", &p.erp, error) ||
+      !readCount(nh, "max_contacts", &p.max_contacts, error) ||
+      !readRate(nh, "states_publish_frequency", &options->states_publish_frequency, error)) {
+    return false;
+  }
+  // gzserver's flags, as launch files pass them (-u, -e ode, --verbose, a world file).
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "-u") {
+      options->paused = true;
+    } else if (args[i] == "-e" && i + 1 < args.size()) {
+      if (args[++i] != "ode") {
+        *error = "physics engine '" + args[i] + "' is not supported by this node (it is ODE)";
+        return false;
+      }
+    } else {
+      ROS_WARN_STREAM("ignoring command-line argument '" << args[i] << "'");
+    }
+  }
+  return true;
+}
+
+// --- the node ---------------------------------------------------------------------------------
+
+struct GazeboApi::StepOutput {
+  bool stepped = false;
+  bool resumed = false;  // the pacing must restart (after a pause or a rate change)
+  int64_t time_ns = 0;
+  double max_update_rate = 0;
+  bool has_model_states = false;
+  bool has_link_states = false;
+  bool has_markers = false;
+  ModelStates model_states;
+  LinkStates link_states;
+  std::vector<CollisionShape> shapes;
+};
+
+GazeboApi::WorldLock::WorldLock(GazeboApi& api) {
+  ++api.waiting_callbacks_;
+  lock_ = std::unique_lock<std::mutex>(api.mutex_);
+  --api.waiting_callbacks_;
+}
+
+GazeboApi::GazeboApi(const NodeOptions& options)
+    : private_nh_("~"),
+      paused_(options.paused),
+      max_update_rate_(options.max_update_rate),
+      states_publish_frequency_(options.states_publish_frequency),
+      spinner_(2) {
+  const Status params = world_.setParams(options.physics);
+  if (!params.ok) throw std::invalid_argument(params.message);
+
+  if (!nh_.hasParam("/use_sim_time")) nh_.setParam("/use_sim_time", true);
+
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100);
+  model_states_pub_ = private_nh_.advertise<ModelStates>("model_states", 1);
+  link_states_pub_ = private_nh_.advertise<LinkStates>("link_states", 1);
+  markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
+
+  auto& n = private_nh_;
+  services_ = {
+      n.advertiseService("get_joint_properties", &GazeboApi::getJointProperties, this),
+      n.advertiseService("apply_joint_effort", &GazeboApi::applyJointEffort, this),
+      n.advertiseService("clear_joint_forces", &GazeboApi::clearJointForces, this),
+      n.advertiseService("apply_body_wrench", &GazeboApi::applyBodyWrench, this),
+      n.advertiseService("clear_body_wrenches", &GazeboApi::clearBodyWrenches, this),
+      n.advertiseService("spawn_urdf_model", &GazeboApi::spawnUrdfModel, this),
+      n.advertiseService("spawn_sdf_model", &GazeboApi::spawnSdfModel, this),
+      n.advertiseService("delete_model", &GazeboApi::deleteModel, this),
+      n.advertiseService("get_model_state", &GazeboApi::getModelState, this),
+      n.advertiseService("set_model_state", &GazeboApi::setModelState, this),
+      n.advertiseService("get_link_state", &GazeboApi::getLinkState, this),
+      n.advertiseService("set_link_state", &GazeboApi::setLinkState, this),
+      n.advertiseService("set_model_configuration", &GazeboApi::setModelConfiguration, this),
+      n.advertiseService("get_model_properties", &GazeboApi::getModelProperties, this),
+      n.advertiseService("get_world_properties", &GazeboApi::getWorldProperties, this),
+      n.advertiseService("get_link_properties", &GazeboApi::getLinkProperties, this),
+      n.advertiseService("get_physics_properties", &GazeboApi::getPhysicsProperties, this),
+      n.advertiseService("set_physics_properties", &GazeboApi::setPhysicsProperties, this),
+      n.advertiseService("pause_physics", &GazeboApi::pausePhysics, this),
+      n.advertiseService("reset_simulation", &GazeboApi::resetSimulation, this),
+      n.advertiseService("reset_world", &GazeboApi::resetWorld, this),
+      // Last on purpose: clients (and our tests) take it as the sign that every service is up.
+      n.advertiseService("unpause_physics", &GazeboApi::unpausePhysics, this),
+  };
+  subscribers_ = {
+      n.subscribe("set_model_state", 10, &GazeboApi::setModelStateTopic, this),
+      n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
+  };
+  spinner_.start();
+  ROS_INFO("onedof_sim: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s)",
+           private_nh_.getNamespace().c_str(), options.physics.step, max_update_rate_,
+           paused_ ? ", paused" : "");
+}
+
+GazeboApi::~GazeboApi() {
+  spinner_.stop();
+  unpaused_.notify_all();
+}
+
+void GazeboApi::run() {
+  bool was_stepping = false;
+  double paced_rate = -1;
+  while (ros::ok()) {
+    StepOutput out;
+    stepOnce(&out);
+    if (!out.stepped) {
+      was_stepping = false;
+      continue;
+    }
+    out.resumed = !was_stepping || out.max_update_rate != paced_rate;
+    was_stepping = true;
+    paced_rate = out.max_update_rate;
+    publish(out);
+    pace(out.max_update_rate, out.resumed);
+  }
+}
+
+void GazeboApi::stepOnce(StepOutput* out) {
+  const bool want_model_states = model_states_pub_.getNumSubscribers() > 0;
+  const bool want_link_states = link_states_pub_.getNumSubscribers() > 0;
+  const bool want_markers = markers_pub_.getNumSubscribers() > 0;
+
+  // Let waiting service callbacks in first; they hold the lock only for one world call.
+  while (waiting_callbacks_.load() > 0) std::this_thread::yield();
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (paused_) {
+    // Wakes on unpause; the timeout lets run() notice a shutdown.
+    unpaused_.wait_for(lock, std::chrono::milliseconds(50));
+    return;
+  }
+  world_.step();
+  out->stepped = true;
+  out->time_ns = world_.timeNs();
+  out->max_update_rate = max_update_rate_;
+
+  const bool states_due = isDue(out->time_ns, last_states_ns_, states_publish_frequency_);
+  if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
+  if (states_due && want_model_states) {
+    out->has_model_states = true;
+    for (const auto& name : world_.modelNames()) {
+      Pose pose;
+      Twist twist;
+      if (!world_.modelState(name, "", &pose, &twist).ok) continue;
+      out->model_states.name.push_back(name);
+      out->model_states.pose.push_back(toMsg(pose));
+      out->model_states.twist.push_back(toMsg(twist));
+    }
+  }
+  if (states_due && want_link_states) {
+    out->has_link_states = true;
+    for (const auto& name : world_.linkNames()) {
+      Pose pose;
+      Twist twist;
+      if (!world_.linkState(name, "", &pose, &twist).ok) continue;
+      out->link_states.name.push_back(name);
+      out->link_states.pose.push_back(toMsg(pose));
+      out->link_states.twist.push_back(toMsg(twist));
+    }
+  }
+  if (want_markers && isDue(out->time_ns, last_markers_ns_, kCollisionMarkersFrequency)) {
+    last_markers_ns_ = out->time_ns;
+    out->has_markers = true;
+    out->shapes = world_.collisionShapes();
+  }
+}
+
+void GazeboApi::publish(const StepOutput& out) {
+  refreshClockFrequency();
+  if (isDue(out.time_ns, last_clock_ns_, clock_frequency_)) {
+    last_clock_ns_ = out.time_ns;
+    rosgraph_msgs::Clock clock;
+    clock.clock.fromNSec(uint64_t(out.time_ns));
+    clock_pub_.publish(clock);
+  }
+  if (out.has_model_states) model_states_pub_.publish(out.model_states);
+  if (out.has_link_states) link_states_pub_.publish(out.link_states);
+  if (out.has_markers) {
+    visualization_msgs::MarkerArray markers;
+    // Clear first, so shapes of deleted models disappear.
+    visualization_msgs::Marker clear;
+    clear.header.frame_id = "world";
+    clear.action = visualization_msgs::Marker::DELETEALL;
+    markers.markers.push_back(clear);
+    for (size_t i = 0; i < out.shapes.size(); ++i) {
+      markers.markers.push_back(toMarker(out.shapes[i], int(i)));
+    }
+    markers_pub_.publish(markers);
+  }
+}
+
+// pub_clock_frequency may be changed while running; reading it at every step would cost more
+// than the step, so it is re-read ten times per wall second.
+void GazeboApi::refreshClockFrequency() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_param_refresh_) return;
+  next_param_refresh_ = now + std::chrono::milliseconds(100);
+  double frequency = 0;
+  if (!private_nh_.getParamCached("pub_clock_frequency", frequency) || !std::isfinite(frequency)) {
+    frequency = 0;
+  }
+  clock_frequency_ = frequency;
+}
+
+// Sleeps until this step's absolute deadline (no drift: deadlines are origin + n periods).
+void GazeboApi::pace(double max_update_rate, bool resumed) {
+  using std::chrono::steady_clock;
+  const auto now = steady_clock::now();
+  if (max_update_rate <= 0) return;
+  if (resumed) deadline_ = now;
+  deadline_ += std::chrono::duration_cast<steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / max_update_rate));
+  if (deadline_ > now) {
+    std::this_thread::sleep_until(deadline_);
+  } else if (now - deadline_ > kMaxPacingLag) {
+    deadline_ = now;  // far behind (a loaded machine): run on from now rather than race
+  }
+}
+
+// --- joints ---------------------------------------------------------------------------------
+
+bool GazeboApi::getJointProperties(GetJointProperties::Request& req,
+                                   GetJointProperties::Response& res) {
+  JointInfo joint;
+  Status found;
+  {
+    WorldLock lock(*this);
+    found = world_.jointInfo(req.joint_name, &joint);
+  }
+  if (!found.ok) return refuse(res, "GetJointProperties: joint not found");
+  res.type = toJointTypeConstant(joint.type);
+  if (joint.has_damping) res.damping.push_back(joint.damping);
+  res.position.push_back(joint.position);
+  res.rate.push_back(joint.rate);
+  return succeed(res, "GetJointProperties: got properties");
+}
+
+bool GazeboApi::applyJointEffort(ApplyJointEffort::Request& req,
+                                 ApplyJointEffort::Response& res) {
+  JointInfo joint;
+  Status found, applied;
+  {
+    WorldLock lock(*this);
+    found = world_.jointInfo(req.joint_name, &joint);
+    if (found.ok) {
+      applied = world_.applyJointEffort(req.joint_name, req.effort, toNs(req.start_time),
+                                        toNs(req.duration));
+    }
+  }
+  if (!found.ok) return refuse(res, "ApplyJointEffort: joint not found");
+  if (!applied.ok) return refuse(res, prefixed("ApplyJointEffort", applied.message));
+  return succeed(res, applied.message.empty() ? "ApplyJointEffort: effort set"
+                                              : prefixed("ApplyJointEffort", applied.message));
+}
+
+bool GazeboApi::clearJointForces(JointRequest::Request& req, JointRequest::Response&) {
+  WorldLock lock(*this);
+  world_.clearJointForces(req.joint_name);
+  return true;
+}
+
+// --- links ----------------------------------------------------------------------------------
+
+bool GazeboApi::applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::Response& res) {
+  if (!isFinite(req.reference_point) || !isFinite(req.wrench.force) ||
+      !isFinite(req.wrench.torque)) {
+    return refuse(res, "ApplyBodyWrench: reference_point and wrench must be finite");
+  }
+  Status applied;
+  {
+    WorldLock lock(*this);
+    applied = world_.applyBodyWrench(req.body_name, req.reference_frame,
+                                     toCore(req.reference_point), toCore(req.wrench.force),
+                                     toCore(req.wrench.torque), toNs(req.start_time),
+                                     toNs(req.duration));
+  }
+  if (!applied.ok) return refuse(res, prefixed("ApplyBodyWrench", applied.message));
+  return succeed(res, applied.message.empty() ? "ApplyBodyWrench: wrench set"
+                                              : prefixed("ApplyBodyWrench", applied.message));
+}
+
+bool GazeboApi::clearBodyWrenches(BodyRequest::Request& req, BodyRequest::Response&) {
+  WorldLock lock(*this);
+  world_.clearBodyWrenches(req.body_name);
+  return true;
+}
+
+bool GazeboApi::getLinkState(GetLinkState::Request& req, GetLinkState::Response& res) {
+  LinkInfo link;
+  Status found, state;
+  Pose pose;
+  Twist twist;
+  {
+    WorldLock lock(*this);
+    found = world_.linkProperties(req.link_name, &link);
+    if (found.ok) state = world_.linkState(req.link_name, req.reference_frame, &pose, &twist);
+  }
+  if (!found.ok) {
+    return refuse(res,
+                  "GetLinkState: link not found, did you forget to scope the link by model name?");
+  }
+  if (!state.ok) return refuse(res, prefixed("GetLinkState", state.message));
+  res.link_state.link_name = req.link_name;
+  res.link_state.reference_frame = req.reference_frame;
+  res.link_state.pose = toMsg(pose);
+  res.link_state.twist = toMsg(twist);
+  return succeed(res, "GetLinkState: got state");
+}
+
+Status GazeboApi::applyLinkState(const LinkState& state) {
+  if (!isFinite(state.pose) || !isFinite(state.twist)) {
+    return Status::Error("SetLinkState: pose and twist must be finite");
+  }
+  LinkInfo link;
+  Status found, set;
+  {
+    WorldLock lock(*this);
+    found = world_.linkProperties(state.link_name, &link);
+    if (found.ok) {
+      set = world_.setLinkState(state.link_name, toCore(state.pose), toCore(state.twist),
+                                state.reference_frame);
+    }
+  }
+  if (!found.ok) {
+    return Status::Error(
+        "SetLinkState: link not found, did you forget to scope the link by model name?");
+  }
+  if (!set.ok) return Status::Error(prefixed("SetLinkState", set.message));
+  return Status::Ok("SetLinkState: success");
+}
+
+bool GazeboApi::setLinkState(SetLinkState::Request& req, SetLinkState::Response& res) {
+  const Status status = applyLinkState(req.link_state);
+  return status.ok ? succeed(res, status.message) : refuse(res, status.message);
+}
+
+void GazeboApi::setLinkStateTopic(const LinkState::ConstPtr& msg) {
+  const Status status = applyLinkState(*msg);
+  if (!status.ok) ROS_WARN_STREAM(status.message);
+}
+
+bool GazeboApi::getLinkProperties(GetLinkProperties::Request& req,
+                                  GetLinkProperties::Response& res) {
+  LinkInfo link;
+  Status found;
+  {
+    WorldLock lock(*this);
+    found = world_.linkProperties(req.link_name, &link);
+  }
+  if (!found.ok) {
+    return refuse(
+        res, "GetLinkProperties: link not found, did you forget to scope the link by model name?");
+  }
+  res.com = toMsg(link.com);
+  res.gravity_mode = link.gravity_mode;
+  res.mass = link.mass;
+  res.ixx = link.ixx;
+  res.ixy = link.ixy;
+  res.ixz = link.ixz;
+  res.iyy = link.iyy;
+  res.iyz = link.iyz;
+  res.izz = link.izz;
+  return succeed(res, "GetLinkProperties: got properties");
+}
+
+// --- models ---------------------------------------------------------------------------------
+
+bool GazeboApi::spawnUrdfModel(SpawnModel::Request& req, SpawnModel::Response& res) {
+  return spawnModel(ModelFormat::Urdf, req, res);
+}
+
+bool GazeboApi::spawnSdfModel(SpawnModel::Request& req, SpawnModel::Response& res) {
+  return spawnModel(ModelFormat::Sdf, req, res);
+}
+
+// Gazebo's spawn services both take URDF or SDF (it converts URDF to SDF); so do we, by the
+// root element. `requested` only names the service in log lines.
+bool GazeboApi::spawnModel(ModelFormat requested, SpawnModel::Request& req,
+                           SpawnModel::Response& res) {
+  ModelFormat format = requested;
+  const Status detected = detectModelFormat(req.model_xml, &format);
+  if (!detected.ok) return refuse(res, prefixed("SpawnModel", detected.message));
+  if (!isFinite(req.initial_pose)) return refuse(res, "SpawnModel: initial_pose must be finite");
+  Status spawned;
+  {
+    WorldLock lock(*this);
+    spawned = world_.spawn(req.model_name, req.model_xml, format, toCore(req.initial_pose),
+                           req.reference_frame);
+  }
+  if (!spawned.ok) return refuse(res, prefixed("SpawnModel", spawned.message));
+  ROS_INFO_STREAM("spawned model '" << req.model_name << "' ("
+                  << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via "
+                  << (requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model"));
+  return succeed(res, "SpawnModel: Successfully spawned entity");
+}
+
+bool GazeboApi::deleteModel(DeleteModel::Request& req, DeleteModel::Response& res) {
+  Status deleted;
+  {
+    WorldLock lock(*this);
+    deleted = world_.hasModel(req.model_name) ? world_.deleteModel(req.model_name)
+                                              : Status::Error("model does not exist");
+  }
+  if (!deleted.ok) return refuse(res, prefixed("DeleteModel", deleted.message));
+  return succeed(res, "DeleteModel: successfully deleted model");
+}
+
+bool GazeboApi::getModelState(GetModelState::Request& req, GetModelState::Response& res) {
+  Status state;
+  Pose pose;
+  Twist twist;
+  int64_t now_ns = 0;
+  {
+    WorldLock lock(*this);
+    now_ns = world_.timeNs();
+    state = world_.hasModel(req.model_name)
+                ? world_.modelState(req.model_name, req.relative_entity_name, &pose, &twist)
+                : Status::Error("model does not exist");
+  }
+  if (!state.ok) return refuse(res, prefixed("GetModelState", state.message));
+  res.header.stamp.fromNSec(uint64_t(now_ns));
+  res.header.frame_id = req.relative_entity_name;
+  res.pose = toMsg(pose);
+  res.twist = toMsg(twist);
+  return succeed(res, "GetModelState: got properties");
+}
+
+Status GazeboApi::applyModelState(const ModelState& state) {
+  if (!isFinite(state.pose) || !isFinite(state.twist)) {
+    return Status::Error("SetModelState: pose and twist must be finite");
+  }
+  Status set;
+  {
+    WorldLock lock(*this);
+    set = world_.hasModel(state.model_name)
+              ? world_.setModelState(state.model_name, toCore(state.pose), toCore(state.twist),
+                                     state.reference_frame)
+              : Status::Error("model does not exist");
+  }
+  if (!set.ok) return Status::Error(prefixed("SetModelState", set.message));
+  return Status::Ok("SetModelState: set model state done");
+}
+
+bool GazeboApi::setModelState(SetModelState::Request& req, SetModelState::Response& res) {
+  const Status status = applyModelState(req.model_state);
+  return status.ok ? succeed(res, status.message) : refuse(res, status.message);
+}
+
+void GazeboApi::setModelStateTopic(const ModelState::ConstPtr& msg) {
+  const Status status = applyModelState(*msg);
+  if (!status.ok) ROS_WARN_STREAM(status.message);
+}
+
+// urdf_param_name is ignored, as Gazebo does: the model already knows its joints.
+bool GazeboApi::setModelConfiguration(SetModelConfiguration::Request& req,
+                                      SetModelConfiguration::Response& res) {
+  if (req.joint_names.size() != req.joint_positions.size()) {
+    std::ostringstream message;
+    message << "SetModelConfiguration: " << req.joint_names.size() << " joint_names but "
+            << req.joint_positions.size() << " joint_positions";
+    return refuse(res, message.str());
+  }
+  for (double position : req.joint_positions) {
+    if (!std::isfinite(position)) {
+      return refuse(res, "SetModelConfiguration: joint_positions must be finite");
+    }
+  }
+  Status set;
+  {
+    WorldLock lock(*this);
+    set = world_.hasModel(req.model_name)
+              ? world_.setModelConfiguration(req.model_name, req.joint_names, req.joint_positions)
+              : Status::Error("model [" + req.model_name + "] does not exist");
+  }
+  if (!set.ok) return refuse(res, prefixed("SetModelConfiguration", set.message));
+  return succeed(res, "SetModelConfiguration: success");
+}
+
+bool GazeboApi::getModelProperties(GetModelProperties::Request& req,
+                                   GetModelProperties::Response& res) {
+  ModelInfo model;
+  Status found;
+  {
+    WorldLock lock(*this);
+    found = world_.hasModel(req.model_name) ? world_.modelProperties(req.model_name, &model)
+                                            : Status::Error("model does not exist");
+  }
+  if (!found.ok) return refuse(res, prefixed("GetModelProperties", found.message));
+  // Bare link names, as Gazebo answers (its srv comment says scoped, its code says bare).
+  res.canonical_body_name = bareName(model.canonical_link);
+  for (const auto& link : model.links) res.body_names.push_back(bareName(link));
+  res.geom_names = model.geoms;
+  res.joint_names = model.joints;
+  res.is_static = model.is_static;
+  return succeed(res, "GetModelProperties: got properties");
+}
+
+bool GazeboApi::getWorldProperties(GetWorldProperties::Request&,
+                                   GetWorldProperties::Response& res) {
+  {
+    WorldLock lock(*this);
+    res.sim_time = world_.time();
+    res.model_names = world_.modelNames();
+  }
+  res.rendering_enabled = false;  // there is no renderer
+  return succeed(res, "GetWorldProperties: got properties");
+}
+
+// --- physics --------------------------------------------------------------------------------
+
+bool GazeboApi::getPhysicsProperties(GetPhysicsProperties::Request&,
+                                     GetPhysicsProperties::Response& res) {
+  PhysicsParams p;
+  {
+    WorldLock lock(*this);
+    p = world_.params();
+    res.pause = paused_;
+    res.max_update_rate = max_update_rate_;
+  }
+  res.time_step = p.step;
+  res.gravity = toVector3(p.gravity);
+  auto& ode = res.ode_config;
+  ode.auto_disable_bodies = p.auto_disable_bodies;
+  ode.sor_pgs_precon_iters = p.sor_pgs_precon_iters;
+  ode.sor_pgs_iters = p.sor_pgs_iters;
+  ode.sor_pgs_w = p.sor_pgs_w;
+  ode.sor_pgs_rms_error_tol = p.sor_pgs_rms_error_tol;
+  ode.contact_surface_layer = p.contact_surface_layer;
+  ode.contact_max_correcting_vel = p.contact_max_correcting_vel;
+  ode.cfm = p.cfm;
+  ode.erp = p.erp;
+  ode.max_contacts = p.max_contacts;
+  return succeed(res, "GetPhysicsProperties: got properties");
+}
+
+bool GazeboApi::setPhysicsProperties(SetPhysicsProperties::Request& req,
+                                     SetPhysicsProperties::Response& res) {
+  if (!std::isfinite(req.max_update_rate) || req.max_update_rate < 0) {
+    std::ostringstream message;
+    message << "SetPhysicsProperties: max_update_rate must be finite and >= 0 (0 = as fast as "
+               "possible), got "
+            << req.max_update_rate;
+    return refuse(res, message.str());
+  }
+  Status set;
+  {
+    WorldLock lock(*this);
+    PhysicsParams p = world_.params();  // keeps what ODEPhysics can't say (quick_step)
+    p.step = req.time_step;
+    p.gravity = toCore(req.gravity);
+    const auto& ode = req.ode_config;
+    p.auto_disable_bodies = ode.auto_disable_bodies;
+    p.sor_pgs_precon_iters = ode.sor_pgs_precon_iters;
+    p.sor_pgs_iters = ode.sor_pgs_iters;
+    p.sor_pgs_w = ode.sor_pgs_w;
+    p.sor_pgs_rms_error_tol = ode.sor_pgs_rms_error_tol;
+    p.contact_surface_layer = ode.contact_surface_layer;
+    p.contact_max_correcting_vel = ode.contact_max_correcting_vel;
+    p.cfm = ode.cfm;
+    p.erp = ode.erp;
+    p.max_contacts = ode.max_contacts;
+    set = world_.setParams(p);
+    if (set.ok) max_update_rate_ = req.max_update_rate;
+  }
+  if (!set.ok) return refuse(res, prefixed("SetPhysicsProperties", set.message));
+  return succeed(res, "SetPhysicsProperties: physics properties set");
+}
+
+bool GazeboApi::pausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  WorldLock lock(*this);
+  paused_ = true;
+  return true;
+}
+
+bool GazeboApi::unpausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  {
+    WorldLock lock(*this);
+    paused_ = false;
+  }
+  unpaused_.notify_all();
+  return true;
+}
+
+bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  WorldLock lock(*this);
+  world_.resetSimulation();
+  return true;
+}
+
+bool GazeboApi::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  WorldLock lock(*this);
+  world_.resetWorld();
+  return true;
+}
+
+}  // namespace onedof_sim

@@ -1,1 +1,30 @@
-int main() { return 0; }  // placeholder
+// rosrun onedof_sim onedof_sim: the simulator node, named `gazebo` as gzserver + gazebo_ros is.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+#include "gazebo_api.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "gazebo");  // removes the ROS remappings (_param:=value) from argv
+  // Alive until the end: when the last NodeHandle goes, roscpp shuts down (console output too).
+  ros::NodeHandle private_nh("~");
+  const std::vector<std::string> args(argv + 1, argv + argc);
+
+  onedof_sim::NodeOptions options;
+  std::string error;
+  if (!onedof_sim::readNodeOptions(private_nh, args, &options, &error)) {
+    ROS_FATAL_STREAM("onedof_sim: " << error);
+    return 1;
+  }
+  try {
+    onedof_sim::GazeboApi api(options);
+    api.run();
+  } catch (const std::invalid_argument& e) {
+    ROS_FATAL_STREAM("onedof_sim: invalid physics parameters: " << e.what());
+    return 1;
+  }
+  return 0;
+}
