@@ -1,0 +1,830 @@
+"""rosrun onedof_sim benchmark: measures the simulator nodes side by side with their references on
+one private ROS graph, and writes the table (README-table.md), the plots and results.json.
+
+Items (issue 6), short ones first so that a failure shows early:
+  6 start-up, 1 throughput + 7 memory, 2 scaling, 3 service latency, 4 control loop, 5 pacing.
+What is compared runs alternately in short windows (never at the same time: two cores), and the
+ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
+built, crashed) gets its rows marked as not measured and the run goes on.
+"""
+import argparse
+import dataclasses
+import datetime
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import traceback
+
+import rospkg
+
+from onedof_sim import benchmark as bm
+from onedof_sim.private_ros import PrivateRos, wait_until
+
+SIM_EXECUTABLES = {'ode': 'onedof_sim', 'bullet': 'onedof_sim_bullet'}
+ENGINE_NAMES = {'ode': 'ODE', 'bullet': 'pybullet'}
+STEP = 0.001  # the nodes' default step, s
+TABLE_X = 0.85
+BARE_SERVICE = 'bare'  # node name of the bare service: /bare/get_joint_properties, ...
+SERVICES = ('get_joint_properties', 'apply_joint_effort')
+WARM_UP_CALLS = 20
+
+
+@dataclasses.dataclass
+class Sizes:
+    startup_repeats: int = 3
+    throughput_windows: int = 5
+    throughput_window_s: float = 1.0
+    memory_steps: int = 1000000
+    chain_links: tuple = (1, 10, 50, 200)
+    chain_windows: int = 2
+    chain_window_s: float = 1.0
+    chain_min_steps: int = 3
+    latency_batches: int = 3
+    persistent_calls: int = 300
+    fresh_calls: int = 50
+    control_s: float = 60.0
+    sweep_rates: tuple = (200, 500, 1000)
+    sweep_s: float = 10.0
+    pacing_s: float = 60.0
+    bullet_pacing_s: float = 10.0
+
+
+FULL = Sizes()
+QUICK = Sizes(startup_repeats=1, throughput_windows=2, throughput_window_s=0.3, memory_steps=20000,
+              chain_links=(1, 10), chain_windows=1, chain_window_s=0.2, chain_min_steps=2,
+              latency_batches=1, persistent_calls=20, fresh_calls=5, control_s=2.0,
+              sweep_rates=(200,), sweep_s=1.0, pacing_s=3.0, bullet_pacing_s=2.0)
+
+
+def say(text):
+    print('[bench] ' + text, flush=True)
+
+
+def read_file(path):
+    with open(path) as f:
+        return f.read()
+
+
+def rss_kb(pid):
+    """Resident set size of a process, from /proc/PID/status (VmRSS), in kB."""
+    for line in read_file('/proc/%d/status' % pid).splitlines():
+        if line.startswith('VmRSS:'):
+            return int(line.split()[1])
+    raise RuntimeError('no VmRSS for pid %d' % pid)
+
+
+def descendants(pid):
+    """pid and every process below it (a launch's nodes, rosrun's exec'd node)."""
+    children = {}
+    for entry in os.listdir('/proc'):
+        if entry.isdigit():
+            try:
+                stat = read_file('/proc/%s/stat' % entry)
+            except OSError:
+                continue
+            ppid = int(stat[stat.rindex(')') + 2:].split()[1])
+            children.setdefault(ppid, []).append(int(entry))
+    found, todo = set(), [pid]
+    while todo:
+        current = todo.pop()
+        found.add(current)
+        todo.extend(children.get(current, ()))
+    return found
+
+
+def microseconds(values):
+    return '%.0f / %.0f us' % (bm.percentile(values, 50), bm.percentile(values, 99))
+
+
+class NotMeasured(Exception):
+    """An item could not be measured (a node missing or failing); its rows say why."""
+
+
+def bullet_python():
+    """The interpreter of the pybullet node (its relay's shebang): the bare pybullet loop must
+    run under the same python, and it is the one that has pybullet."""
+    import roslib.packages
+    found = roslib.packages.find_node('onedof_sim', SIM_EXECUTABLES['bullet'])
+    if not found:
+        raise NotMeasured('rosrun onedof_sim %s is not built' % SIM_EXECUTABLES['bullet'])
+    with open(found[0]) as f:
+        shebang = f.readline()
+    return shebang[2:].strip() if shebang.startswith('#!') else sys.executable
+
+
+def bare_loop_command(engine):
+    if engine == 'ode':
+        return ['rosrun', 'onedof_sim', 'bench_ode_loop']
+    return [bullet_python(), '-m', 'onedof_sim.bench_bullet_loop']
+
+
+class BareLoop:
+    """A physics core stepping without ROS in its own process (bench_ode_loop, or
+    bench_bullet_loop for pybullet), kept alive between windows so that it moves on from where
+    it stopped, as the node does."""
+
+    def __init__(self, engine, models):
+        args = bare_loop_command(engine)
+        for name, path, fmt, x in models:
+            args += ['--' + fmt, name, path, str(x)]
+        self.proc = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.STDOUT, text=True)
+        # Whatever comes before "ready" is the engine's banner (pybullet prints one) or an error.
+        said = []
+        for line in self.proc.stdout:
+            if line.strip() == 'ready':
+                return
+            said.append(line)
+        self.close()
+        raise NotMeasured('%s did not start: %s' % (' '.join(args[:3]), ''.join(said)[-300:]))
+
+    def run(self, seconds, min_steps=1):
+        """(steps, wall seconds) of one window."""
+        self.proc.stdin.write('%g %d\n' % (seconds, min_steps))
+        self.proc.stdin.flush()
+        for line in self.proc.stdout:  # lines without the tag are the engine's own chatter
+            if line.startswith('window '):
+                _, steps, wall, _ = line.split()
+                return int(steps), float(wall)
+        raise NotMeasured('the bare loop exited (%s)' % self.proc.wait())
+
+    def close(self):
+        self.proc.stdin.close()
+        self.proc.wait(timeout=60)
+
+
+class Bench:
+    def __init__(self, ros, sizes, output, engines):
+        self.ros = ros
+        self.sizes = sizes
+        self.output = output
+        self.engines = engines
+        self.work = tempfile.mkdtemp(prefix='onedof_bench_')
+        self.rows = []
+        self.notes = []
+        self.results = {}
+        os.environ.update(ros.env)
+        import rospy
+        self.rospy = rospy
+        # Before any simulator sets /use_sim_time: this process keeps wall time and reads sim
+        # time only where it subscribes /clock itself, so the nodes have no /clock subscriber
+        # when they run as fast as possible.
+        rospy.init_node('benchmark', disable_signals=True)
+        from onedof_sim import srv
+        self.srv = srv
+        packages = rospkg.RosPack()
+        self.robot_urdf = os.path.join(packages.get_path('minimal_robot_description'),
+                                       'minimal_robot_description.urdf')
+        self.table_sdf = os.path.join(packages.get_path('onedof_sim'), 'models', 'cafe_table',
+                                      'model.sdf')
+        self.tutorial_models = [('one_DOF_robot', self.robot_urdf, 'urdf', 0.0),
+                                ('cafe_table', self.table_sdf, 'sdf', TABLE_X)]
+
+    def close(self):
+        self.rospy.signal_shutdown('benchmark finished')
+        shutil.rmtree(self.work, ignore_errors=True)
+
+    def add(self, item, measured, figure, against, against_figure, ratio=None, aim=None,
+            met=None):
+        row = bm.Row(item, measured, figure, against, against_figure, ratio, aim, met)
+        self.rows.append(row)
+        say('%s %s: %s (against %s: %s)' % (item, measured, figure, against, against_figure))
+
+    def not_measured(self, item, measured, reason):
+        self.add(item, measured, 'not measured', reason, '—')
+
+    # --- the graph ------------------------------------------------------------------------------
+
+    def node_pid(self, name):
+        """The pid a node reports itself (not rosrun's or roslaunch's), or None."""
+        code, _, uri = self.ros.master().lookupNode('/benchmark', name)
+        if code != 1:
+            return None
+        try:
+            import xmlrpc.client
+            code, _, pid = xmlrpc.client.ServerProxy(uri).getPid('/benchmark')
+        except OSError:
+            return None  # a node that has gone
+        return pid if code == 1 else None
+
+    def wait_for_node(self, proc, name, timeout=60):
+        """Waits until `name` is a node of proc's process tree; returns its pid."""
+        def started():
+            if proc.poll() is not None:
+                raise NotMeasured('%s exited with %s: %s' % (proc.log_name, proc.returncode,
+                                                             self.ros.log_text(proc)[-600:]))
+            pid = self.node_pid(name)
+            return pid if pid in descendants(proc.pid) else None
+        return wait_until(started, timeout, what='node %s' % name)
+
+    def start_sim(self, engine, max_update_rate=1000):
+        # Always given: a private parameter set with _name:=value outlives its node on the
+        # parameter server, and the next simulator would inherit it.
+        proc = self.ros.start(['rosrun', 'onedof_sim', SIM_EXECUTABLES[engine],
+                               '_max_update_rate:=%g' % max_update_rate], name='sim_' + engine)
+        pid = self.wait_for_node(proc, '/gazebo')
+        self.ros.wait_for_service('/gazebo/unpause_physics')
+        return proc, pid
+
+    def stop(self, proc):
+        PrivateRos.terminate(proc)
+
+    def proxy(self, name, srv_class, persistent=False):
+        return self.rospy.ServiceProxy(name, srv_class, persistent=persistent)
+
+    def call(self, name, srv_class, *args):
+        result = self.proxy(name, srv_class)(*args)
+        if hasattr(result, 'success') and not result.success:
+            raise NotMeasured('%s: %s' % (name, result.status_message))
+        return result
+
+    def spawn(self, models):
+        from geometry_msgs.msg import Pose
+        for name, path, fmt, x in models:
+            pose = Pose()
+            pose.position.x = x
+            pose.orientation.w = 1.0
+            self.call('/gazebo/spawn_%s_model' % fmt, self.srv.SpawnModel, name, read_file(path),
+                      '', pose, '')
+
+    def pause(self, paused):
+        from std_srvs.srv import Empty
+        self.call('/gazebo/pause_physics' if paused else '/gazebo/unpause_physics', Empty)
+
+    def answers(self, service, srv_class, *args):
+        if not self.ros.has_service(service):
+            return False
+        try:
+            return self.proxy(service, srv_class)(*args).success
+        except (self.rospy.ServiceException, OSError):
+            return False
+
+    def clock_probe(self):
+        return ClockProbe(self.rospy)
+
+    # --- 6: start-up ----------------------------------------------------------------------------
+
+    def startup(self):
+        floor_launch = os.path.join(self.work, 'bare_service.launch')
+        with open(floor_launch, 'w') as f:
+            f.write('<launch><node name="bare_startup" pkg="onedof_sim" '
+                    'type="bench_bare_service"/></launch>\n')
+        floor, results = [], {engine: {'clock': [], 'robot': []} for engine in self.engines}
+        failed = {}
+        for repeat in range(self.sizes.startup_repeats):
+            floor.append(self.launch_until(
+                [floor_launch], '/bare_startup/get_joint_properties')[1])
+            for engine in self.engines:
+                if engine in failed:
+                    continue
+                try:
+                    clock, robot = self.launch_until(
+                        ['minimal_robot_description', 'minimal_robot_description.launch',
+                         'physics:=' + engine], '/gazebo/get_joint_properties', clock=True)
+                except (NotMeasured, TimeoutError) as error:
+                    failed[engine] = str(error)
+                    continue
+                results[engine]['clock'].append(clock)
+                results[engine]['robot'].append(robot)
+        floor_median = bm.percentile(floor, 50)
+        against = 'roslaunch of a bare roscpp service node until it answers'
+        for engine in self.engines:
+            name = ENGINE_NAMES[engine]
+            if engine in failed:
+                self.not_measured('6', 'start-up, %s' % name, failed[engine][:200])
+                continue
+            for key, what in (('clock', 'roslaunch minimal_robot_description.launch to the first '
+                                        '/clock (%s), median of %d'),
+                              ('robot', 'roslaunch minimal_robot_description.launch to '
+                                        'get_joint_properties(joint1) answering (%s), median of %d')):
+                value = bm.percentile(results[engine][key], 50)
+                self.add('6', what % (name, len(results[engine][key])), '%.2f s' % value, against,
+                         '%.2f s' % floor_median, bm.ratio(value, floor_median))
+        self.results['startup'] = dict(floor=floor, **results)
+
+    def launch_until(self, launch_args, service, clock=False):
+        """Wall seconds from starting roslaunch to the first /clock (when clock) and to
+        `service` answering for joint1."""
+        probe = self.clock_probe() if clock else None
+        start = time.monotonic()
+        proc = self.ros.start(['roslaunch'] + launch_args, name='launch')
+        try:
+            def answered():
+                if proc.poll() is not None:
+                    raise NotMeasured('roslaunch %s exited: %s' % (
+                        ' '.join(launch_args), self.ros.log_text(proc)[-400:]))
+                return self.answers(service, self.srv.GetJointProperties, 'joint1')
+            wait_until(answered, 60, interval=0.01, what=service)
+            answered_at = time.monotonic()
+            first_clock = None
+            if probe:
+                wait_until(lambda: probe.samples, 10, interval=0.01, what='a /clock')
+                first_clock = probe.samples[0][0] - start
+            return first_clock, answered_at - start
+        finally:
+            if probe:
+                probe.close()
+            self.stop(proc)
+
+    # --- 1 and 7: throughput and memory ---------------------------------------------------------
+
+    def throughput_and_memory(self, engine):
+        name = ENGINE_NAMES[engine]
+        sizes = self.sizes
+        proc = None
+        bare = None
+        try:
+            proc, pid = self.start_sim(engine, max_update_rate=0)
+            self.pause(True)
+            self.spawn(self.tutorial_models)
+            clock = self.proxy('/gazebo/get_world_properties', self.srv.GetWorldProperties,
+                               persistent=True)
+
+            def sim_time():
+                before = time.monotonic()
+                sim = clock().sim_time
+                return (before + time.monotonic()) / 2, sim
+
+            self.pause(False)
+            wait_until(lambda: sim_time()[1] > 0.1, 30, what='the first 100 steps')
+            self.pause(True)
+            rss_start = rss_kb(pid)
+            bare = BareLoop(engine, self.tutorial_models)
+            bare.run(sizes.throughput_window_s / 4)  # warm-up, not counted
+            node_windows, bare_windows = [], []
+            for _ in range(sizes.throughput_windows):
+                bare_windows.append(bare.run(sizes.throughput_window_s))
+                self.pause(False)
+                wall0, sim0 = sim_time()
+                time.sleep(sizes.throughput_window_s)  # the measurement window itself
+                wall1, sim1 = sim_time()
+                self.pause(True)
+                node_windows.append((round((sim1 - sim0) / STEP), wall1 - wall0))
+            node_rate = bm.rate(*zip(*node_windows))
+            bare_rate = bm.rate(*zip(*bare_windows))
+            self.add('1', 'steps/s of the %s node, tutorial robot + cafe table, as fast as '
+                     'possible, no /clock subscriber' % name, '%.0f' % node_rate,
+                     'bare %s loop on the same models%s' % (
+                         name, ' (World::step: effort jobs, collisions, contacts, dWorldStep; '
+                         'no mutex, /clock or pacing)' if engine == 'ode' else
+                         ' (BulletWorld.step under the node\'s python: effort jobs, damping, stepSimulation)'),
+                     '%.0f' % bare_rate, node_rate / bare_rate,
+                     '>= 0.5' if engine == 'ode' else None,
+                     node_rate / bare_rate >= 0.5 if engine == 'ode' else None)
+            self.results.setdefault('throughput', {})[engine] = dict(
+                node=node_windows, bare=bare_windows)
+
+            target = sizes.memory_steps * STEP
+            self.pause(False)
+            remaining = max(0.0, target - sim_time()[1]) / STEP
+            started = time.monotonic()
+            wait_until(lambda: sim_time()[1] >= target, 3 * remaining / node_rate + 30,
+                       interval=0.2, what='%d steps' % sizes.memory_steps)
+            self.pause(True)
+            wall = time.monotonic() - started
+            rss_end = rss_kb(pid)
+            growth = rss_end / rss_start - 1
+            self.add('7', 'RSS of the %s node after %d steps (%.0f s as fast as possible)'
+                     % (name, sizes.memory_steps, wall), '%.1f MiB' % (rss_end / 1024),
+                     'the same node after start (models spawned, 100 steps)',
+                     '%.1f MiB' % (rss_start / 1024), rss_end / rss_start,
+                     'flat: growth < 2 %', growth < 0.02)
+            self.results.setdefault('memory', {})[engine] = dict(start_kb=rss_start,
+                                                                 end_kb=rss_end)
+        except (NotMeasured, TimeoutError, OSError) as error:
+            self.not_measured('1, 7', 'throughput and memory, %s' % name, str(error)[:200])
+        finally:
+            if bare:
+                bare.close()
+            if proc:
+                self.stop(proc)
+
+    # --- 2: scaling ----------------------------------------------------------------------------
+
+    def scaling(self):
+        sizes = self.sizes
+        rates = {engine: {} for engine in self.engines}
+        for links in sizes.chain_links:
+            path = os.path.join(self.work, 'chain_%d.urdf' % links)
+            with open(path, 'w') as f:
+                f.write(bm.chain_urdf(links))
+            loops = {}
+            try:
+                for engine in self.engines:
+                    try:
+                        loops[engine] = BareLoop(engine, [('chain', path, 'urdf', 0.0)])
+                    except NotMeasured as error:
+                        self.notes.append('2: %s chain of %d links: %s'
+                                          % (ENGINE_NAMES[engine], links, error))
+                windows = {engine: [] for engine in loops}
+                for _ in range(sizes.chain_windows):
+                    for engine, loop in loops.items():
+                        windows[engine].append(loop.run(sizes.chain_window_s,
+                                                        sizes.chain_min_steps))
+                for engine, engine_windows in windows.items():
+                    rates[engine][links] = bm.rate(*zip(*engine_windows))
+                    say('2 chain of %d links, bare %s: %.0f steps/s'
+                        % (links, ENGINE_NAMES[engine], rates[engine][links]))
+            finally:
+                for loop in loops.values():
+                    loop.close()
+        exponents = {}
+        for engine, by_links in rates.items():
+            links = sorted(by_links)
+            if len(links) < 2:
+                continue
+            fitted = [n for n in links if n >= 10] if len([n for n in links if n >= 10]) >= 2 \
+                else links
+            exponents[engine] = bm.power_law_exponent(fitted, [1 / by_links[n] for n in fitted])
+            self.add('2', 'bare %s steps/s against moving links %s; cost per step grows as '
+                     'links^k' % (ENGINE_NAMES[engine], ', '.join(map(str, links))),
+                     ', '.join('%.0f' % by_links[n] for n in links),
+                     'the same loop with 1 link', '%.0f' % by_links[links[0]],
+                     by_links[links[-1]] / by_links[links[0]],
+                     None, None)
+            self.rows[-1] = self.rows[-1]._replace(
+                figure=self.rows[-1].figure + '; k = %.2f (fit over %s links)'
+                % (exponents[engine], ', '.join(map(str, fitted))))
+        self.results['scaling'] = dict(rates={e: {str(n): r for n, r in v.items()}
+                                              for e, v in rates.items()},
+                                       exponents=exponents)
+        if rates:
+            write_scaling_plot(rates, exponents, os.path.join(self.output, 'scaling.png'))
+
+    # --- 3: service latency ---------------------------------------------------------------------
+
+    def latency(self, engine):
+        name = ENGINE_NAMES[engine]
+        sizes = self.sizes
+        sim = bare = None
+        samples = {}
+        try:
+            sim, _ = self.start_sim(engine)
+            self.spawn(self.tutorial_models[:1])
+            bare = self.ros.start(['rosrun', 'onedof_sim', 'bench_bare_service',
+                                   '__name:=' + BARE_SERVICE], name='bare_service')
+            self.wait_for_node(bare, '/' + BARE_SERVICE)
+            for service in SERVICES:
+                self.ros.wait_for_service('/%s/%s' % (BARE_SERVICE, service))
+            for client in ('rospy', 'roscpp'):
+                for mode in ('persistent', 'fresh'):
+                    count = sizes.persistent_calls if mode == 'persistent' else sizes.fresh_calls
+                    for service in SERVICES:
+                        key = (client, mode, service)
+                        samples[key] = {'sim': [], 'bare': []}
+                        for _ in range(sizes.latency_batches):
+                            for target, ns in (('sim', 'gazebo'), ('bare', BARE_SERVICE)):
+                                samples[key][target] += self.round_trips(
+                                    client, '/%s/%s' % (ns, service), mode, count)
+        except (NotMeasured, TimeoutError, subprocess.CalledProcessError) as error:
+            self.not_measured('3', 'service latency, %s' % name, str(error)[:200])
+            return
+        finally:
+            for proc in (bare, sim):
+                if proc:
+                    self.stop(proc)
+        for (client, mode, service), by_target in samples.items():
+            sim_p50 = bm.percentile(by_target['sim'], 50)
+            bare_p50 = bm.percentile(by_target['bare'], 50)
+            self.add('3', '%s round trip p50 / p99, %s client, %s connection (%s node, %d calls)'
+                     % (service, client, mode, name, len(by_target['sim'])),
+                     microseconds(by_target['sim']),
+                     'bare roscpp service, same srv type and reply size, alternating batches',
+                     microseconds(by_target['bare']), sim_p50 / bare_p50, 'p50 <= 1.3x',
+                     sim_p50 / bare_p50 <= 1.3)
+        self.results.setdefault('latency', {})[engine] = {
+            ' '.join(key): {target: dict(p50=bm.percentile(v, 50), p99=bm.percentile(v, 99))
+                            for target, v in by_target.items()}
+            for key, by_target in samples.items()}
+        write_latency_plot(samples, name, os.path.join(self.output, 'latency_%s.png' % engine))
+
+    def round_trips(self, client, service, mode, count):
+        """Round trips in microseconds, warm-up calls excluded."""
+        if client == 'roscpp':
+            result = subprocess.run(['rosrun', 'onedof_sim', 'bench_service_client', service,
+                                     'get' if 'get_' in service else 'apply', mode, str(count)],
+                                    env=self.ros.env, capture_output=True, text=True, timeout=120)
+            if result.returncode != 0:
+                raise NotMeasured('bench_service_client %s: %s' % (service, result.stderr[-300:]))
+            return [float(line) for line in result.stdout.split()]
+        if 'get_' in service:
+            srv_class, args = self.srv.GetJointProperties, ('joint1',)
+        else:
+            srv_class = self.srv.ApplyJointEffort
+            args = ('joint1', 0.0, self.rospy.Time(0), self.rospy.Duration(0.01))
+        proxy = self.proxy(service, srv_class, persistent=mode == 'persistent')
+        try:
+            times = []
+            for i in range(-WARM_UP_CALLS, count):
+                start = time.perf_counter()
+                result = proxy(*args)
+                elapsed = time.perf_counter() - start
+                if not result.success:
+                    raise NotMeasured('%s: %s' % (service, result.status_message))
+                if i >= 0:
+                    times.append(elapsed * 1e6)
+            return times
+        finally:
+            proxy.close()
+
+    # --- 4 and 5: the control loop and pacing ---------------------------------------------------
+
+    def control_and_pacing(self, engine, pacing_s, control=True):
+        name = ENGINE_NAMES[engine]
+        sim = None
+        try:
+            sim, _ = self.start_sim(engine)
+            self.spawn(self.tutorial_models[:1])
+            if control:
+                self.control_loop(name)
+            self.pacing(name, pacing_s)
+        except (NotMeasured, TimeoutError) as error:
+            self.not_measured('4, 5' if control else '5', 'control loop and pacing, %s' % name,
+                              str(error)[:200])
+        finally:
+            if sim:
+                self.stop(sim)
+
+    def control_loop(self, name):
+        sizes = self.sizes
+        runs = {}
+        for rate, duration in sorted([(100, sizes.control_s)] +
+                                     [(r, sizes.sweep_s) for r in sizes.sweep_rates]):
+            runs[rate] = self.control_run(rate, duration)
+            say('4 controller at %d Hz for %.0f s of sim time: %d missed periods'
+                % (rate, duration, runs[rate]['missed']))
+        at_100 = runs[100]
+        self.add('4', 'missed periods of the tutorial controller at 100 Hz, %.0f s of sim time at '
+                 'real-time factor 1 (%s node; from joint_states stamps)' % (sizes.control_s, name),
+                 '%d of %d' % (at_100['missed'], at_100['expected']),
+                 'its own period (10 ms of sim time)', '—', None, '0 missed', at_100['missed'] == 0)
+        self.add('4', 'p99 period jitter of jnt_pos arrivals at 100 Hz, sim time / wall time',
+                 '%.2f / %.2f ms' % (at_100['jitter_sim'] * 1e3, at_100['jitter_wall'] * 1e3),
+                 'the period, 10 ms (sim time: /clock ticks of 1 ms in this process)', '10 ms',
+                 at_100['jitter_wall'] / 0.01)
+        # The highest rate up to which no tried rate missed a period.
+        highest = None
+        for rate in sorted(runs):
+            if runs[rate]['missed']:
+                break
+            highest = rate
+        self.add('4', 'highest controller rate with 0 missed periods, of %s Hz (%s of sim time '
+                 'each above 100 Hz)' % (', '.join(map(str, sorted(runs))), '%.0f s' % sizes.sweep_s),
+                 '%s Hz' % highest if highest else 'none',
+                 'missed periods at each rate', ', '.join('%d Hz: %d of %d' % (
+                     r, runs[r]['missed'], runs[r]['expected']) for r in sorted(runs)))
+        self.results['control_loop'] = {str(r): v for r, v in runs.items()}
+        write_period_plot(runs, os.path.join(self.output, 'control_loop.png'))
+
+    def control_run(self, rate, duration):
+        """Runs the tutorial controller at `rate` Hz for `duration` s of sim time."""
+        from sensor_msgs.msg import JointState
+        from std_msgs.msg import Float64
+        rospy = self.rospy
+        probe = self.clock_probe()
+        arrivals, stamps = [], []
+        subscribers = [
+            rospy.Subscriber('/jnt_pos', Float64, lambda _: arrivals.append(
+                (time.monotonic(), probe.latest)), queue_size=1000),
+            rospy.Subscriber('/joint_states', JointState, lambda msg: stamps.append(
+                msg.header.stamp.to_sec()), queue_size=1000)]
+        controller = self.ros.start(['rosrun', 'minimal_joint_controller',
+                                     'minimal_joint_controller', '_rate:=%g' % rate],
+                                    name='controller_%d' % rate)
+        try:
+            wait_until(lambda: controller.poll() is not None or arrivals, 60,
+                       what='the controller on jnt_pos')
+            if controller.poll() is not None:
+                raise NotMeasured('the controller exited: ' + self.ros.log_text(controller)[-300:])
+            start = probe.latest + 1.0  # one second of sim time to settle in
+            end = start + duration
+            wait_until(lambda: probe.latest >= end, duration * 5 + 30, interval=0.1,
+                       what='%.0f s of sim time' % duration)
+        finally:
+            self.stop(controller)
+            for subscriber in subscribers:
+                subscriber.unregister()
+            probe.close()
+        period = 1.0 / rate
+        window_stamps = [t for t in stamps if start <= t < end]
+        window = [(wall, sim) for wall, sim in arrivals if start <= sim < end]
+        if len(window_stamps) < 2 or len(window) < 2:
+            raise NotMeasured('the controller at %g Hz published %d joint_states in the window'
+                              % (rate, len(window_stamps)))
+        expected = round((window_stamps[-1] - window_stamps[0]) / period) + 1
+        return dict(
+            missed=bm.missed_periods(window_stamps, period), expected=expected,
+            jitter_sim=bm.percentile(bm.period_jitter([s for _, s in window], period), 99),
+            jitter_wall=bm.percentile(bm.period_jitter([w for w, _ in window], period), 99),
+            wall_intervals=[b - a for (a, _), (b, _) in zip(window, window[1:])])
+
+    def pacing(self, name, duration):
+        probe = self.clock_probe()
+        try:
+            wait_until(lambda: probe.samples, 30, what='/clock')
+            end = probe.latest + duration
+            wait_until(lambda: probe.latest >= end, duration * 5 + 30, interval=0.1,
+                       what='%.0f s of sim time' % duration)
+        finally:
+            probe.close()
+        wall, sim = zip(*probe.samples)
+        windows = bm.windowed_rtf(wall, sim, 1.0)
+        mean = bm.mean_rtf(wall, sim)
+        worst = max(windows, key=lambda f: abs(f - 1.0)) if windows else mean
+        against = 'the wall clock (CLOCK_MONOTONIC at /clock arrival)'
+        self.add('5', 'real-time factor at 1.0, mean over %.0f s of sim time (%s node)'
+                 % (duration, name), '%.4f' % mean, against, '1.0', mean, 'within 1 %',
+                 abs(mean - 1) <= 0.01)
+        self.add('5', 'real-time factor, worst one-second window of %d (%s node)'
+                 % (len(windows), name), '%.4f' % worst, against, '1.0', worst, 'within 1 %',
+                 abs(worst - 1) <= 0.01)
+        self.results.setdefault('pacing', {})[name] = dict(mean=mean, windows=windows)
+        write_pacing_plot(windows, name, os.path.join(self.output, 'pacing_%s.png' % name))
+
+
+class ClockProbe:
+    """Subscribes /clock while it lives: (CLOCK_MONOTONIC, sim time) of every arrival."""
+
+    def __init__(self, rospy):
+        from rosgraph_msgs.msg import Clock
+        self.samples = []
+        self.latest = -1.0
+        self._subscriber = rospy.Subscriber('/clock', Clock, self._on_clock, queue_size=1000,
+                                            tcp_nodelay=True)
+
+    def _on_clock(self, msg):
+        self.latest = msg.clock.to_sec()
+        self.samples.append((time.monotonic(), self.latest))
+
+    def close(self):
+        self._subscriber.unregister()
+
+
+# --- plots ---------------------------------------------------------------------------------------
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use('Agg')
+    from matplotlib import pyplot
+    return pyplot
+
+
+def write_scaling_plot(rates, exponents, path):
+    pyplot = _pyplot()
+    figure, axes = pyplot.subplots(figsize=(7, 4.5))
+    for engine, by_links in rates.items():
+        links = sorted(by_links)
+        label = 'bare %s' % ENGINE_NAMES[engine]
+        if engine in exponents:
+            label += ' (cost per step ~ links^%.2f)' % exponents[engine]
+        axes.loglog(links, [by_links[n] for n in links], 'o-', label=label)
+    axes.set_xlabel('moving links in the chain (revolute joints)')
+    axes.set_ylabel('steps per second')
+    axes.set_title('Scaling: URDF chains, as fast as possible, no ROS')
+    axes.grid(True, which='both', alpha=0.3)
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    pyplot.close(figure)
+
+
+def write_latency_plot(samples, name, path):
+    pyplot = _pyplot()
+    keys = list(samples)
+    figure, axes = pyplot.subplots(figsize=(9, 4.5))
+    for offset, target, color in ((-0.2, 'sim', 'tab:blue'), (0.2, 'bare', 'tab:gray')):
+        p50 = [bm.percentile(samples[k][target], 50) for k in keys]
+        p99 = [bm.percentile(samples[k][target], 99) for k in keys]
+        positions = [i + offset for i in range(len(keys))]
+        axes.bar(positions, p50, width=0.4, color=color,
+                 label='%s p50 (line: p99)' % ('%s node' % name if target == 'sim'
+                                               else 'bare roscpp service'))
+        axes.vlines(positions, p50, p99, color='black')
+    axes.set_xticks(range(len(keys)))
+    axes.set_xticklabels(['%s\n%s\n%s' % (s.replace('_joint_', ' '), c, m) for c, m, s in keys],
+                         fontsize=7)
+    axes.set_yscale('log')
+    axes.set_ylabel('round trip (us)')
+    axes.set_title('Service round trips, %s node against the bare service' % name)
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    pyplot.close(figure)
+
+
+def write_pacing_plot(windows, name, path):
+    pyplot = _pyplot()
+    figure, axes = pyplot.subplots(figsize=(7, 3.5))
+    axes.plot(range(1, len(windows) + 1), windows, 'o-', markersize=3)
+    axes.axhline(1.0, color='gray', linewidth=0.8)
+    for bound in (0.99, 1.01):
+        axes.axhline(bound, color='gray', linestyle='--', linewidth=0.8)
+    axes.set_xlabel('one-second window (wall time)')
+    axes.set_ylabel('real-time factor')
+    axes.set_title('Pacing at real-time factor 1, %s node (dashed: +-1 %%)' % name)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    pyplot.close(figure)
+
+
+def write_period_plot(runs, path):
+    pyplot = _pyplot()
+    figure, axes = pyplot.subplots(figsize=(7, 4))
+    for rate in sorted(runs):
+        intervals = [i * 1e3 * rate / 1000.0 for i in runs[rate]['wall_intervals']]
+        axes.hist(intervals, bins=60, histtype='step', label='%d Hz' % rate, log=True)
+    axes.set_xlabel('wall interval between jnt_pos arrivals / period (x 1000)')
+    axes.set_ylabel('count')
+    axes.set_title('Controller periods in wall time (1000 = on time)')
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    pyplot.close(figure)
+
+
+# --- the command -------------------------------------------------------------------------------
+
+def available_engines(requested):
+    """The requested engines whose simulator executable is built."""
+    import roslib.packages
+    found = []
+    for engine in requested:
+        if roslib.packages.find_node('onedof_sim', SIM_EXECUTABLES[engine]):
+            found.append(engine)
+        else:
+            say('%s: rosrun onedof_sim %s is not built; its rows are left out'
+                % (ENGINE_NAMES[engine], SIM_EXECUTABLES[engine]))
+    return found
+
+
+def machine():
+    return {'cpu': bm.cpu_model(read_file('/proc/cpuinfo')), 'cores': os.cpu_count()}
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(
+        prog='rosrun onedof_sim benchmark',
+        description='Measures the simulator nodes side by side with bare references on a '
+                    'private ROS graph; writes README-table.md, plots and results.json.')
+    parser.add_argument('--output', default='output/bench', help='output folder')
+    parser.add_argument('--quick', action='store_true',
+                        help='tiny sizes (seconds instead of minutes): checks that it runs')
+    parser.add_argument('--engines', default='ode,bullet',
+                        help='comma-separated engines among %s' % ', '.join(SIM_EXECUTABLES))
+    args = parser.parse_args(argv)
+    args.engines = [e for e in args.engines.split(',') if e]
+    unknown = [e for e in args.engines if e not in SIM_EXECUTABLES]
+    if unknown:
+        parser.error('unknown engine(s): %s' % ', '.join(unknown))
+    return args
+
+
+def main(argv=None):
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    sizes = QUICK if args.quick else FULL
+    output = os.path.abspath(args.output)
+    os.makedirs(output, exist_ok=True)
+    log_dir = os.path.join(output, 'logs')
+    shutil.rmtree(log_dir, ignore_errors=True)
+    engines = available_engines(args.engines)
+    started = time.monotonic()
+    date = datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')
+    with PrivateRos(log_dir=log_dir) as ros:
+        say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
+        bench = Bench(ros, sizes, output, engines)
+        items = [('6 start-up', bench.startup)]
+        items += [('1, 7 throughput and memory, ' + e, lambda e=e: bench.throughput_and_memory(e))
+                  for e in engines]
+        items += [('2 scaling', bench.scaling)]
+        items += [('3 latency, ' + e, lambda e=e: bench.latency(e)) for e in engines]
+        items += [('4, 5 control loop and pacing, ' + e, lambda e=e: bench.control_and_pacing(
+            e, sizes.pacing_s if e == 'ode' else sizes.bullet_pacing_s, control=e == 'ode'))
+                  for e in engines]
+        try:
+            for title, run in items:
+                say('--- %s (%.0f s so far)' % (title, time.monotonic() - started))
+                try:
+                    run()
+                except Exception:  # one broken item must not lose the others' figures
+                    bench.notes.append('%s failed: %s' % (title, traceback.format_exc(limit=3)
+                                                          .strip().splitlines()[-1]))
+                    say(traceback.format_exc())
+        finally:
+            bench.close()
+    elapsed = time.monotonic() - started
+    bench.notes.insert(0, 'Run: `rosrun onedof_sim benchmark%s` in %.0f s of wall time; plots '
+                       'next to this table; raw figures in results.json.'
+                       % (' --quick' if args.quick else '', elapsed))
+    table = bm.render_table(bench.rows, machine(), date, bench.notes)
+    with open(os.path.join(output, 'README-table.md'), 'w') as f:
+        f.write(table)
+    with open(os.path.join(output, 'results.json'), 'w') as f:
+        json.dump(dict(machine=machine(), date=date, quick=args.quick, elapsed_s=elapsed,
+                       results=bench.results), f, indent=1, default=str)
+    print(table)
+    say('done in %.0f s; outputs in %s' % (elapsed, output))
+    return 0
