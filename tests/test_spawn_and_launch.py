@@ -57,8 +57,9 @@ def test_launch_with_sim_false_only_loads_the_urdf(ros):
     assert wait_until(description, 60, what='/robot_description') == tutorial_urdf()
 
 
-def test_launch_starts_the_sim_and_spawns_the_robot(ros, rospy_client):
-    launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch']
+def test_launch_starts_the_sim_and_spawns_the_robot(ros, rospy_client, engine):
+    launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
+              'physics:=' + engine]
     nodes = ros.run(launch[:1] + ['--nodes'] + launch[1:])
     assert sorted(nodes.stdout.split()) == ['/gazebo', '/spawn_one_DOF_robot'], succeeded(nodes)
 
@@ -76,9 +77,9 @@ def test_launch_starts_the_sim_and_spawns_the_robot(ros, rospy_client):
     assert 'status_message: "GetJointProperties: got properties"' in result.stdout
 
 
-def test_launch_passes_paused_to_the_sim(ros, rospy_client):
+def test_launch_passes_paused_to_the_sim(ros, rospy_client, engine):
     ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
-               'paused:=true'], name='roslaunch')
+               'paused:=true', 'physics:=' + engine], name='roslaunch')
     api = GazeboApi(rospy_client)
     wait_until(lambda: api.get_model_state(ROBOT, '').success, 60, what='%s to be spawned' % ROBOT)
     physics = api.get_physics_properties()
@@ -245,8 +246,8 @@ def test_model_the_simulator_refuses_is_reported(ros, sim, rospy_client):
 
 # --- -J, -unpause, -wait, -b ----------------------------------------------------------------------
 
-def test_joint_positions_are_set_and_physics_stays_paused(ros, rospy_client):
-    start_sim(ros, args=['_paused:=true'])
+def test_joint_positions_are_set_and_physics_stays_paused(ros, rospy_client, engine):
+    start_sim(ros, engine, args=['_paused:=true'])
     api = GazeboApi(rospy_client)
     result = spawn_model(ros, *TUTORIAL_SPAWN_ROBOT, '-J', 'joint1', '0.5', cwd=DESCRIPTION_DIR)
     assert result.returncode == 0, succeeded(result)
@@ -259,8 +260,8 @@ def test_joint_positions_are_set_and_physics_stays_paused(ros, rospy_client):
     assert 'spawn_model: error: setting joints no_joint of table2 failed: ' in unknown.stderr
 
 
-def test_unpause_starts_physics_after_spawning(ros, rospy_client):
-    start_sim(ros, args=['_paused:=true'])
+def test_unpause_starts_physics_after_spawning(ros, rospy_client, engine):
+    start_sim(ros, engine, args=['_paused:=true'])
     api = GazeboApi(rospy_client)
     result = spawn_model(ros, *TUTORIAL_SPAWN_TABLE, '-unpause')
     assert result.returncode == 0, succeeded(result)
