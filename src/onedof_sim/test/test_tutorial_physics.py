@@ -21,18 +21,16 @@ def test_pendulum_period():
     assert tp.pendulum_period() == pytest.approx(2 * math.pi * math.sqrt(0.35 / 4.9))
 
 
-def test_table_contact_angle_puts_the_edge_one_radius_from_the_axis():
+def test_table_contact_angle_puts_the_link_tip_on_the_table_top():
     q = tp.table_contact_angle(0.85)
-    edge_x, edge_z = tp.table_edge(0.85)
-    assert edge_x == pytest.approx(0.3935)
-    # Distance from the edge to the link's axis line through the joint.
-    ax, az = math.sin(q), math.cos(q)
-    rx, rz = edge_x, edge_z - tp.JOINT_HEIGHT
-    along = rx * ax + rz * az
-    assert math.hypot(rx - along * ax, rz - along * az) == pytest.approx(tp.LINK_RADIUS)
-    assert 0 < along < tp.LINK_LENGTH
+    # The leading rim of the link's far end reaches down to the top face (z 0.775), over the top.
+    x, z = tp.tip_rim(q)
+    assert z == pytest.approx(tp.TABLE_TOP_Z, abs=1e-9)
+    assert 0.85 - tp.TABLE_TOP_HALF_WIDTH < x < 0.85 + tp.TABLE_TOP_HALF_WIDTH
+    assert x == pytest.approx(math.sin(q) + tp.LINK_RADIUS * math.cos(q))
+    assert 1 + math.cos(q) - tp.LINK_RADIUS * math.sin(q) == pytest.approx(tp.TABLE_TOP_Z)
     # Short of the command 2.5, and of where it would hang without the table (2.35 for 2.0).
-    assert 1.8 < q < 1.9
+    assert 1.6 < q < 1.8
 
 
 def test_table_out_of_reach_is_an_error():
@@ -47,17 +45,20 @@ def test_step_metrics_of_a_damped_response():
     wd = wn * math.sqrt(1 - zeta ** 2)
     q = [1 - math.exp(-zeta * wn * t) * (math.cos(wd * t) + zeta * wn / wd * math.sin(wd * t))
          for t in times]
-    m = tp.step_metrics(times, q, [2.0] * len(times), start_value=0.0)
+    m = tp.step_metrics(times, q, start_value=0.0)
     assert m['settled'] == pytest.approx(1.0, abs=1e-4)
     assert m['overshoot'] == pytest.approx(math.exp(-zeta * math.pi / math.sqrt(1 - zeta ** 2)),
                                            rel=1e-3)
-    assert m['holding_torque'] == 2.0
     # Envelope exp(-zeta wn t) / sqrt(1 - zeta^2) falls under 0.02 near t = 2.7 s.
     assert 2.0 < m['settling_time'] < 2.8
 
 
 def test_step_metrics_downward_step():
     times = [0, 1, 2, 3]
-    m = tp.step_metrics(times, [2.0, -0.2, 0.0, 0.0], [0, 0, 0, 0], start_value=2.0, window=1)
+    m = tp.step_metrics(times, [2.0, -0.2, 0.0, 0.0], start_value=2.0, window=1)
     assert m['settled'] == 0.0
     assert m['overshoot'] == pytest.approx(0.2)
+
+
+def test_tail_mean_takes_the_last_window():
+    assert tp.tail_mean([0, 1, 2, 3], [5, 5, 1, 3], window=1) == 2

@@ -53,43 +53,83 @@ def settled_angle(command, kp=KP):
     return _bisect(balance, command - reach, command + reach)
 
 
-def table_contact_angle(table_x, table_top_z=TABLE_TOP_Z, half_width=TABLE_TOP_HALF_WIDTH):
-    """The angle at which link2's cylinder, swinging toward +x, first touches the near edge of a
-    table top centred at table_x. With the table within reach the side of the cylinder meets the
-    edge (x_e, z_e): the edge's distance from the link's axis equals the radius."""
-    edge_x, edge_z = table_x - half_width, table_top_z
-    dx, dz = edge_x, edge_z - JOINT_HEIGHT
-    distance = math.hypot(dx, dz)
-    if distance > LINK_LENGTH or distance < LINK_RADIUS:
-        raise ValueError('the table edge at x = %.3f is out of the link\'s reach' % edge_x)
-    edge_angle = math.atan2(dx, dz)  # measured like q: from +z toward +x
-    return edge_angle - math.asin(LINK_RADIUS / distance)
+def link_outline(q):
+    """Corners of link2's cross-section in the x-z plane (y = 0) at angle q: the cylinder seen from
+    the side, a rectangle one link long and two radii wide."""
+    axis = (math.sin(q), math.cos(q))
+    ahead = (math.cos(q), -math.sin(q))  # the side that leads when q grows
+    corners = []
+    for along in (0.0, LINK_LENGTH):
+        for side in (LINK_RADIUS, -LINK_RADIUS):
+            corners.append((axis[0] * along + ahead[0] * side,
+                            JOINT_HEIGHT + axis[1] * along + ahead[1] * side))
+    return corners
 
 
-def table_edge(table_x, table_top_z=TABLE_TOP_Z, half_width=TABLE_TOP_HALF_WIDTH):
-    """(x, z) of the table top's edge nearest the robot: where the link meets the table."""
-    return table_x - half_width, table_top_z
+def _overlap(points_a, points_b, direction):
+    project = lambda points: [p[0] * direction[0] + p[1] * direction[1] for p in points]
+    a, b = project(points_a), project(points_b)
+    return min(max(a), max(b)) - max(min(a), min(b)) > 0
 
 
-def step_metrics(times, positions, torques, start_value, window=0.5, band=0.02):
-    """Step-response figures of one phase (samples from the command change on).
+def _rectangles_intersect(a, b):
+    """Separating-axis test of two rectangles given by their corners (a[0]-a[1] and a[0]-a[2] are
+    edges, as link_outline orders them)."""
+    axes = []
+    for rect in (a, b):
+        for i, j in ((0, 1), (0, 2)):
+            axes.append((rect[j][0] - rect[i][0], rect[j][1] - rect[i][1]))
+    return all(_overlap(a, b, axis) for axis in axes)
+
+
+def table_contact_angle(table_x, table_top_z=TABLE_TOP_Z, half_width=TABLE_TOP_HALF_WIDTH,
+                        top_thickness=0.04, resolution=1e-3):
+    """The first angle at which link2, swinging from upright toward +x, touches the top of a table
+    centred at table_x: the least q in (0, pi) where the link's side view meets the top's."""
+    x0, x1 = table_x - half_width, table_x + half_width
+    z0, z1 = table_top_z - top_thickness, table_top_z
+    top = [(x0, z0), (x0, z1), (x1, z0), (x1, z1)]
+    touches = lambda q: _rectangles_intersect(link_outline(q), top)
+    q = 0.0
+    while not touches(q):
+        q += resolution
+        if q >= math.pi:
+            raise ValueError('the table at x = %.3f is out of the link\'s reach' % table_x)
+    lo, hi = q - resolution, q
+    while hi - lo > 1e-10:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if touches(mid) else (mid, hi)
+    return hi
+
+
+def tip_rim(q):
+    """(x, z) of the leading rim of link2's far end at angle q: where the link meets the table top
+    in the tutorial's scene."""
+    return link_outline(q)[2]
+
+
+def tail_mean(times, values, window=0.5):
+    """Mean of the values over the last `window` seconds of the samples."""
+    if not times:
+        raise ValueError('no samples')
+    tail = [v for t, v in zip(times, values) if t >= times[-1] - window]
+    return sum(tail) / len(tail)
+
+
+def step_metrics(times, positions, start_value, window=0.5, band=0.02):
+    """Step-response figures of one phase (position samples from the command change on).
 
     settled: mean position over the last `window` seconds; overshoot: the furthest excursion past
     the settled value in the direction of the step (rad, >= 0); settling_time: from the first
-    sample until the position stays within `band` rad of the settled value; holding_torque: mean
-    torque over the last window.
+    sample until the position stays within `band` rad of the settled value.
     """
     if len(times) < 2:
         raise ValueError('a phase needs at least two samples')
-    t0, t_end = times[0], times[-1]
-    tail = [i for i, t in enumerate(times) if t >= t_end - window]
-    settled = sum(positions[i] for i in tail) / len(tail)
-    holding = sum(torques[i] for i in tail) / len(tail)
+    settled = tail_mean(times, positions, window)
     direction = 1.0 if settled >= start_value else -1.0
     overshoot = max(0.0, max(direction * (q - settled) for q in positions))
     settling_time = 0.0
     for t, q in zip(times, positions):
         if abs(q - settled) > band:
-            settling_time = t - t0
-    return {'settled': settled, 'overshoot': overshoot, 'settling_time': settling_time,
-            'holding_torque': holding}
+            settling_time = t - times[0]
+    return {'settled': settled, 'overshoot': overshoot, 'settling_time': settling_time}

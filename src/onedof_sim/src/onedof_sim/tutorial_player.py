@@ -5,6 +5,7 @@ Each phase lasts a fixed span of sim time; the recorder keeps every sample for t
 and the per-phase figures.
 """
 import collections
+import json
 import math
 import os
 import shutil
@@ -103,29 +104,44 @@ class RvizView:
     def _grab(self, path):
         result = subprocess.run(['import', '-display', self.display, '-window', 'root', path],
                                 capture_output=True, text=True)
-        return result.returncode == 0 and open(path, 'rb').read()
+        return result.returncode == 0
 
-    def screenshot(self, path, timeout=60):
+    def screenshot(self, path, timeout=90):
         """Waits for rviz to subscribe to the markers, then grabs frames until two in a row are
-        the same and not blank (one colour), and keeps that one."""
+        the same but for a few pixels (rviz's frame-rate counter) and not blank; keeps that one."""
         if self.rviz.poll() is not None:
             raise RuntimeError('rviz exited: ' + self.ros.log_text(self.rviz)[-2000:])
         wait_until(lambda: self._subscribed('/gazebo/collision_markers'), timeout,
                    what='rviz to subscribe to /gazebo/collision_markers')
-        previous = [None]
+        previous = path + '.previous.png'
 
-        def stable_frame():
-            frame = self._grab(path)
-            same = frame and frame == previous[0] and not is_blank(path)
-            previous[0] = frame
-            return same
+        def steady_frame():
+            if os.path.exists(path):
+                os.replace(path, previous)
+            if not self._grab(path) or is_blank(path) or not os.path.exists(previous):
+                return False
+            return differing_pixels(path, previous) < STEADY_PIXELS
 
-        wait_until(stable_frame, timeout, interval=1.0, what='a steady rviz picture')
+        wait_until(steady_frame, timeout, interval=1.0, what='a steady rviz picture')
+        os.remove(previous)
 
     def _subscribed(self, topic):
         _, _, (publishers, subscribers, _) = self.ros.master().getSystemState('/tutorial')
         return any(name == topic and any('rviz' in node for node in nodes)
                    for name, nodes in subscribers)
+
+
+# Pixels two frames of a still scene may differ by: rviz's frame-rate counter.
+STEADY_PIXELS = 400
+
+
+def differing_pixels(png_a, png_b):
+    result = subprocess.run(['compare', '-metric', 'AE', png_a, png_b, 'null:'],
+                            capture_output=True, text=True)
+    try:
+        return float(result.stderr.split()[0])
+    except (IndexError, ValueError):
+        return math.inf
 
 
 def is_blank(png_path):
@@ -140,13 +156,13 @@ def phase_summary(phase, recorder, start, end):
     if len(positions) < 2 or len(torques) < 2:
         raise RuntimeError('phase %s recorded %d positions and %d torques: is the controller '
                            'running?' % (phase.name, len(positions), len(torques)))
-    start_value = positions[0][1]
     metrics = physics.step_metrics([t for t, _ in positions], [q for _, q in positions],
-                                   [u for _, u in torques], start_value)
+                                   start_value=positions[0][1])
+    metrics['holding_torque'] = physics.tail_mean([t for t, _ in torques], [u for _, u in torques])
     if phase.before is SPAWN_TABLE:
         predicted = physics.table_contact_angle(TABLE_X)
-        edge_x, edge_z = physics.table_edge(TABLE_X)
-        metrics['met_table'] = 'edge at x = %.3f m, z = %.3f m' % (edge_x, edge_z)
+        metrics['met_table'] = 'tip rim at x = %.3f m, z = %.3f m' % physics.tip_rim(
+            metrics['settled'])
         # At rest on the table the rate is 0: the torque is Kp times the remaining error.
         metrics['predicted_torque'] = physics.KP * (phase.command - metrics['settled'])
     else:
@@ -169,7 +185,7 @@ SUMMARY_COLUMNS = (
 def summary_markdown(rows, physics_engine):
     lines = ['# Tutorial summary (%s engine)' % physics_engine, '',
              'Predicted: where Kp (c - q) + m g d sin q = 0; with the table, the angle at which '
-             'the link\'s side meets the table edge. Settling: within 0.02 rad of the settled '
+             'the link first touches the table top. Settling: within 0.02 rad of the settled '
              'angle. Times are sim time.', '',
              '| ' + ' | '.join(title for title, _, _ in SUMMARY_COLUMNS) + ' |',
              '|' + '---|' * len(SUMMARY_COLUMNS)]
@@ -185,7 +201,9 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
     log_dir = os.path.join(output, 'logs')
     shutil.rmtree(log_dir, ignore_errors=True)
     wall_start = time.monotonic()
-    with PrivateRos(log_dir=log_dir) as ros:
+    # /use_sim_time before any node starts, as Gazebo's launch files do, so that every node
+    # (this one included) runs on sim time from its first message.
+    with PrivateRos(log_dir=log_dir, use_sim_time=True) as ros:
         say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
         say('roslaunch minimal_robot_description minimal_robot_description.launch physics:=%s'
             % physics_engine)
@@ -199,7 +217,6 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
         model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
         wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
                    what='one_DOF_robot to be spawned')
-        rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
         say('rosrun minimal_joint_controller minimal_joint_controller')
         recorder = Recorder(rospy)
         ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
@@ -232,8 +249,11 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
                 os.path.join(output, 'phase%d_%s.png' % (len(rows), phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
                 xlabel='sim time since the command (s)')
-        if rviz:
+        if screenshot:
+            # rviz renders in software: it starts only now so it never takes the CPU from the
+            # controller while the phases run.
             say('rviz screenshot of the final pose, table display on')
+            rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_'))
             rviz.screenshot(os.path.join(output, 'rviz_final.png'))
         t0 = recorder.samples['jnt_pos'][0][0]
         plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
@@ -244,6 +264,8 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
     summary = summary_markdown(rows, physics_engine)
     with open(os.path.join(output, 'summary.md'), 'w') as f:
         f.write(summary)
+    with open(os.path.join(output, 'summary.json'), 'w') as f:
+        json.dump({'physics': physics_engine, 'phases': rows}, f, indent=1)
     print(summary)
     say('done in %.1f s of wall time; outputs in %s' % (time.monotonic() - wall_start, output))
     return rows

@@ -1,0 +1,109 @@
+"""The main job end to end: `play_tutorial` on a built workspace plays the whole tutorial and
+writes every output; its figures agree with the closed-form physics, and its rviz screenshot shows
+the robot and the table."""
+import json
+import os
+import subprocess
+import time
+
+import pytest
+
+from onedof_sim import tutorial_physics as physics
+
+PHASE_DURATION = 5.0
+OUTPUTS = ('phase1_command_1.0.png', 'phase2_command_2.0.png', 'phase3_upright_0.0.png',
+           'phase4_table_2.5.png', 'tutorial.png', 'samples.csv', 'rviz_final.png', 'summary.md',
+           'summary.json')
+
+
+@pytest.fixture(scope='module')
+def tutorial(tmp_path_factory):
+    output = tmp_path_factory.mktemp('tutorial')
+    env = dict(os.environ)
+    env.pop('DISPLAY', None)  # headless: the player brings its own Xvfb
+    start = time.monotonic()
+    result = subprocess.run(['rosrun', 'onedof_sim', 'play_tutorial', '--output', str(output),
+                             '--phase-duration', str(PHASE_DURATION)],
+                            capture_output=True, text=True, timeout=600, env=env)
+    wall = time.monotonic() - start
+    assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
+    with open(output / 'summary.json') as f:
+        summary = json.load(f)
+    return dict(output=output, stdout=result.stdout, wall=wall,
+                phases={row['name']: row for row in summary['phases']})
+
+
+def test_every_output_is_written(tutorial):
+    for name in OUTPUTS:
+        path = tutorial['output'] / name
+        assert path.is_file() and path.stat().st_size > 0, name
+
+
+def test_each_phase_is_announced(tutorial):
+    for command in ('pos_cmd std_msgs/Float64 1.0', 'pos_cmd std_msgs/Float64 2.0',
+                    'pos_cmd std_msgs/Float64 0.0', 'spawn_model -database cafe_table',
+                    'pos_cmd std_msgs/Float64 2.5'):
+        assert command in tutorial['stdout']
+
+
+@pytest.mark.parametrize('name,command', [('command_1.0', 1.0), ('command_2.0', 2.0)])
+def test_link_droops_past_the_command_where_gravity_balances_the_gain(tutorial, name, command):
+    phase = tutorial['phases'][name]
+    expected = physics.settled_angle(command)
+    assert expected > command
+    assert phase['settled'] == pytest.approx(expected, abs=0.01)
+    # The held torque cancels gravity's m g d sin q.
+    assert -phase['holding_torque'] == pytest.approx(physics.gravity_torque(phase['settled']),
+                                                     rel=0.02)
+
+
+def test_step_to_two_overshoots(tutorial):
+    assert tutorial['phases']['command_2.0']['overshoot'] > 0.01
+
+
+def test_upright_is_held(tutorial):
+    assert tutorial['phases']['upright_0.0']['settled'] == pytest.approx(0.0, abs=0.01)
+
+
+def test_link_rests_on_the_table_pressing_with_the_remaining_error(tutorial):
+    phase = tutorial['phases']['table_2.5']
+    assert phase['settled'] == pytest.approx(physics.table_contact_angle(0.85), abs=0.02)
+    assert phase['holding_torque'] == pytest.approx(physics.KP * (2.5 - phase['settled']),
+                                                    rel=0.02)
+
+
+def test_plays_in_about_its_sim_time(tutorial):
+    # A bound against hangs and sleeps, not a speed test: 4 phases of sim time at real-time
+    # factor 1 plus start-up and the rviz screenshot.
+    assert tutorial['wall'] < 4 * PHASE_DURATION + 120
+
+
+def count_pixels(png, region, predicate):
+    """Pixels of region (x0, y0, x1, y1) whose 8-bit (r, g, b) satisfy the predicate."""
+    import matplotlib.image
+    rgb = (matplotlib.image.imread(str(png))[..., :3] * 255).round()
+    x0, y0, x1, y1 = region
+    r, g, b = (rgb[y0:y1, x0:x1, i] for i in range(3))
+    return int(predicate(r, g, b).sum())
+
+
+# Where things are in the screenshot: rviz in a 1000 x 720 Xvfb screen with the committed view
+# (camera on -y looking at the x-z plane where the link swings; +x to the right). The robot is
+# rviz's default red; link1 stands left of x = 620, so red right of it is link2 reaching toward the
+# table, and grey below link2's height there is the table's column and base.
+RIGHT_OF_LINK1_ABOVE_TABLE = (640, 62, 984, 370)
+UNDER_THE_TABLE_TOP = (640, 390, 984, 690)
+robot_red = lambda r, g, b: (r > 170) & (g < 90) & (b < 90)
+marker_grey = lambda r, g, b: (abs(r - g) < 12) & (abs(g - b) < 12) & (r > 110) & (r < 230)
+
+
+def test_rviz_screenshot_shows_link2_on_the_table(tutorial):
+    png = tutorial['output'] / 'rviz_final.png'
+    assert count_pixels(png, RIGHT_OF_LINK1_ABOVE_TABLE, robot_red) > 500, \
+        'no robot-red pixels where link2 should rest, right of link1'
+    assert count_pixels(png, UNDER_THE_TABLE_TOP, marker_grey) > 300, \
+        'no table markers under the table top'
+    all_pixels = (0, 0, 1000, 720)
+    assert count_pixels(png, all_pixels, lambda r, g, b: r >= 0) > \
+        count_pixels(png, all_pixels, lambda r, g, b: (r == 48) & (g == 48) & (b == 48)) * 1.2, \
+        'the picture is mostly rviz background'
