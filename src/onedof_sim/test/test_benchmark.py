@@ -4,9 +4,10 @@ import xml.etree.ElementTree as ElementTree
 
 import pytest
 
-from onedof_sim.benchmark import (Row, chain_urdf, cpu_model, markdown_cell, mean_rtf,
-                                  missed_periods, one_line, percentile, period_jitter,
-                                  power_law_exponent, rate, render_table, windowed_rtf)
+from onedof_sim.benchmark import (Row, chain_urdf, collapsed_stack_shares, cpu_model,
+                                  markdown_cell, mean_rtf, missed_periods, one_line, percentile,
+                                  perf_report_shares, period_jitter, power_law_exponent, rate,
+                                  render_table, windowed_rtf)
 
 
 def test_percentile_interpolates_between_ranks_as_numpy():
@@ -116,3 +117,37 @@ def test_cells_and_notes_quoting_logs_stay_on_one_line():
     log = 'roslaunch exited:\n\x1b]2;/work/launch\x07\x1b[31mERROR\x1b[0m a | b\n'
     assert one_line(log) == 'roslaunch exited: ERROR a | b'
     assert markdown_cell(log) == 'roslaunch exited: ERROR a \\| b'
+
+
+PERF_REPORT = '''# Samples: 534  of event 'cpu-clock:ppp'
+#
+# Overhead  Shared Object         Symbol
+# ........  ....................  ....................................
+#
+    15.54%  libode.so.8           [.] dxStepIsland
+     6.37%  libroscpp.so          [.] ros::Publication::publish(ros::SerializedMessage const&)
+     2.10%  [kernel.kallsyms]     [k] __schedule
+'''
+
+
+def test_perf_report_shares_reads_symbols_and_objects():
+    assert perf_report_shares(PERF_REPORT) == [
+        (15.54, 'libode.so.8', 'dxStepIsland'),
+        (6.37, 'libroscpp.so', 'ros::Publication::publish(ros::SerializedMessage const&)'),
+        (2.10, '[kernel.kallsyms]', '__schedule')]
+    assert perf_report_shares('    81.46%  libpython3.11.so.1.0\n     1.12%  libc.so.6\n') == [
+        (81.46, 'libpython3.11.so.1.0', None), (1.12, 'libc.so.6', None)]
+
+
+def test_collapsed_stack_shares_counts_self_and_inclusive_once_per_stack():
+    text = ('<module> (/a/node.py:3);run (/a/node.py:10);step (/b/world.py:5) 6\n'
+            '<module> (/a/node.py:3);run (/a/node.py:12);step (/b/world.py:7) 2\n'
+            '<module> (/a/node.py:3);run (/a/node.py:14);publish (/c/topics.py:9) 2\n')
+    shares = collapsed_stack_shares(text)
+    assert shares['step (world.py)'] == pytest.approx((0.8, 0.8))
+    assert shares['publish (topics.py)'] == pytest.approx((0.2, 0.2))
+    assert shares['run (node.py)'] == pytest.approx((0.0, 1.0))
+    # A recursive function counts once in its stack's inclusive share.
+    recursive = collapsed_stack_shares('f (x.py:1);f (x.py:2);g (x.py:9) 4\n')
+    assert recursive['f (x.py)'] == pytest.approx((0.0, 1.0))
+    assert collapsed_stack_shares('') == {}

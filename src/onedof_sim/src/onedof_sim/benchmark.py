@@ -120,6 +120,42 @@ def chain_urdf(links):
     return '\n'.join(parts) + '\n'
 
 
+PERF_LINE = re.compile(r'^\s*([\d.]+)%\s+(\S+)(?:\s+\[[.kg]\]\s+(.*?))?\s*$')
+
+
+def perf_report_shares(text):
+    """[(percent, shared object, symbol or None)] of the lines of `perf report --stdio
+    --no-children -g none --sort dso,sym` (or --sort dso), in report order."""
+    shares = []
+    for line in text.splitlines():
+        match = PERF_LINE.match(line)
+        if match and not line.lstrip().startswith('#'):
+            shares.append((float(match.group(1)), match.group(2), match.group(3)))
+    return shares
+
+
+def collapsed_stack_shares(text):
+    """{frame: (self share, inclusive share)} of collapsed stacks ("outer;...;inner COUNT" per
+    line, as `py-spy record --format raw` writes). A frame is "function (file)": line numbers
+    are dropped so that a function counts once, wherever in it the samples fell."""
+    self_counts, inclusive_counts, total = {}, {}, 0
+    for line in text.splitlines():
+        stack, _, count = line.rpartition(' ')
+        if not stack or not count.isdigit():
+            continue
+        count = int(count)
+        total += count
+        frames = [re.sub(r'\((?:.*/)?([^/]*?)(?::\d+)?\)$', r'(\1)', frame.strip())
+                  for frame in stack.split(';')]
+        for frame in set(frames):
+            inclusive_counts[frame] = inclusive_counts.get(frame, 0) + count
+        self_counts[frames[-1]] = self_counts.get(frames[-1], 0) + count
+    if not total:
+        return {}
+    return {frame: (self_counts.get(frame, 0) / total, inclusive / total)
+            for frame, inclusive in inclusive_counts.items()}
+
+
 def ratio(value, reference):
     return value / reference if reference else math.nan
 
