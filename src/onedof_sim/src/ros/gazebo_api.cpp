@@ -299,6 +299,7 @@ struct GazeboApi::StepOutput {
   ModelStates model_states;
   LinkStates link_states;
   std::vector<CollisionShape> shapes;
+  std::vector<std::string> warnings;  // what the world had to do on its own during the step
 };
 
 GazeboApi::WorldLock::WorldLock(GazeboApi& api) {
@@ -397,6 +398,7 @@ void GazeboApi::stepOnce(StepOutput* out) {
   }
   world_.step();
   out->stepped = true;
+  out->warnings = world_.takeWarnings();
   out->time_ns = world_.timeNs();
   out->max_update_rate = max_update_rate_;
 
@@ -432,6 +434,7 @@ void GazeboApi::stepOnce(StepOutput* out) {
 }
 
 void GazeboApi::publish(const StepOutput& out) {
+  for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
   refreshClockFrequency();
   if (isDue(out.time_ns, last_clock_ns_, clock_frequency_)) {
     last_clock_ns_ = out.time_ns;
