@@ -1,0 +1,651 @@
+"""End-to-end tests of the simulator node's Gazebo API (gazebo-api.md), over a real roscore.
+
+Each test starts its own roscore and simulator (conftest fixtures), drives it through its ROS
+services and topics with rospy or the rosservice CLI, and checks what comes back. Tests that need
+exact sim times start the simulator paused (gzserver's -u) and run it for known sim intervals.
+"""
+import math
+import signal
+import subprocess
+import time
+
+import pytest
+
+from api_client import (BOX_SDF, FOREVER_NS, GRAVITY, LINK2_COM, LINK2_INERTIA, LINK2_MASS, ROBOT,
+                        STEP_NS, GazeboApi, pendulum_period, pose, ros_duration, ros_time,
+                        tutorial_urdf)
+from conftest import start_sim
+from onedof_sim.private_ros import wait_until
+
+MD5_SUMS = {
+    ('rossrv', 'onedof_sim/GetJointProperties'): '7b30be900f50aa21efec4a0ec92d91c9',
+    ('rossrv', 'onedof_sim/ApplyJointEffort'): 'c0039811b8cc919490b3cff748cdf46b',
+    ('rossrv', 'onedof_sim/JointRequest'): '0be1351618e1dc030eb7959d9a4902de',
+    ('rossrv', 'onedof_sim/BodyRequest'): '5eade9afe7f232d78005bd0cafeab755',
+    ('rossrv', 'onedof_sim/ApplyBodyWrench'): '585b9f9618aa0581b207e2f2d90866bc',
+    ('rossrv', 'onedof_sim/SpawnModel'): '9ed9c82c96abe1a00c3e8cdaeee24413',
+    ('rossrv', 'onedof_sim/DeleteModel'): '9ce56b4e9e54616de25d796dc972a262',
+    ('rossrv', 'onedof_sim/GetModelState'): '4c515e936d3319c9610c559c60bfc3d4',
+    ('rossrv', 'onedof_sim/SetModelState'): '5b3ab0281d4f5445def017e3a2e4a07b',
+    ('rossrv', 'onedof_sim/SetModelConfiguration'): '10e3139d3b669c40afc057d38956fff7',
+    ('rossrv', 'onedof_sim/GetLinkState'): '09d6c98cce97b35f7ab9bd70300657ab',
+    ('rossrv', 'onedof_sim/SetLinkState'): '8a5146eb66ae4d26b0860b08f3f271be',
+    ('rossrv', 'onedof_sim/GetLinkProperties'): '0e06a70386d0ee3fb880c02f23fcd821',
+    ('rossrv', 'onedof_sim/GetModelProperties'): '5717f7bd34ed990fa80e28b3015027a3',
+    ('rossrv', 'onedof_sim/GetWorldProperties'): '36bb0f2eccf4d8be971410c22818ba3f',
+    ('rossrv', 'onedof_sim/GetPhysicsProperties'): '575a5e74786981b7df2e3afc567693a6',
+    ('rossrv', 'onedof_sim/SetPhysicsProperties'): '97e2057080558ce4730434b5fae75c91',
+    ('rosmsg', 'onedof_sim/ModelState'): '9330fd35f2fcd82d457e54bd54e10593',
+    ('rosmsg', 'onedof_sim/ModelStates'): '48c080191eb15c41858319b4d8a609c2',
+    ('rosmsg', 'onedof_sim/LinkStates'): '48c080191eb15c41858319b4d8a609c2',
+    ('rosmsg', 'onedof_sim/LinkState'): '0818ebbf28ce3a08d48ab1eaa7309ebe',
+    ('rosmsg', 'onedof_sim/ODEPhysics'): '667d56ddbd547918c32d1934503dc335',
+    ('rossrv', 'std_srvs/Empty'): 'd41d8cd98f00b204e9800998ecf8427e',
+}
+
+PAUSED = ['-u']
+FAST = ['_max_update_rate:=0']
+EFFORT_SET = 'ApplyJointEffort: effort set'
+
+
+def start_paused(ros, engine, args=()):
+    return start_sim(ros, engine, PAUSED + list(args))
+
+
+@pytest.fixture
+def api(rospy_client):
+    return GazeboApi(rospy_client)
+
+
+def test_md5_sums_match_gazebo_msgs(ros):
+    for (tool, name), md5 in sorted(MD5_SUMS.items()):
+        out = ros.run([tool, 'md5', name])
+        assert out.returncode == 0, out.stderr
+        assert out.stdout.strip() == md5, name
+
+
+# --- the tutorial's commands -----------------------------------------------------------------
+
+def test_rosservice_get_joint_properties_prints_tutorial_lines(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    out = ros.run(['rosservice', 'call', '/gazebo/get_joint_properties', 'joint1'])
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines() == [
+        'type: 0', 'damping: []', 'position: [0.0]', 'rate: [0.0]', 'success: True',
+        'status_message: "GetJointProperties: got properties"']
+
+
+def test_all_services_and_clock_are_listed(ros, engine):
+    start_sim(ros, engine)
+    services = ros.run(['rosservice', 'list']).stdout.split()
+    for name in ('get_joint_properties', 'apply_joint_effort', 'clear_joint_forces',
+                 'apply_body_wrench', 'clear_body_wrenches', 'spawn_urdf_model', 'spawn_sdf_model',
+                 'delete_model', 'get_model_state', 'set_model_state', 'get_link_state',
+                 'set_link_state', 'set_model_configuration', 'get_model_properties',
+                 'get_world_properties', 'get_link_properties', 'get_physics_properties',
+                 'set_physics_properties', 'pause_physics', 'unpause_physics',
+                 'reset_simulation', 'reset_world'):
+        assert '/gazebo/' + name in services
+    wait_until(lambda: '/clock' in ros.run(['rostopic', 'list']).stdout.split(), 30,
+               what='/clock in rostopic list')
+
+
+def test_upright_link_falls_over_when_unpaused(ros, engine, api):
+    start_paused(ros, engine, FAST)
+    api.spawn_robot()
+    assert api.joint() == (0.0, 0.0)
+    api.unpause_physics()
+    wait_until(lambda: abs(api.joint()[0]) > 0.5, 120, what='link2 to fall from upright')
+
+
+# --- physics through the API vs closed form --------------------------------------------------
+
+def paused_samples(api, until_ns):
+    """Exact (sim time, q) samples: each is read while paused, then the world runs a little."""
+    samples = []
+    api.pause_physics()
+    while True:
+        now = api.sim_time_ns()
+        samples.append((now * 1e-9, api.joint()[0]))
+        if now >= until_ns:
+            return samples
+        api.unpause_physics()
+        api.pause_physics()
+
+
+def zero_crossings(samples, level):
+    crossings = []
+    for (t0, q0), (t1, q1) in zip(samples, samples[1:]):
+        if (q0 - level) * (q1 - level) < 0:
+            crossings.append(t0 + (t1 - t0) * (level - q0) / (q1 - q0))
+    return crossings
+
+
+def test_small_swing_period_matches_closed_form(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot(initial_pose=pose(z=1.0))  # hanging down, link2 would touch the ground
+    amplitude = 0.05
+    res = api.set_model_configuration(ROBOT, '', ['joint1'], [math.pi + amplitude])
+    assert res.success, res.status_message
+    samples = paused_samples(api, api.sim_time_ns() + int(4.5 * 1e9))
+    crossings = zero_crossings(samples, math.pi)
+    assert len(crossings) >= 4, crossings
+    # Crossings alternate direction; consecutive ones are half a period apart.
+    period = 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    assert period == pytest.approx(pendulum_period(amplitude), rel=0.005)
+
+
+def test_constant_effort_holds_link_at_balance(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    balance = 2.5  # on the stable side of the horizontal
+    effort = -LINK2_MASS * GRAVITY * LINK2_COM * math.sin(balance)
+    assert api.set_model_configuration(ROBOT, '', ['joint1'], [balance]).success
+    res = api.apply_joint_effort('joint1', effort, ros_time(0), ros_duration(FOREVER_NS))
+    assert res.success, res.status_message
+    api.unpause_physics()
+    start = api.sim_time_ns()
+    positions = []
+    while api.sim_time_ns() < start + 2 * 10 ** 9:
+        positions.append(api.joint()[0])
+    assert max(abs(q - balance) for q in positions) < 0.005
+
+
+# --- effort jobs -----------------------------------------------------------------------------
+
+@pytest.fixture
+def weightless(ros, engine, api):
+    """The robot in a paused world without gravity: link2 turns only under the efforts applied."""
+    start_paused(ros, engine)
+    api.spawn_robot()
+    api.set_gravity(0, 0, 0)
+    return api
+
+
+def step_effort(steps):
+    """Rate gained by link2 under effort LINK2_INERTIA for `steps` steps of 1 ms: 1e-3 per step."""
+    return steps * 1e-3
+
+
+def aligned_future(api, lead_ns=100 * STEP_NS):
+    return api.sim_time_ns() + lead_ns
+
+
+def apply(api, effort, start_ns, duration_ns, joint='joint1'):
+    return api.apply_joint_effort(joint, effort, ros_time(start_ns), ros_duration(duration_ns))
+
+
+def test_10ms_job_acts_on_exactly_10_steps(weightless):
+    api = weightless
+    start = aligned_future(api)
+    res = apply(api, LINK2_INERTIA, start, 10 * STEP_NS)
+    assert (res.success, res.status_message) == (True, EFFORT_SET)
+    api.run_until(start + 50 * STEP_NS)
+    assert api.joint()[1] == pytest.approx(step_effort(10), abs=1e-7)
+
+
+def test_job_starting_in_the_past_starts_now(weightless):
+    api = weightless
+    assert apply(api, LINK2_INERTIA, 0, 10 * STEP_NS).success  # start 0: now
+    api.run_for(50 * STEP_NS)
+    assert api.joint()[1] == pytest.approx(step_effort(10), abs=1e-7)
+
+
+def test_back_to_back_jobs_give_a_constant_torque(weightless):
+    api = weightless
+    start = aligned_future(api)
+    for k in range(5):  # a 100 Hz controller's jobs, each 10 ms
+        assert apply(api, LINK2_INERTIA, start + k * 10 * STEP_NS, 10 * STEP_NS).success
+    paused_at = api.run_until(start + 25 * STEP_NS)
+    steps = min((paused_at - start) // STEP_NS, 50)  # mid-way: one effort per step so far
+    assert api.joint()[1] == pytest.approx(step_effort(steps), abs=1e-7)
+    api.run_until(start + 100 * STEP_NS)
+    # Closed windows would apply the torque twice on each of the 4 inner boundaries: 54 steps.
+    assert api.joint()[1] == pytest.approx(step_effort(50), abs=1e-7)
+
+
+def test_two_jobs_on_one_joint_sum(weightless):
+    api = weightless
+    start = aligned_future(api)
+    assert apply(api, 0.25 * LINK2_INERTIA, start, 10 * STEP_NS).success
+    assert apply(api, 0.75 * LINK2_INERTIA, start + 5 * STEP_NS, 10 * STEP_NS).success
+    api.run_until(start + 50 * STEP_NS)
+    assert api.joint()[1] == pytest.approx(0.25 * step_effort(10) + 0.75 * step_effort(10),
+                                           abs=1e-7)
+
+
+def test_endless_job_acts_until_cleared(weightless):
+    api = weightless
+    res = api.apply_joint_effort('joint1', LINK2_INERTIA, ros_time(0),
+                                 ros_duration(FOREVER_NS))  # duration -1 s
+    assert res.success, res.status_message
+    api.run_for(30 * STEP_NS)
+    api.clear_joint_forces('joint1')
+    cleared_rate = api.joint()[1]
+    steps = cleared_rate / step_effort(1)
+    assert steps >= 30 and steps == pytest.approx(round(steps), abs=1e-4)
+    api.run_for(30 * STEP_NS)
+    assert api.joint()[1] == pytest.approx(cleared_rate, abs=1e-9)
+
+
+def test_zero_duration_job_does_nothing_and_says_so(weightless):
+    api = weightless
+    res = apply(api, LINK2_INERTIA, 0, 0)
+    assert res.success and res.status_message.startswith('ApplyJointEffort: ')
+    assert res.status_message != EFFORT_SET, 'status_message must say nothing was queued'
+    api.run_for(30 * STEP_NS)
+    assert api.joint() == (0.0, 0.0)
+
+
+def test_job_shorter_than_a_step_acts_on_one_step_and_says_so(weightless):
+    api = weightless
+    start = aligned_future(api)
+    res = apply(api, LINK2_INERTIA, start, 400000)  # 0.4 ms
+    assert res.success and res.status_message.startswith('ApplyJointEffort: ')
+    assert res.status_message != EFFORT_SET, 'status_message must say it acts for one step'
+    api.run_until(start + 30 * STEP_NS)
+    assert api.joint()[1] == pytest.approx(step_effort(1), abs=1e-7)
+
+
+# --- pause, reset, clock ---------------------------------------------------------------------
+
+def clock_listener(rospy):
+    """Subscribes /clock; returns (received clock times in ns, subscriber)."""
+    from rosgraph_msgs.msg import Clock
+    stamps = []
+    sub = rospy.Subscriber('/clock', Clock, lambda m: stamps.append(m.clock.to_nsec()))
+    return stamps, sub
+
+
+def test_pause_freezes_clock_and_joint_unpause_resumes(ros, engine, api, rospy_client):
+    start_sim(ros, engine)
+    api.spawn_robot()
+    assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.3]).success
+    stamps, _ = clock_listener(rospy_client)
+    wait_until(lambda: len(stamps) > 10, 30, what='/clock')
+    api.pause_physics()
+    frozen = api.sim_time_ns(), api.joint()
+    count = len(stamps)
+    time.sleep(1.0)  # nothing may happen during this wall time
+    assert (api.sim_time_ns(), api.joint()) == frozen
+    assert len(stamps) - count <= 1  # at most one message in flight when paused
+    assert max(stamps) <= frozen[0]
+    api.unpause_physics()
+    wait_until(lambda: api.sim_time_ns() > frozen[0] and api.joint()[0] != frozen[1][0], 30,
+               what='time and joint to move on')
+    wait_until(lambda: max(stamps) > frozen[0], 30, what='/clock to move on')
+
+
+def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_client, api):
+    start_paused(ros, engine)
+    assert ros.master().getParam('/test', '/use_sim_time')[2] is True
+    stamps, sub = clock_listener(rospy_client)
+    wait_until(lambda: sub.get_num_connections() > 0, 30, what='/clock connection')
+    time.sleep(0.5)  # paused: no /clock at all, in particular no clock of 0
+    assert stamps == []
+    api.unpause_physics()
+    wait_until(lambda: len(stamps) > 200, 60, what='200 /clock messages')
+    assert stamps[0] == STEP_NS
+    received = stamps[:200]
+    assert all(b - a == STEP_NS for a, b in zip(received, received[1:]))
+
+
+def test_pub_clock_frequency_throttles_clock(ros, engine, rospy_client):
+    ros.set_param('/gazebo/pub_clock_frequency', 50)
+    start_sim(ros, engine)
+    stamps, _ = clock_listener(rospy_client)
+    wait_until(lambda: len(stamps) > 20, 60, what='20 /clock messages')
+    gaps = {b - a for a, b in zip(stamps[:20], stamps[1:20])}
+    assert gaps == {20 * STEP_NS}
+
+
+def test_use_sim_time_already_set_is_kept(ros, engine):
+    ros.set_param('/use_sim_time', False)
+    start_sim(ros, engine)
+    assert ros.master().getParam('/test', '/use_sim_time')[2] is False
+
+
+def test_reset_simulation_returns_time_and_robot_to_spawn(ros, engine, api):
+    start_sim(ros, engine)
+    api.spawn_robot()
+    assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.3]).success
+    wait_until(lambda: api.sim_time_ns() > 300 * STEP_NS, 60, what='sim time 0.3 s')
+    api.pause_physics()
+    assert api.joint() != (0.0, 0.0)
+    api.reset_simulation()
+    assert api.get_world_properties().sim_time == 0.0
+    assert api.joint() == (0.0, 0.0)
+    assert ROBOT in api.get_world_properties().model_names
+
+
+def test_reset_world_resets_poses_while_time_runs_on(ros, engine, api):
+    start_sim(ros, engine)
+    api.spawn_robot()
+    assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.3]).success
+    wait_until(lambda: api.sim_time_ns() > 300 * STEP_NS, 60, what='sim time 0.3 s')
+    api.pause_physics()
+    paused_at = api.sim_time_ns()
+    api.reset_world()
+    assert api.sim_time_ns() == paused_at
+    assert api.joint() == (0.0, 0.0)
+    api.unpause_physics()
+    wait_until(lambda: api.sim_time_ns() > paused_at, 30, what='time to run on')
+
+
+def test_reset_drops_pending_jobs(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    api.set_gravity(0, 0, 0)
+    endless = ros_duration(FOREVER_NS)
+    assert api.apply_joint_effort('joint1', 1.0, ros_time(0), endless).success
+    api.reset_world()
+    api.run_for(30 * STEP_NS)
+    assert api.joint() == (0.0, 0.0)
+
+
+# --- models, links, properties: happy and error paths ----------------------------------------
+
+def test_delete_model(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    res = api.delete_model(ROBOT)
+    assert (res.success, res.status_message) == (True, 'DeleteModel: successfully deleted model')
+    assert ROBOT not in api.get_world_properties().model_names
+    assert not api.get_joint_properties('joint1').success
+    res = api.delete_model(ROBOT)
+    assert (res.success, res.status_message) == (False, 'DeleteModel: model does not exist')
+
+
+def test_spawn_model_relative_to_a_reference_frame_and_both_formats(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    # The box placed 0.5 m above link2's frame (at z 1.0): z = 1.5.
+    res = api.spawn_sdf_model('box', BOX_SDF, '/ns', pose(z=0.5), ROBOT + '::link2')
+    assert (res.success, res.status_message) == (True, 'SpawnModel: Successfully spawned entity')
+    state = api.get_model_state('box', '')
+    assert state.success and state.pose.position.z == pytest.approx(1.5, abs=1e-9)
+    # Gazebo takes a URDF on spawn_sdf_model too (it converts URDF to SDF).
+    res = api.spawn_sdf_model('robot2', tutorial_urdf(), '', pose(x=2.0), '')
+    assert res.success, res.status_message
+    assert api.get_model_state('robot2', 'world').pose.position.x == pytest.approx(2.0)
+
+
+def test_spawn_urdf_with_gazebo_tags(ros, engine, api):
+    start_paused(ros, engine)
+    urdf = tutorial_urdf().replace(
+        '</robot>', '<gazebo reference="link2"><material>Gazebo/Red</material></gazebo>\n'
+                    '<gazebo><plugin name="x" filename="libx.so"/></gazebo>\n</robot>')
+    res = api.spawn_urdf_model(ROBOT, urdf, '', pose(), '')
+    assert res.success, res.status_message
+    assert api.joint() == (0.0, 0.0)
+
+
+def test_get_and_set_model_state(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_box()
+    target = pose(1.0, 2.0, 3.0)
+    target.orientation.w, target.orientation.z = math.cos(0.25), math.sin(0.25)
+    from onedof_sim.msg import ModelState
+    res = api.set_model_state(ModelState('box', target, None, 'world'))
+    assert res.success, res.status_message
+    state = api.get_model_state('box', 'world')
+    assert (state.success, state.status_message) == (True, 'GetModelState: got properties')
+    assert state.header.frame_id == 'world'
+    got = state.pose
+    assert (got.position.x, got.position.y, got.position.z) == pytest.approx((1, 2, 3))
+    assert (got.orientation.w, got.orientation.z) == pytest.approx(
+        (math.cos(0.25), math.sin(0.25)))
+    res = api.get_model_state('nobody', '')
+    assert (res.success, res.status_message) == (False, 'GetModelState: model does not exist')
+    assert not api.set_model_state(ModelState('nobody', target, None, '')).success
+
+
+def test_set_model_state_topic(ros, engine, api, rospy_client):
+    start_paused(ros, engine)
+    api.spawn_box()
+    from onedof_sim.msg import ModelState
+    pub = rospy_client.Publisher('/gazebo/set_model_state', ModelState, queue_size=1)
+    wait_until(lambda: pub.get_num_connections() > 0, 30, what='set_model_state subscription')
+    pub.publish(ModelState('box', pose(0.5, 0, 2.0), None, ''))
+    wait_until(lambda: api.get_model_state('box', '').pose.position.z == pytest.approx(2.0), 30,
+               what='the box to move')
+
+
+def test_get_and_set_link_state(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    api.spawn_box()
+    res = api.get_link_state(ROBOT + '::link2', '')
+    assert res.success, res.status_message
+    assert res.link_state.link_name == ROBOT + '::link2'
+    assert res.link_state.pose.position.z == pytest.approx(1.0, abs=1e-9)  # the joint origin
+    from onedof_sim.msg import LinkState
+    res = api.set_link_state(LinkState('box::body', pose(0, 1.0, 0.5), None, ''))
+    assert res.success, res.status_message
+    got = api.get_link_state('box::body', 'world').link_state.pose.position
+    assert (got.x, got.y, got.z) == pytest.approx((0, 1.0, 0.5))
+    res = api.get_link_state('link9', '')
+    assert (res.success, res.status_message) == (
+        False, 'GetLinkState: link not found, did you forget to scope the link by model name?')
+    assert not api.set_link_state(LinkState('nobody::body', pose(), None, '')).success
+
+
+def test_model_world_and_link_properties(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    res = api.get_model_properties(ROBOT)
+    assert (res.success, res.status_message) == (True, 'GetModelProperties: got properties')
+    assert {'link1', 'link2'} <= set(res.body_names)
+    assert 'joint1' in res.joint_names and not res.is_static
+    res = api.get_model_properties('nobody')
+    assert (res.success, res.status_message) == (False, 'GetModelProperties: model does not exist')
+
+    res = api.get_world_properties()
+    assert (res.success, res.status_message) == (True, 'GetWorldProperties: got properties')
+    assert ROBOT in res.model_names and res.sim_time == 0.0
+
+    res = api.get_link_properties(ROBOT + '::link2')
+    assert (res.success, res.status_message) == (True, 'GetLinkProperties: got properties')
+    assert (res.mass, res.ixx, res.iyy, res.izz) == pytest.approx((1.0, 0.1, 0.1, 0.005))
+    assert (res.ixy, res.ixz, res.iyz) == (0.0, 0.0, 0.0)
+    assert res.com.position.z == pytest.approx(0.5) and res.gravity_mode
+    assert not api.get_link_properties(ROBOT + '::link9').success
+
+
+def test_physics_properties(ros, engine, api):
+    start_paused(ros, engine)
+    res = api.get_physics_properties()
+    assert (res.success, res.status_message) == (True, 'GetPhysicsProperties: got properties')
+    assert (res.time_step, res.pause, res.max_update_rate) == (0.001, True, 1000.0)
+    assert (res.gravity.x, res.gravity.y, res.gravity.z) == (0.0, 0.0, -9.8)
+    res.gravity.z = -1.62
+    res.ode_config.sor_pgs_iters = 80
+    set_res = api.set_physics_properties(0.002, 500.0, res.gravity, res.ode_config)
+    assert set_res.success, set_res.status_message
+    got = api.get_physics_properties()
+    assert (got.time_step, got.max_update_rate, got.gravity.z) == (0.002, 500.0, -1.62)
+    assert got.ode_config.sor_pgs_iters == 80
+    bad = api.set_physics_properties(0.0, 500.0, res.gravity, res.ode_config)
+    assert not bad.success and bad.status_message
+    assert api.get_physics_properties().time_step == 0.002
+
+
+def test_start_up_parameters(ros, engine, api):
+    start_sim(ros, engine, ['-u', '_time_step:=0.002', '_max_update_rate:=0',
+                            '_gravity:=[0.0, 0.0, -1.0]'])
+    res = api.get_physics_properties()
+    assert (res.time_step, res.pause, res.max_update_rate, res.gravity.z) == (
+        0.002, True, 0.0, -1.0)
+
+
+def test_invalid_start_up_parameter_stops_the_node_with_a_message(ros, engine):
+    proc = start_sim(ros, engine, ['_time_step:=-1'], wait=False)
+    assert proc.wait(timeout=60) != 0
+    assert 'time_step' in ros.log_text(proc) or 'step' in ros.log_text(proc)
+
+
+def test_set_model_configuration(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    res = api.set_model_configuration(ROBOT, 'robot_description', ['joint1'], [1.0])
+    assert (res.success, res.status_message) == (True, 'SetModelConfiguration: success')
+    assert api.joint() == (pytest.approx(1.0), 0.0)
+    assert not api.set_model_configuration('nobody', '', ['joint1'], [1.0]).success
+    assert not api.set_model_configuration(ROBOT, '', ['joint1'], [1.0, 2.0]).success
+    assert api.joint() == (pytest.approx(1.0), 0.0)
+
+
+def test_apply_and_clear_body_wrench(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_box(initial_pose=pose(z=1.0))  # clear of the ground
+    api.set_gravity(0, 0, 0)
+    from geometry_msgs.msg import Point, Wrench
+    wrench = Wrench()
+    wrench.force.x = 1.0
+    started = api.sim_time_ns()
+    res = api.apply_body_wrench('box::body', '', Point(), wrench, ros_time(0),
+                                ros_duration(FOREVER_NS))
+    assert res.success, res.status_message
+    cleared = api.run_for(100 * STEP_NS)
+    api.clear_body_wrenches('box::body')
+    moving = api.get_model_state('box', '').twist.linear.x
+    assert moving == pytest.approx((cleared - started) * 1e-9, abs=1e-7)  # F t / m, 1 N on 1 kg
+    api.run_for(50 * STEP_NS)
+    assert api.get_model_state('box', '').twist.linear.x == pytest.approx(moving, abs=1e-9)
+    assert not api.apply_body_wrench('nobody::body', '', Point(), wrench, ros_time(0),
+                                     ros_duration(10 ** 9)).success
+
+
+def test_model_and_link_states_topics(ros, engine, api, rospy_client):
+    start_sim(ros, engine)
+    api.spawn_robot()
+    from onedof_sim.msg import LinkStates, ModelStates
+    models = rospy_client.wait_for_message('/gazebo/model_states', ModelStates, timeout=30)
+    assert ROBOT in models.name
+    links = rospy_client.wait_for_message('/gazebo/link_states', LinkStates, timeout=30)
+    assert ROBOT + '::link2' in links.name
+    assert len(links.pose) == len(links.twist) == len(links.name)
+
+
+def test_collision_markers(ros, engine, api, rospy_client):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    api.unpause_physics()
+    from visualization_msgs.msg import Marker, MarkerArray
+    msg = rospy_client.wait_for_message('/gazebo/collision_markers', MarkerArray, timeout=30)
+    shapes = [m for m in msg.markers if m.action == Marker.ADD]
+    assert all(m.header.frame_id == 'world' for m in shapes)
+    cylinders = [m for m in shapes if m.type == Marker.CYLINDER]
+    assert len(cylinders) == 1
+    assert (cylinders[0].scale.x, cylinders[0].scale.z) == pytest.approx((0.2, 1.0))
+
+
+def test_sigint_stops_the_node_within_seconds(ros, engine):
+    proc = start_sim(ros, engine)
+    proc.send_signal(signal.SIGINT)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        pytest.fail('the node did not stop within 10 s of SIGINT')
+    assert proc.returncode == 0
+
+
+# --- bad input: success False with a message; the node and its world carry on ----------------
+
+def nan_pose():
+    p = pose()
+    p.position.x = float('nan')
+    return p
+
+
+def bad_requests(api):
+    """(what, call) for every kind of bad input; each call returns a response with success."""
+    from geometry_msgs.msg import Point, Twist, Vector3, Wrench
+    from onedof_sim.msg import LinkState, ModelState
+    nan_twist = Twist()
+    nan_twist.angular.y = float('inf')
+    nan_wrench = Wrench()
+    nan_wrench.force.z = float('nan')
+    physics = api.get_physics_properties()
+    nan_gravity = Vector3(0, float('nan'), 0)
+    ok_gravity = physics.gravity
+    forever = ros_duration(FOREVER_NS)
+    return [
+        ('unknown joint', lambda: api.get_joint_properties('joint9')),
+        ('effort on unknown joint', lambda: api.apply_joint_effort('joint9', 1, ros_time(0),
+                                                                   forever)),
+        ('NaN effort', lambda: api.apply_joint_effort('joint1', float('nan'), ros_time(0),
+                                                      forever)),
+        ('infinite effort', lambda: api.apply_joint_effort('joint1', float('inf'), ros_time(0),
+                                                           forever)),
+        ('bad XML', lambda: api.spawn_urdf_model('m', '<robot name="m"><link', '', pose(), '')),
+        ('not a model', lambda: api.spawn_urdf_model('m', '<foo/>', '', pose(), '')),
+        ('empty XML', lambda: api.spawn_sdf_model('m', '', '', pose(), '')),
+        ('duplicate name', lambda: api.spawn_urdf_model(ROBOT, tutorial_urdf(), '', pose(), '')),
+        ('unknown reference frame', lambda: api.spawn_sdf_model('m', BOX_SDF, '', pose(),
+                                                                'nobody::body')),
+        ('NaN spawn pose', lambda: api.spawn_sdf_model('m', BOX_SDF, '', nan_pose(), '')),
+        ('delete unknown model', lambda: api.delete_model('nobody')),
+        ('state of unknown model', lambda: api.get_model_state('nobody', '')),
+        ('state relative to unknown entity', lambda: api.get_model_state(ROBOT, 'nobody::x')),
+        ('set unknown model', lambda: api.set_model_state(ModelState('nobody', pose(), None, ''))),
+        ('NaN model pose', lambda: api.set_model_state(ModelState(ROBOT, nan_pose(), None, ''))),
+        ('infinite model twist', lambda: api.set_model_state(ModelState(ROBOT, pose(), nan_twist,
+                                                                         ''))),
+        ('unknown link state', lambda: api.get_link_state('nobody::link', '')),
+        ('set unknown link', lambda: api.set_link_state(LinkState('nobody::x', pose(), None, ''))),
+        ('NaN link pose', lambda: api.set_link_state(LinkState(ROBOT + '::link2', nan_pose(),
+                                                               None, ''))),
+        ('unknown link properties', lambda: api.get_link_properties('nobody::link')),
+        ('unknown model properties', lambda: api.get_model_properties('nobody')),
+        ('configuration of unknown model', lambda: api.set_model_configuration(
+            'nobody', '', ['joint1'], [1.0])),
+        ('configuration of unknown joint', lambda: api.set_model_configuration(
+            ROBOT, '', ['joint9'], [1.0])),
+        ('configuration length mismatch', lambda: api.set_model_configuration(
+            ROBOT, '', ['joint1'], [])),
+        ('NaN configuration', lambda: api.set_model_configuration(
+            ROBOT, '', ['joint1'], [float('nan')])),
+        ('zero step', lambda: api.set_physics_properties(0.0, 1000.0, ok_gravity,
+                                                         physics.ode_config)),
+        ('negative step', lambda: api.set_physics_properties(-0.001, 1000.0, ok_gravity,
+                                                             physics.ode_config)),
+        ('NaN step', lambda: api.set_physics_properties(float('nan'), 1000.0, ok_gravity,
+                                                        physics.ode_config)),
+        ('NaN gravity', lambda: api.set_physics_properties(0.001, 1000.0, nan_gravity,
+                                                           physics.ode_config)),
+        ('negative max_update_rate', lambda: api.set_physics_properties(
+            0.001, -1.0, ok_gravity, physics.ode_config)),
+        ('wrench on unknown body', lambda: api.apply_body_wrench(
+            'nobody::x', '', Point(), Wrench(), ros_time(0), forever)),
+        ('NaN wrench', lambda: api.apply_body_wrench(
+            ROBOT + '::link2', '', Point(), nan_wrench, ros_time(0), forever)),
+        ('wrench in unknown frame', lambda: api.apply_body_wrench(
+            ROBOT + '::link2', 'nobody::x', Point(), Wrench(), ros_time(0), forever)),
+    ]
+
+
+def world_snapshot(api):
+    physics = api.get_physics_properties()
+    return (api.get_world_properties().model_names, api.joint(),
+            api.get_model_state(ROBOT, '').pose, physics.time_step, physics.max_update_rate,
+            physics.gravity)
+
+
+def test_bad_input_is_refused_and_the_world_is_unchanged(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot()
+    assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.7]).success
+    before = world_snapshot(api)
+    problems = []
+    for what, call in bad_requests(api):
+        res = call()
+        if res.success or not res.status_message:
+            problems.append('%s: success %s, status %r' % (what, res.success, res.status_message))
+        if world_snapshot(api) != before:
+            problems.append('%s changed the world' % what)
+    assert not problems, '\n'.join(problems)
+    # Still serving, with its world intact: unpaused, the link moves on from where it was.
+    api.unpause_physics()
+    wait_until(lambda: api.joint()[0] != 0.7, 30, what='the joint to move after unpause')
