@@ -286,6 +286,7 @@ class TopicRecorder:
         self.specs = specs
         self.buffer = SampleBuffer(specs, buffer_length)
         self.message_counts = collections.Counter()
+        self.first_reception = None  # ROS time (s) at which the first message arrived
         self._fields = self._resolve(specs, timeout)  # topic -> [(label, read)]
         self._missing_index = set()
         self._subscribers = []
@@ -332,9 +333,12 @@ class TopicRecorder:
 
     def _on_message(self, msg, topic):
         import rospy
+        received = rospy.get_rostime().to_sec()
+        if self.first_reception is None:
+            self.first_reception = received
         t = header_stamp(msg)
         if t is None:
-            t = rospy.get_rostime().to_sec()
+            t = received
         self.message_counts[topic] += 1
         for label, read, _ in self._fields[topic]:
             try:
@@ -347,9 +351,10 @@ class TopicRecorder:
                 continue
             self.buffer.append(label, t, value)
 
-    def check_received(self, duration):
-        """PlotError naming every topic that sent nothing and every field that got no sample."""
-        problems = ['no message on %s in %g s' % (topic, duration)
+    def check_received(self, span):
+        """PlotError naming every topic that sent nothing and every field that got no sample;
+        `span` says over what time, for the message."""
+        problems = ['no message on %s in %s' % (topic, span)
                     for topic in self._fields if not self.message_counts[topic]]
         problems += ['%s: no message on %s had that element' % (label, topic)
                      for topic, fields in self._fields.items() if self.message_counts[topic]
@@ -358,39 +363,33 @@ class TopicRecorder:
             raise PlotError('; '.join(problems))
 
 
-def _wait_for_ros_time(timeout):
-    """The current ROS time in seconds once it is nonzero (under sim time: the first /clock)."""
-    import rospy
-    deadline = time.monotonic() + timeout
-    while True:
-        now = rospy.get_rostime()
-        if not now.is_zero():
-            return now.to_sec()
-        if time.monotonic() > deadline:
-            raise PlotError('ROS time is 0 after %g s: /use_sim_time is set but nothing '
-                            'publishes /clock' % timeout)
-        time.sleep(0.01)
-
-
 def record(recorder, duration, timeout):
-    """Records `duration` seconds of ROS time; PlotError if ROS time stalls for `timeout` s."""
+    """Records `duration` seconds of ROS time from the first message received. PlotError when
+    nothing arrives within `timeout` wall seconds, when ROS time stands still that long, or when
+    a topic sent nothing."""
     import rospy
-    start = _wait_for_ros_time(timeout)
     recorder.start()
-    last_time, last_progress = start, time.monotonic()
-    while not rospy.is_shutdown():
-        now = rospy.get_rostime().to_sec()
-        if now - start >= duration:
-            break
-        if now != last_time:
-            last_time, last_progress = now, time.monotonic()
-        elif time.monotonic() - last_progress > timeout:
-            recorder.stop()
-            raise PlotError('ROS time stopped at %.3f s for %g s (is /clock still published?)'
-                            % (now, timeout))
-        time.sleep(0.01)
-    recorder.stop()
-    recorder.check_received(duration)
+    try:
+        deadline = time.monotonic() + timeout
+        while recorder.first_reception is None:
+            if time.monotonic() > deadline or rospy.is_shutdown():
+                recorder.check_received('the first %g s' % timeout)
+            time.sleep(0.01)
+        start = recorder.first_reception
+        last_time, last_progress = start, time.monotonic()
+        while not rospy.is_shutdown():
+            now = rospy.get_rostime().to_sec()
+            if now - start >= duration:
+                break
+            if now != last_time:
+                last_time, last_progress = now, time.monotonic()
+            elif time.monotonic() - last_progress > timeout:
+                raise PlotError('ROS time stood still at %.3f s for %g s (is /clock published?)'
+                                % (now, timeout))
+            time.sleep(0.01)
+    finally:
+        recorder.stop()
+    recorder.check_received('%g s of ROS time' % duration)
 
 
 def show_live(recorder, refresh_hz=10.0):
@@ -429,13 +428,14 @@ def parse_args(argv):
     parser.add_argument('fields', nargs='+', metavar='TOPIC/FIELD',
                         help="rqt_plot syntax: /topic/field, /topic/array[i], /topic/a:b")
     parser.add_argument('--duration', type=float, metavar='S',
-                        help='record S seconds of ROS time (required with --png/--csv)')
+                        help='record S seconds of ROS time from the first message received '
+                             '(required with --png/--csv)')
     parser.add_argument('--png', metavar='F', help='write the figure to F (headless)')
     parser.add_argument('--csv', metavar='F', help='write the samples to F (headless)')
     parser.add_argument('--title', help='figure title')
     parser.add_argument('--timeout', type=float, default=10.0, metavar='T',
-                        help='wall seconds to wait for topics to appear and for ROS time to move '
-                             '(default %(default)s)')
+                        help='wall seconds to wait for the topics to appear, for their first '
+                             'message and for ROS time to move (default %(default)s)')
     parser.add_argument('--buffer', type=int, default=DEFAULT_BUFFER_LENGTH, metavar='N',
                         help='samples kept per field, oldest dropped (default %(default)s)')
     args = parser.parse_args(argv)

@@ -1,0 +1,322 @@
+"""End-to-end tests of minimal_joint_controller driving the simulator over a real roscore.
+
+The simulator runs at real-time rate (its default): the controller's 100 Hz of sim time must keep
+pace with the physics, and a sim that runs as fast as it can would outrun a rospy loop that makes
+two service calls a period.
+
+Sign conventions (checked here against the running simulator): q > 0 tilts link2 toward +x, gravity
+pulls it further (+m g d sin q about +y), so at rest the controller holds jnt_trq = -m g d sin q
+and Kp (c - q) + m g d sin q = 0 puts the link beyond the command c for 0 < c < pi.
+"""
+import collections
+import math
+import os
+import signal
+
+import pytest
+
+from api_client import GazeboApi
+from conftest import TUTORIAL_URDF, start_sim
+from onedof_sim import tutorial_physics as physics
+from onedof_sim.private_ros import wait_until
+
+CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
+RATE_HZ = 100.0
+
+
+def start_controller(ros, args=()):
+    return ros.start(CONTROLLER + list(args), name='controller')
+
+
+class Topic:
+    """Every message of a topic with the ROS time (sim time) at which it arrived."""
+
+    def __init__(self, rospy, name, msg_class):
+        self.rospy = rospy
+        self.samples = []
+        rospy.Subscriber(name, msg_class, self._on_message, queue_size=1000)
+
+    def _on_message(self, msg):
+        self.samples.append((self.rospy.get_time(), msg))
+
+    def clear(self):
+        self.samples = []
+
+    def since(self, start):
+        return [(t, msg) for t, msg in list(self.samples) if t >= start]
+
+    def values_since(self, start):
+        return [(t, msg.data) for t, msg in self.since(start)]
+
+
+class ControlledRobot:
+    """The tutorial's setup: simulator, controller running, robot spawned, a pos_cmd publisher and
+    listeners on the controller's topics.
+
+    The controller starts before the robot is spawned, so the upright link (an unstable balance)
+    is held from the first period instead of depending on how long an engine keeps it balanced
+    on its own."""
+
+    def __init__(self, ros, engine, rospy, spawn=True, sim_args=()):
+        from sensor_msgs.msg import JointState
+        from std_msgs.msg import Float64
+        self.ros, self.engine, self.rospy = ros, engine, rospy
+        self.Float64 = Float64
+        self.sim = start_sim(ros, engine, sim_args)
+        self.jnt_pos = Topic(rospy, '/jnt_pos', Float64)
+        self.jnt_vel = Topic(rospy, '/jnt_vel', Float64)
+        self.jnt_trq = Topic(rospy, '/jnt_trq', Float64)
+        self.joint_states = Topic(rospy, '/joint_states', JointState)
+        self.pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+        self.controller = start_controller(ros)
+        wait_until(lambda: self.controller.poll() is not None
+                   or self.pos_cmd.get_num_connections() > 0, 60,
+                   what='the controller to subscribe to pos_cmd')
+        self.assert_controller_alive()
+        if spawn:
+            self.spawn()
+
+    def missing_joint_warnings(self):
+        return self.controller_log().count('cannot read joint joint1')
+
+    def spawn(self, warnings_before=0):
+        """Spawns the robot once the controller has warned about the missing joint1 (more than
+        `warnings_before` times)."""
+        wait_until(lambda: self.missing_joint_warnings() > warnings_before, 60,
+                   what='the controller to look for joint1')
+        GazeboApi(self.rospy).spawn_robot()
+
+    def assert_controller_alive(self):
+        assert self.controller.poll() is None, \
+            'controller exited:\n' + self.ros.log_text(self.controller)
+
+    def controller_log(self):
+        return self.ros.log_text(self.controller)
+
+    def now(self):
+        return self.rospy.get_time()
+
+    def command(self, value):
+        """Publishes pos_cmd; returns the sim time just before."""
+        start = self.now()
+        self.pos_cmd.publish(self.Float64(value))
+        return start
+
+    def wait_sim_time(self, duration):
+        end = self.now() + duration
+        wait_until(lambda: self.now() >= end, duration * 20 + 30,
+                   what='%.1f s of sim time' % duration)
+
+    def wait_settled(self, since, window=1.0, band=0.01, timeout=120):
+        """Waits until jnt_pos has stayed within `band` rad for `window` s of sim time; returns
+        the mean position and mean jnt_trq over that window. At rest jnt_pos still jitters by a
+        few mrad: the controller's 10 ms effort jobs start at its own reading of sim time, which
+        lags the simulator's by a varying amount, so consecutive jobs overlap or leave a gap of a
+        1 ms step now and then."""
+        def settled():
+            self.assert_controller_alive()
+            samples = self.jnt_pos.values_since(since)
+            if not samples or samples[-1][0] - since < window:
+                return None
+            tail = [q for t, q in samples if t >= samples[-1][0] - window]
+            if len(tail) < window * RATE_HZ * 0.5 or max(tail) - min(tail) > band:
+                return None
+            torques = [u for t, u in self.jnt_trq.values_since(samples[-1][0] - window)]
+            return sum(tail) / len(tail), sum(torques) / len(torques)
+        return wait_until(settled, timeout, interval=0.2,
+                          what='jnt_pos to settle within %g rad for %g s' % (band, window))
+
+
+@pytest.fixture
+def sim_time_client(ros, request):
+    """rospy on sim time: /use_sim_time set before it starts, so its clock is the simulator's."""
+    ros.set_param('/use_sim_time', True)
+    return request.getfixturevalue('rospy_client')
+
+
+@pytest.fixture
+def robot(ros, engine, sim_time_client):
+    return ControlledRobot(ros, engine, sim_time_client)
+
+
+def assert_holds_at(settled, command):
+    q, torque = settled
+    expected = physics.settled_angle(command)
+    assert expected > command
+    assert q == pytest.approx(expected, abs=0.01), \
+        'settled at %.4f rad, Kp (c - q) + m g d sin q = 0 gives %.4f' % (q, expected)
+    # At rest the controller's torque cancels gravity's +m g d sin q.
+    assert torque == pytest.approx(-physics.gravity_torque(q), rel=0.02), \
+        'holding %.4f N m at q = %.4f, gravity needs %.4f' % (torque, q, -physics.gravity_torque(q))
+
+
+def test_commands_1_then_2_settle_beyond_the_command_against_gravity(robot):
+    robot.wait_settled(since=robot.now())  # upright at command 0 first
+    assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
+
+    start = robot.command(2.0)
+    settled = robot.wait_settled(since=start)
+    assert_holds_at(settled, 2.0)
+    peak = max(q for _, q in robot.jnt_pos.values_since(start))
+    assert peak > settled[0] + 0.01, 'the step to 2.0 does not overshoot: peak %.4f, settled %.4f' \
+        % (peak, settled[0])
+
+
+def test_topics_come_at_100_hz_of_sim_time(ros, engine, sim_time_client):
+    # The simulator at half real-time speed: the controller gets twice the wall time it needs per
+    # period of sim time, so the count checks its rate, not how busy the machine is.
+    robot = ControlledRobot(ros, engine, sim_time_client, sim_args=['_max_update_rate:=500'])
+    robot.command(1.0)
+    robot.wait_sim_time(1.0)
+    start = robot.now()
+    window = 5.0
+    robot.wait_sim_time(window + 0.5)
+    for topic in (robot.jnt_pos, robot.jnt_vel, robot.jnt_trq):
+        count = sum(1 for t, _ in topic.since(start) if t < start + window)
+        assert count == pytest.approx(window * RATE_HZ, rel=0.05)
+    stamps = [msg.header.stamp.to_sec() for _, msg in robot.joint_states.since(start)]
+    count = sum(1 for s in stamps if start <= s < start + window)
+    assert count == pytest.approx(window * RATE_HZ, rel=0.05)
+
+
+def test_joint_states_carry_the_joint_and_match_jnt_pos(robot):
+    robot.command(1.0)
+    robot.wait_sim_time(1.0)
+    _, state = robot.joint_states.samples[-1]
+    assert state.name == ['joint1']
+    assert len(state.position) == len(state.velocity) == 1
+    # The same reading goes out on both topics (the last few may still be on their way).
+    positions = {msg.data for _, msg in robot.jnt_pos.samples}
+    recent = [msg for _, msg in robot.joint_states.samples[-50:]]
+    assert sum(msg.position[0] in positions for msg in recent) >= len(recent) - 2
+
+
+def quaternion_multiply(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz)
+
+
+def test_joint_states_drive_robot_state_publisher(ros, robot):
+    from tf2_msgs.msg import TFMessage
+    rospy = robot.rospy
+    with open(TUTORIAL_URDF) as f:
+        ros.set_param('/robot_description', f.read())
+    ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
+              name='robot_state_publisher')
+    moving, static = {}, {}
+
+    def on_tf(msg, frames):
+        for t in msg.transforms:
+            if (t.header.frame_id, t.child_frame_id) in (('link1', 'link2'), ('world', 'link1')):
+                frames.setdefault(t.child_frame_id, {})[t.header.stamp.to_sec()] = t.transform
+
+    rospy.Subscriber('/tf', TFMessage, on_tf, callback_args=moving, queue_size=1000)
+    rospy.Subscriber('/tf_static', TFMessage, on_tf, callback_args=static, queue_size=10)
+    robot.command(1.0)
+    robot.wait_sim_time(2.0)
+    wait_until(lambda: 'link1' in static and len(moving.get('link2', {})) > 50, 60,
+               what='robot_state_publisher transforms of link1 (static) and link2')
+
+    world_link1 = next(iter(static['link1'].values()))
+    # A controller running late can stamp two readings with one sim time; match only unique stamps.
+    stamp_counts = collections.Counter(msg.header.stamp.to_sec()
+                                       for _, msg in robot.joint_states.samples)
+    states = {msg.header.stamp.to_sec(): msg.position[0] for _, msg in robot.joint_states.samples
+              if stamp_counts[msg.header.stamp.to_sec()] == 1}
+    matched = [(states[stamp], transform) for stamp, transform in moving['link2'].items()
+               if stamp in states]
+    assert len(matched) > 50
+    assert max(q for q, _ in matched) > 1.0
+    for q, link1_link2 in matched:
+        r1, r2 = world_link1.rotation, link1_link2.rotation
+        x, y, z, w = quaternion_multiply((r1.x, r1.y, r1.z, r1.w), (r2.x, r2.y, r2.z, r2.w))
+        # link2 in world: rotation by q about +y, quaternion (0, sin q/2, 0, cos q/2) up to sign.
+        dot = y * math.sin(q / 2) + w * math.cos(q / 2)
+        assert abs(abs(dot) - 1) < 1e-6 and abs(x) < 1e-9 and abs(z) < 1e-9, (q, (x, y, z, w))
+        t = link1_link2.translation
+        assert (t.x, t.y, t.z) == pytest.approx((0, 0, 1), abs=1e-9)
+
+
+def test_controller_survives_a_killed_simulator_and_resumes_after_restart(ros, engine, robot):
+    assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
+    os.killpg(robot.sim.pid, signal.SIGKILL)
+    robot.sim.wait(timeout=10)
+    robot.assert_controller_alive()
+
+    # Sim time stands still without a simulator, so the controller (sleeping in sim time) finds
+    # out when the new one's clock starts from 0 and its old connections fail.
+    warnings_before = robot.missing_joint_warnings()
+    robot.sim = start_sim(ros, engine)
+    wait_until(lambda: 'lost the simulator' in robot.controller_log(), 60,
+               what='the controller to notice the simulator was replaced')
+    for topic in (robot.jnt_pos, robot.jnt_vel, robot.jnt_trq, robot.joint_states):
+        topic.clear()
+    wait_until(lambda: robot.missing_joint_warnings() > warnings_before, 60,
+               what='the controller to reconnect and find no joint1 in the new world')
+    assert not robot.jnt_pos.samples, 'jnt_pos published without a joint to read'
+
+    robot.spawn(warnings_before)
+    wait_until(lambda: robot.jnt_pos.samples, 60, what='jnt_pos after the restart')
+    assert_holds_at(robot.wait_settled(since=robot.jnt_pos.samples[0][0]), 1.0)
+    robot.assert_controller_alive()
+    log = robot.controller_log()
+    assert log.count('lost the simulator') == 1, log
+
+
+def test_non_finite_command_is_ignored_with_a_warning(robot):
+    assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
+    start = robot.command(float('nan'))
+    wait_until(lambda: 'ignoring pos_cmd nan' in robot.controller_log(), 30,
+               what='the controller to warn about the NaN command')
+    robot.command(float('inf'))
+    wait_until(lambda: 'ignoring pos_cmd inf' in robot.controller_log(), 30,
+               what='the controller to warn about the infinite command')
+    robot.wait_sim_time(1.0)
+    assert all(math.isfinite(u) for _, u in robot.jnt_trq.values_since(start))
+    assert_holds_at(robot.wait_settled(since=start), 1.0)
+    # Still controlling: a new finite command is followed.
+    assert_holds_at(robot.wait_settled(since=robot.command(0.5)), 0.5)
+    robot.assert_controller_alive()
+
+
+def test_controller_waits_for_the_joint_and_takes_it_once_spawned(ros, engine, sim_time_client):
+    robot = ControlledRobot(ros, engine, sim_time_client, spawn=False)
+    wait_until(robot.missing_joint_warnings, 60, what='the controller to warn that joint1 is missing')
+    start = robot.now()
+    robot.wait_sim_time(11.0)
+    robot.assert_controller_alive()
+    assert not robot.jnt_pos.samples and not robot.jnt_trq.samples \
+        and not robot.joint_states.samples, 'published without a joint to read'
+    # Throttled: one warning per 5 s of sim time, not one per period.
+    assert robot.missing_joint_warnings() <= 4
+
+    robot.command(1.0)
+    robot.spawn()
+    wait_until(lambda: robot.jnt_pos.since(start), 60, what='jnt_pos once the robot is spawned')
+    assert_holds_at(robot.wait_settled(since=robot.now()), 1.0)
+
+
+def test_tutorial_plot_command_records_the_controller_in_sim_time(ros, robot, tmp_path):
+    from onedof_sim.plot import read_csv
+    robot.command(2.0)
+    png, csv_path = str(tmp_path / 'plot.png'), str(tmp_path / 'plot.csv')
+    result = ros.run(['rosrun', 'onedof_sim', 'plot', '/jnt_pos/data', '/jnt_trq/data',
+                      '/jnt_vel/data', '--duration', '3', '--png', png, '--csv', csv_path],
+                     timeout=300)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert os.path.getsize(png) > 5000
+    series = read_csv(csv_path)
+    assert list(series) == ['/jnt_pos/data', '/jnt_trq/data', '/jnt_vel/data']
+    for label, topic in (('/jnt_pos/data', robot.jnt_pos), ('/jnt_trq/data', robot.jnt_trq)):
+        times, values = series[label]
+        # What the plotter recorded is a run of consecutive messages this test received too.
+        received = [msg.data for _, msg in topic.samples]
+        starts = [i for i, v in enumerate(received) if v == values[0]]
+        assert any(received[i:i + len(values)] == values for i in starts), label
+        # 3 s of sim time at 100 Hz, on a sim-time axis.
+        assert 2.9 <= times[-1] - times[0] <= 3.1
+        assert len(values) == pytest.approx(RATE_HZ * (times[-1] - times[0]), rel=0.1)
