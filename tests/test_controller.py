@@ -267,6 +267,21 @@ def test_controller_survives_a_killed_simulator_and_resumes_after_restart(ros, e
     assert log.count('lost the simulator') == 1, log
 
 
+def test_controller_keeps_control_across_reset_simulation(robot):
+    assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
+    before = robot.now()
+    GazeboApi(robot.rospy).reset_simulation()
+    wait_until(lambda: robot.now() < before, 30, what='sim time to jump back')
+    for topic in (robot.jnt_pos, robot.jnt_trq):
+        topic.clear()
+    # Back upright at time 0, the controller carries on from the new time and settles again.
+    wait_until(lambda: robot.jnt_pos.samples, 30, what='jnt_pos after the reset')
+    assert robot.jnt_pos.samples[0][0] < before
+    assert_holds_at(robot.wait_settled(since=robot.jnt_pos.samples[0][0]), 1.0)
+    robot.assert_controller_alive()
+    assert 'lost the simulator' not in robot.controller_log()
+
+
 def test_non_finite_command_is_ignored_with_a_warning(robot):
     assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
     start = robot.command(float('nan'))
