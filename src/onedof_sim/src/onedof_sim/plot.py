@@ -16,7 +16,6 @@ else the ROS time at reception.
 import argparse
 import collections
 import csv
-import math
 import os
 import re
 import sys
@@ -287,7 +286,7 @@ class TopicRecorder:
         self.buffer = SampleBuffer(specs, buffer_length)
         self.message_counts = collections.Counter()
         self.first_reception = None  # ROS time (s) at which the first message arrived
-        self._fields = self._resolve(specs, timeout)  # topic -> [(label, read)]
+        self._fields = self._resolve(specs, timeout)  # topic -> [(label, read, msg_class)]
         self._missing_index = set()
         self._subscribers = []
 
