@@ -78,7 +78,7 @@ tutorial: setup
 # the end-to-end tests over real nodes. Each test starts its own roscore on a free port.
 test: setup
 	source $(WS)/$(DEVEL)/setup.bash && cd $(WS) && \
-	  $(VENV_PYTHON) -m pytest -p no:cacheprovider -n 2 --forked $(PYTEST_ARGS) tests src
+	  $(VENV_PYTHON) -m pytest -p no:cacheprovider -n 2 --forked --timeout=900 $(PYTEST_ARGS) tests src
 
 bench: setup
 	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim benchmark --output $(OUTPUT)/bench
