@@ -243,7 +243,7 @@ bool readGravity(const ros::NodeHandle& nh, Vec3* gravity, std::string* error) {
 // Private start-up parameters (all optional; set them before starting the node, on the command
 // line as _name:=value, or in a launch file):
 //   ~time_step (s, 0.001)  ~max_update_rate (steps per wall second, 1000; 0 = as fast as possible)
-//   ~paused (false; gzserver's -u flag does the same)  ~gravity ([0, 0, -9.8], or "0 0 -9.8")
+//   ~paused (false; gzserver's -u / --pause flag does the same)  ~gravity ([0, 0, -9.8], or "0 0 -9.8")
 //   ~quick_step (false: dWorldStep; true: dWorldQuickStep)
 //   ODE solver settings named as the fields of ODEPhysics: ~auto_disable_bodies,
 //   ~sor_pgs_precon_iters, ~sor_pgs_iters, ~sor_pgs_w, ~sor_pgs_rms_error_tol,
@@ -270,9 +270,9 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
       !readRate(nh, "states_publish_frequency", &options->states_publish_frequency, error)) {
     return false;
   }
-  // gzserver's flags, as launch files pass them (-u, -e ode, --verbose, a world file).
+  // gzserver's flags, as launch files pass them (-u/--pause, -e ode, --verbose, a world file).
   for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "-u") {
+    if (args[i] == "-u" || args[i] == "--pause") {
       options->paused = true;
     } else if (args[i] == "-e" && i + 1 < args.size()) {
       if (args[++i] != "ode") {
