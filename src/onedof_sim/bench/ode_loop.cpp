@@ -5,7 +5,7 @@
 // the pacing. The world is built once and keeps its state between measurement windows, as the
 // node's does, so the two are compared on the same motion.
 //
-//   bench_ode_loop --urdf NAME FILE X [--sdf NAME FILE X]...
+//   bench_ode_loop [--quick-step] --urdf NAME FILE X [--sdf NAME FILE X]...
 // then on stdin, one window per line: "SECONDS MIN_STEPS"; for each it steps for at least both and
 // prints "window STEPS WALL_SECONDS SIM_SECONDS". It prints "ready" once the models are spawned.
 #include <chrono>
@@ -21,7 +21,8 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "bench_ode_loop: " << why
-            << "\nusage: bench_ode_loop (--urdf|--sdf NAME FILE X)...; then lines SECONDS MIN_STEPS"
+            << "\nusage: bench_ode_loop [--quick-step] (--urdf|--sdf NAME FILE X)...; then lines "
+               "SECONDS MIN_STEPS"
             << std::endl;
   return 2;
 }
@@ -29,8 +30,12 @@ int usage(const std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  onedof_sim::World world;
-  for (int i = 1; i < argc; i += 4) {
+  // --quick-step: dWorldQuickStep (the node's ~quick_step) instead of the default dWorldStep.
+  const bool quick_step = argc > 1 && std::string(argv[1]) == "--quick-step";
+  onedof_sim::PhysicsParams params;
+  params.quick_step = quick_step;
+  onedof_sim::World world(params);
+  for (int i = quick_step ? 2 : 1; i < argc; i += 4) {
     const std::string flag = argv[i];
     if ((flag != "--urdf" && flag != "--sdf") || i + 3 >= argc) return usage("bad arguments");
     std::ifstream file(argv[i + 2]);

@@ -105,6 +105,9 @@ def test_render_table_names_the_machine_and_marks_the_aims():
     text = render_table(rows, {'cpu': 'AMD EPYC', 'cores': 2}, '2024-01-01',
                         notes=['profile: dWorldStep 80 %'])
     assert 'AMD EPYC, 2 cores; 2024-01-01' in text
+    loaded = render_table(rows, {'cpu': 'AMD EPYC', 'cores': 2, 'load': '0.5 / 1.5'}, 'today')
+    assert 'AMD EPYC, 2 cores; load average (1 min) at the start and the end of the run ' \
+           '0.5 / 1.5; today' in loaded
     lines = [line for line in text.splitlines() if line.startswith('| ')]
     assert len(lines) == 1 + len(rows)  # header + rows
     assert '| 0.90 | >= 0.5 | met |' in lines[1]

@@ -176,11 +176,13 @@ def markdown_cell(value):
 
 def render_table(rows, machine, date, notes=()):
     """The report in Markdown: the machine, one line per row, then the notes."""
+    load = ('; load average (1 min) at the start and the end of the run %s'
+            % machine['load'] if machine.get('load') else '')
     lines = ['# onedof_sim benchmarks', '',
-             'Machine: %s, %d cores; %s. Each row is measured side by side with what it is '
+             'Machine: %s, %d cores%s; %s. Each row is measured side by side with what it is '
              'compared against, in one run, alternating between the two where both cannot run '
              'at once; the ratio is the claim, the bare figures depend on the machine.'
-             % (machine['cpu'], machine['cores'], date), '',
+             % (machine['cpu'], machine['cores'], load, date), '',
              '| # | measured | figure | compared against | its figure | ratio | aim | met |',
              '|---|---|---|---|---|---|---|---|']
     for row in rows:

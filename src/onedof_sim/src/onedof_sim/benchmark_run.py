@@ -33,6 +33,9 @@ BARE_SERVICE = 'bare'  # node name of the bare service: /bare/get_joint_properti
 SERVICES = ('get_joint_properties', 'apply_joint_effort')
 WARM_UP_CALLS = 20
 PROFILE_S = 3  # seconds of samples in each profile
+CLOCK_FREQUENCY = '/gazebo/pub_clock_frequency'
+THROTTLED_CLOCK_HZ = 100.0
+SETTLE_S = 0.25  # wall seconds after an unpause before a window opens
 
 
 @dataclasses.dataclass
@@ -129,8 +132,8 @@ class BareLoop:
     bench_bullet_loop for pybullet), kept alive between windows so that it moves on from where
     it stopped, as the node does."""
 
-    def __init__(self, engine, models):
-        args = bare_loop_command(engine)
+    def __init__(self, engine, models, quick_step=False):
+        args = bare_loop_command(engine) + (['--quick-step'] if quick_step else [])
         for name, path, fmt, x in models:
             args += ['--' + fmt, name, path, str(x)]
         self.proc = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -222,17 +225,23 @@ class Bench:
             return pid if pid in descendants(proc.pid) else None
         return wait_until(started, timeout, what='node %s' % name)
 
-    def start_sim(self, engine, max_update_rate=1000):
-        # Always given: a private parameter set with _name:=value outlives its node on the
-        # parameter server, and the next simulator would inherit it.
+    def start_sim(self, engine, max_update_rate=1000, paused=False):
+        # Always given: a private parameter set with _name:=value (or by a launch file) outlives
+        # its node on the parameter server, and the next simulator would inherit it.
         proc = self.ros.start(['rosrun', 'onedof_sim', SIM_EXECUTABLES[engine],
-                               '_max_update_rate:=%g' % max_update_rate], name='sim_' + engine)
+                               '_max_update_rate:=%g' % max_update_rate,
+                               '_paused:=%s' % str(paused).lower()], name='sim_' + engine)
         pid = self.wait_for_node(proc, '/gazebo')
         self.ros.wait_for_service('/gazebo/unpause_physics')
         return proc, pid
 
     def stop(self, proc):
         PrivateRos.terminate(proc)
+
+    def subscribers(self, topic):
+        """The nodes subscribed to `topic` now, as the master knows them."""
+        _, _, (_, subscriptions, _) = self.ros.master().getSystemState('/benchmark')
+        return sorted(next((nodes for name, nodes in subscriptions if name == topic), []))
 
     def proxy(self, name, srv_class, persistent=False):
         return self.rospy.ServiceProxy(name, srv_class, persistent=persistent)
@@ -352,8 +361,7 @@ class Bench:
         proc = None
         bare = None
         try:
-            proc, pid = self.start_sim(engine, max_update_rate=0)
-            self.pause(True)
+            proc, pid = self.start_sim(engine, max_update_rate=0, paused=True)
             self.spawn(self.tutorial_models)
             clock = self.proxy('/gazebo/get_world_properties', self.srv.GetWorldProperties,
                                persistent=True)
@@ -363,33 +371,46 @@ class Bench:
                 sim = clock().sim_time
                 return (before + time.monotonic()) / 2, sim
 
-            self.pause(False)
-            wait_until(lambda: sim_time()[1] > 0.1, 30, what='the first 100 steps')
-            self.pause(True)
-            rss_start = rss_kb(pid)
-            bare = BareLoop(engine, self.tutorial_models)
-            bare.run(sizes.throughput_window_s / 4)  # warm-up, not counted
-            node_windows, bare_windows = [], []
-            for _ in range(sizes.throughput_windows):
-                bare_windows.append(bare.run(sizes.throughput_window_s))
+            def node_window(clock_frequency):
+                """(steps, wall seconds) of the node running for one window."""
+                self.ros.set_param(CLOCK_FREQUENCY, clock_frequency)
                 self.pause(False)
+                time.sleep(SETTLE_S)  # the node re-reads pub_clock_frequency 10 times a second
                 wall0, sim0 = sim_time()
                 time.sleep(sizes.throughput_window_s)  # the measurement window itself
                 wall1, sim1 = sim_time()
                 self.pause(True)
-                node_windows.append((round((sim1 - sim0) / STEP), wall1 - wall0))
-            node_rate = bm.rate(*zip(*node_windows))
-            bare_rate = bm.rate(*zip(*bare_windows))
+                return round((sim1 - sim0) / STEP), wall1 - wall0
+
+            self.pause(False)
+            wait_until(lambda: sim_time()[1] > 0.1, 30, what='the first 100 steps')
+            self.pause(True)
+            rss_start, sim_start = rss_kb(pid), sim_time()[1]
+            clock_subscribers = self.subscribers('/clock')
+            bare = BareLoop(engine, self.tutorial_models)
+            bare.run(sizes.throughput_window_s / 4)  # warm-up, not counted
+            windows = {'bare': [], 'node': [], 'throttled': []}
+            for _ in range(sizes.throughput_windows):
+                windows['bare'].append(bare.run(sizes.throughput_window_s))
+                windows['node'].append(node_window(0.0))
+                windows['throttled'].append(node_window(THROTTLED_CLOCK_HZ))
+            self.ros.set_param(CLOCK_FREQUENCY, 0.0)
+            node_rate, bare_rate, throttled_rate = (
+                bm.rate(*zip(*windows[key])) for key in ('node', 'bare', 'throttled'))
             includes = (' (World::step: effort jobs, collisions, contacts, dWorldStep; no '
                         'mutex, /clock or pacing)' if engine == 'ode' else
                         ' (BulletWorld.step under the node\'s python: effort jobs, damping, '
                         'stepSimulation)')
             half = node_rate / bare_rate >= 0.5
             self.add('1', 'steps/s of the %s node, tutorial robot + cafe table, as fast as '
-                     'possible, no /clock subscriber' % name, '%.0f' % node_rate,
-                     'bare %s loop on the same models%s' % (name, includes),
+                     'possible, /clock every step; /clock subscribers: %s' % (
+                         name, ', '.join(clock_subscribers) or 'none'),
+                     '%.0f' % node_rate, 'bare %s loop on the same models%s' % (name, includes),
                      '%.0f' % bare_rate, node_rate / bare_rate,
                      '>= 0.5' if engine == 'ode' else None, half if engine == 'ode' else None)
+            self.add('1', 'the same %s node with /gazebo/pub_clock_frequency %g (what /clock '
+                     'every step costs)' % (name, THROTTLED_CLOCK_HZ), '%.0f' % throttled_rate,
+                     'the same bare loop', '%.0f' % bare_rate, throttled_rate / bare_rate)
             # The pybullet node has no aim, but where it stays under half of its bare loop the
             # profile says why as well.
             if not half:
@@ -398,9 +419,9 @@ class Bench:
                              python=engine != 'ode')
                 self.pause(True)
             self.results.setdefault('throughput', {})[engine] = dict(
-                node=node_windows, bare=bare_windows)
+                clock_subscribers=clock_subscribers, **windows)
 
-            target = sizes.memory_steps * STEP
+            target = sim_start + sizes.memory_steps * STEP
             self.pause(False)
             remaining = max(0.0, target - sim_time()[1]) / STEP
             started = time.monotonic()
@@ -410,7 +431,7 @@ class Bench:
             wall = time.monotonic() - started
             rss_end = rss_kb(pid)
             growth = rss_end / rss_start - 1
-            self.add('7', 'RSS of the %s node after %d steps (%.0f s as fast as possible)'
+            self.add('7', 'RSS of the %s node after %d more steps (%.1f s, as fast as possible)'
                      % (name, sizes.memory_steps, wall), '%.1f MiB' % (rss_end / 1024),
                      'the same node after start (models spawned, 100 steps)',
                      '%.1f MiB' % (rss_start / 1024), rss_end / rss_start,
@@ -427,55 +448,66 @@ class Bench:
 
     # --- 2: scaling ----------------------------------------------------------------------------
 
+    def scaling_variants(self):
+        """(key, label, engine, quick_step) of each bare loop of the scaling item."""
+        variants = []
+        if 'ode' in self.engines:
+            variants += [('ode', 'bare ODE, dWorldStep (the default)', 'ode', False),
+                         ('ode_quick', 'bare ODE, dWorldQuickStep (~quick_step)', 'ode', True)]
+        if 'bullet' in self.engines:
+            variants.append(('bullet', 'bare pybullet', 'bullet', False))
+        return variants
+
     def scaling(self):
         sizes = self.sizes
-        rates = {engine: {} for engine in self.engines}
+        variants = self.scaling_variants()
+        labels = {key: label for key, label, _, _ in variants}
+        rates = {key: {} for key in labels}
         for links in sizes.chain_links:
             path = os.path.join(self.work, 'chain_%d.urdf' % links)
             with open(path, 'w') as f:
                 f.write(bm.chain_urdf(links))
             loops = {}
             try:
-                for engine in self.engines:
+                for key, label, engine, quick_step in variants:
                     try:
-                        loops[engine] = BareLoop(engine, [('chain', path, 'urdf', 0.0)])
+                        loops[key] = BareLoop(engine, [('chain', path, 'urdf', 0.0)], quick_step)
                     except NotMeasured as error:
-                        self.notes.append('2: %s chain of %d links: %s'
-                                          % (ENGINE_NAMES[engine], links, error))
-                windows = {engine: [] for engine in loops}
-                for _ in range(sizes.chain_windows):
-                    for engine, loop in loops.items():
-                        windows[engine].append(loop.run(sizes.chain_window_s,
-                                                        sizes.chain_min_steps))
-                for engine, engine_windows in windows.items():
-                    rates[engine][links] = bm.rate(*zip(*engine_windows))
-                    say('2 chain of %d links, bare %s: %.0f steps/s'
-                        % (links, ENGINE_NAMES[engine], rates[engine][links]))
+                        self.notes.append('2: %s, chain of %d links: %s' % (label, links, error))
+                windows = {key: [] for key in loops}
+                for _ in range(sizes.chain_windows):  # the variants alternate
+                    for key, loop in loops.items():
+                        windows[key].append(loop.run(sizes.chain_window_s, sizes.chain_min_steps))
+                for key, key_windows in windows.items():
+                    rates[key][links] = bm.rate(*zip(*key_windows))
+                    say('2 chain of %d links, %s: %.0f steps/s'
+                        % (links, labels[key], rates[key][links]))
             finally:
                 for loop in loops.values():
                     loop.close()
         exponents = {}
-        for engine, by_links in rates.items():
+        for key, by_links in rates.items():
             links = sorted(by_links)
             if len(links) < 2:
                 continue
-            fitted = [n for n in links if n >= 10] if len([n for n in links if n >= 10]) >= 2 \
-                else links
-            exponents[engine] = bm.power_law_exponent(fitted, [1 / by_links[n] for n in fitted])
-            self.add('2', 'bare %s steps/s against moving links %s; cost per step grows as '
-                     'links^k' % (ENGINE_NAMES[engine], ', '.join(map(str, links))),
-                     ', '.join('%.0f' % by_links[n] for n in links),
+            # The fit leaves out the 1-link chain where there are enough others: its cost is
+            # mostly the fixed cost of a step.
+            fitted = [n for n in links if n >= 10]
+            fitted = fitted if len(fitted) >= 2 else links
+            exponents[key] = bm.power_law_exponent(fitted, [1 / by_links[n] for n in fitted])
+            self.add('2', '%s steps/s, chains of %s moving links; cost per step grows as '
+                     'links^k' % (labels[key], ', '.join(map(str, links))),
+                     '%s; k = %.2f (fit over %s links)' % (
+                         ', '.join('%.0f' % by_links[n] for n in links), exponents[key],
+                         ', '.join(map(str, fitted))),
                      'the same loop with 1 link', '%.0f' % by_links[links[0]],
-                     by_links[links[-1]] / by_links[links[0]],
-                     None, None)
-            self.rows[-1] = self.rows[-1]._replace(
-                figure=self.rows[-1].figure + '; k = %.2f (fit over %s links)'
-                % (exponents[engine], ', '.join(map(str, fitted))))
-        self.results['scaling'] = dict(rates={e: {str(n): r for n, r in v.items()}
-                                              for e, v in rates.items()},
+                     by_links[links[-1]] / by_links[links[0]])
+        self.results['scaling'] = dict(rates={key: {str(n): r for n, r in v.items()}
+                                              for key, v in rates.items()},
                                        exponents=exponents)
-        if rates:
-            write_scaling_plot(rates, exponents, os.path.join(self.output, 'scaling.png'))
+        if any(rates.values()):
+            write_scaling_plot(rates, labels, exponents,
+                               os.path.join(self.output, 'scaling.png'))
 
     # --- 3: service latency ---------------------------------------------------------------------
 
@@ -782,14 +814,14 @@ def _pyplot():
     return pyplot
 
 
-def write_scaling_plot(rates, exponents, path):
+def write_scaling_plot(rates, labels, exponents, path):
     pyplot = _pyplot()
     figure, axes = pyplot.subplots(figsize=(7, 4.5))
-    for engine, by_links in rates.items():
+    for key, by_links in rates.items():
         links = sorted(by_links)
-        label = 'bare %s' % ENGINE_NAMES[engine]
-        if engine in exponents:
-            label += ' (cost per step ~ links^%.2f)' % exponents[engine]
+        label = labels[key]
+        if key in exponents:
+            label += ' (cost per step ~ links^%.2f)' % exponents[key]
         axes.loglog(links, [by_links[n] for n in links], 'o-', label=label)
     axes.set_xlabel('moving links in the chain (revolute joints)')
     axes.set_ylabel('steps per second')
@@ -870,8 +902,14 @@ def available_engines(requested):
     return found
 
 
-def machine():
-    return {'cpu': bm.cpu_model(read_file('/proc/cpuinfo')), 'cores': os.cpu_count()}
+def load_average():
+    """The 1-minute load average: the run's figures mean little on a machine busy elsewhere."""
+    return float(read_file('/proc/loadavg').split()[0])
+
+
+def machine(load_at_start):
+    return {'cpu': bm.cpu_model(read_file('/proc/cpuinfo')), 'cores': os.cpu_count(),
+            'load': '%.1f / %.1f' % (load_at_start, load_average())}
 
 
 def parse_args(argv):
@@ -901,6 +939,7 @@ def main(argv=None):
     shutil.rmtree(log_dir, ignore_errors=True)
     engines = available_engines(args.engines)
     started = time.monotonic()
+    load_at_start = load_average()
     date = datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')
     with PrivateRos(log_dir=log_dir) as ros:
         say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
@@ -928,11 +967,12 @@ def main(argv=None):
     bench.notes.insert(0, 'Run: `rosrun onedof_sim benchmark%s` in %.0f s of wall time; plots '
                        'next to this table; raw figures in results.json.'
                        % (' --quick' if args.quick else '', elapsed))
-    table = bm.render_table(bench.rows, machine(), date, bench.notes)
+    host = machine(load_at_start)
+    table = bm.render_table(bench.rows, host, date, bench.notes)
     with open(os.path.join(output, 'README-table.md'), 'w') as f:
         f.write(table)
     with open(os.path.join(output, 'results.json'), 'w') as f:
-        json.dump(dict(machine=machine(), date=date, quick=args.quick, elapsed_s=elapsed,
+        json.dump(dict(machine=host, date=date, quick=args.quick, elapsed_s=elapsed,
                        results=bench.results), f, indent=1, default=str)
     print(table)
     say('done in %.0f s; outputs in %s' % (elapsed, output))
