@@ -74,12 +74,21 @@ def read_file(path):
         return f.read()
 
 
-def rss_kb(pid):
-    """Resident set size of a process, from /proc/PID/status (VmRSS), in kB."""
+def memory_kb(pid):
+    """{'VmRSS', 'RssAnon', 'RssFile'} of a process from /proc/PID/status, in kB: anonymous
+    memory is what a leak grows; file-backed pages are code and data of the libraries, paged in
+    on first use."""
+    fields = {}
     for line in read_file('/proc/%d/status' % pid).splitlines():
-        if line.startswith('VmRSS:'):
-            return int(line.split()[1])
-    raise RuntimeError('no VmRSS for pid %d' % pid)
+        key, _, value = line.partition(':')
+        if key in ('VmRSS', 'RssAnon', 'RssFile'):
+            fields[key] = int(value.split()[0])
+    return fields
+
+
+def format_memory(fields):
+    return '%.1f MiB (anonymous %.1f, file-backed %.1f)' % (
+        fields['VmRSS'] / 1024, fields['RssAnon'] / 1024, fields['RssFile'] / 1024)
 
 
 def descendants(pid):
@@ -385,7 +394,7 @@ class Bench:
             self.pause(False)
             wait_until(lambda: sim_time()[1] > 0.1, 30, what='the first 100 steps')
             self.pause(True)
-            rss_start, sim_start = rss_kb(pid), sim_time()[1]
+            self.memory(engine, pid, sim_time)
             clock_subscribers = self.subscribers('/clock')
             bare = BareLoop(engine, self.tutorial_models)
             bare.run(sizes.throughput_window_s / 4)  # warm-up, not counted
@@ -421,23 +430,6 @@ class Bench:
             self.results.setdefault('throughput', {})[engine] = dict(
                 clock_subscribers=clock_subscribers, **windows)
 
-            target = sim_start + sizes.memory_steps * STEP
-            self.pause(False)
-            remaining = max(0.0, target - sim_time()[1]) / STEP
-            started = time.monotonic()
-            wait_until(lambda: sim_time()[1] >= target, 3 * remaining / node_rate + 30,
-                       interval=0.2, what='%d steps' % sizes.memory_steps)
-            self.pause(True)
-            wall = time.monotonic() - started
-            rss_end = rss_kb(pid)
-            growth = rss_end / rss_start - 1
-            self.add('7', 'RSS of the %s node after %d more steps (%.1f s, as fast as possible)'
-                     % (name, sizes.memory_steps, wall), '%.1f MiB' % (rss_end / 1024),
-                     'the same node after start (models spawned, 100 steps)',
-                     '%.1f MiB' % (rss_start / 1024), rss_end / rss_start,
-                     'flat: growth < 2 %', growth < 0.02)
-            self.results.setdefault('memory', {})[engine] = dict(start_kb=rss_start,
-                                                                 end_kb=rss_end)
         except (NotMeasured, TimeoutError, OSError) as error:
             self.not_measured('1, 7', 'throughput and memory, %s' % name, str(error)[:200])
         finally:
@@ -447,6 +439,40 @@ class Bench:
                 self.stop(proc)
 
     # --- 2: scaling ----------------------------------------------------------------------------
+
+    def memory(self, engine, pid, sim_time):
+        """Memory of the node after start, then after memory_steps more steps as fast as
+        possible, sampled along the way: growth in the second half would be a leak, growth in
+        the first half alone is warm-up."""
+        sizes = self.sizes
+        start, sim_start = memory_kb(pid), sim_time()[1]
+        target = sim_start + sizes.memory_steps * STEP
+        samples = []
+
+        def done():
+            sim = sim_time()[1]
+            samples.append((sim - sim_start, memory_kb(pid)['RssAnon']))
+            return sim >= target
+
+        self.pause(False)
+        started = time.monotonic()
+        wait_until(done, sizes.memory_steps / 1000.0 + 60, interval=0.2,
+                   what='%d steps' % sizes.memory_steps)
+        self.pause(True)
+        wall = time.monotonic() - started
+        end = memory_kb(pid)
+        half = sizes.memory_steps * STEP / 2
+        at_half = next(anon for steps, anon in samples if steps >= half)
+        growth = end['RssAnon'] / start['RssAnon'] - 1
+        self.add('7', 'memory (/proc/PID/status) of the %s node after %d more steps (%.0f s as '
+                 'fast as possible); anonymous growth in the second half: %+.1f MiB'
+                 % (ENGINE_NAMES[engine], sizes.memory_steps, wall,
+                    (end['RssAnon'] - at_half) / 1024),
+                 format_memory(end), 'the same node after start (models spawned, 100 steps)',
+                 format_memory(start), end['RssAnon'] / start['RssAnon'],
+                 'flat: anonymous growth < 2 %', growth < 0.02)
+        self.results.setdefault('memory', {})[engine] = dict(start=start, end=end,
+                                                             anon_by_steps=samples)
 
     def scaling_variants(self):
         """(key, label, engine, quick_step) of each bare loop of the scaling item."""
