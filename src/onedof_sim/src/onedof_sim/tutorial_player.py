@@ -47,6 +47,9 @@ class Recorder:
                                              callback_args=topic, queue_size=1000)
                             for topic in RECORDED_TOPICS]
 
+    def connected(self, topic):
+        return self.subscribers[RECORDED_TOPICS.index(topic)].get_num_connections() > 0
+
     def _on_sample(self, msg, topic):
         self.samples[topic].append((self.rospy.get_time(), msg.data))
 
@@ -98,6 +101,8 @@ class RvizView:
         for display in config['Visualization Manager']['Displays']:
             if display['Class'] == 'rviz/MarkerArray':
                 display['Enabled'] = display['Value'] = True
+        # rviz renders in software here: a few frames a second leave the CPU to the controller.
+        config['Visualization Manager']['Global Options']['Frame Rate'] = 5
         with open(self.config, 'w') as f:
             yaml.safe_dump(config, f)
 
@@ -106,13 +111,17 @@ class RvizView:
                                 capture_output=True, text=True)
         return result.returncode == 0
 
+    def wait_until_up(self, timeout=90):
+        def subscribed():
+            if self.rviz.poll() is not None:
+                raise RuntimeError('rviz exited: ' + self.ros.log_text(self.rviz)[-2000:])
+            return self._subscribed('/gazebo/collision_markers')
+        wait_until(subscribed, timeout, what='rviz to subscribe to /gazebo/collision_markers')
+
     def screenshot(self, path, timeout=90):
         """Waits for rviz to subscribe to the markers, then grabs frames until two in a row are
         the same but for a few pixels (rviz's frame-rate counter) and not blank; keeps that one."""
-        if self.rviz.poll() is not None:
-            raise RuntimeError('rviz exited: ' + self.ros.log_text(self.rviz)[-2000:])
-        wait_until(lambda: self._subscribed('/gazebo/collision_markers'), timeout,
-                   what='rviz to subscribe to /gazebo/collision_markers')
+        self.wait_until_up(timeout)
         previous = path + '.previous.png'
 
         def steady_frame():
@@ -205,10 +214,12 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
     # (this one included) runs on sim time from its first message.
     with PrivateRos(log_dir=log_dir, use_sim_time=True) as ros:
         say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
-        say('roslaunch minimal_robot_description minimal_robot_description.launch physics:=%s'
-            % physics_engine)
+        # Paused until the controller runs: the upright pose is an unstable balance, which one
+        # engine holds exactly and the other loses to round-off before a late controller starts.
+        say('roslaunch minimal_robot_description minimal_robot_description.launch physics:=%s '
+            'paused:=true' % physics_engine)
         ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
-                   'physics:=' + physics_engine], name='launch_simulator')
+                   'physics:=' + physics_engine, 'paused:=true'], name='launch_simulator')
         os.environ.update(ros.env)
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)
@@ -217,10 +228,23 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
         model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
         wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
                    what='one_DOF_robot to be spawned')
+        # rviz (software rendering) starts while the simulator is paused and is up before the
+        # phases run, so its start-up never takes the CPU from the controller.
+        rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
+        if rviz:
+            rviz.wait_until_up()
         say('rosrun minimal_joint_controller minimal_joint_controller')
         recorder = Recorder(rospy)
         ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
                   name='controller')
+        # Paused, sim time stands still, so the controller's first sample may come before this
+        # subscription connects and the next only after unpausing: wait for the connection and
+        # for the controller's persistent service connections (one per service on the sim).
+        wait_until(lambda: recorder.connected('jnt_pos') and recorder.connected('jnt_trq'), 60,
+                   what='the controller to publish jnt_pos and jnt_trq')
+        say('rosservice call /gazebo/unpause_physics')
+        from std_srvs.srv import Empty
+        rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
         wait_until(lambda: recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
 
         from std_msgs.msg import Float64
@@ -249,11 +273,8 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
                 os.path.join(output, 'phase%d_%s.png' % (len(rows), phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
                 xlabel='sim time since the command (s)')
-        if screenshot:
-            # rviz renders in software: it starts only now so it never takes the CPU from the
-            # controller while the phases run.
+        if rviz:
             say('rviz screenshot of the final pose, table display on')
-            rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_'))
             rviz.screenshot(os.path.join(output, 'rviz_final.png'))
         t0 = recorder.samples['jnt_pos'][0][0]
         plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
