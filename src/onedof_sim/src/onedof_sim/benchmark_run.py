@@ -179,6 +179,7 @@ class Bench:
         self.engines = engines
         self.work = tempfile.mkdtemp(prefix='onedof_bench_')
         self.rows = []
+        self.failed_calls = 0  # roscpp calls that got no answer, in the latency item
         self.notes = []
         self.results = {}
         os.environ.update(ros.env)
@@ -550,6 +551,7 @@ class Bench:
             self.wait_for_node(bare, '/' + BARE_SERVICE)
             for service in SERVICES:
                 self.ros.wait_for_service('/%s/%s' % (BARE_SERVICE, service))
+            self.failed_calls = 0
             for client in ('rospy', 'roscpp'):
                 for mode in ('persistent', 'fresh'):
                     count = sizes.persistent_calls if mode == 'persistent' else sizes.fresh_calls
@@ -560,6 +562,9 @@ class Bench:
                             for target, ns in (('sim', 'gazebo'), ('bare', BARE_SERVICE)):
                                 samples[key][target] += self.round_trips(
                                     client, '/%s/%s' % (ns, service), mode, count)
+            if self.failed_calls:
+                self.notes.append('3: %d roscpp calls got no answer during the %s latency item '
+                                  '(left out of the percentiles)' % (self.failed_calls, name))
             ratios = {key: bm.percentile(by_target['sim'], 50) /
                       bm.percentile(by_target['bare'], 50) for key, by_target in samples.items()}
             worst = max(ratios, key=ratios.get)
@@ -607,7 +612,9 @@ class Bench:
                                     env=self.ros.env, capture_output=True, text=True, timeout=120)
             if result.returncode != 0:
                 raise NotMeasured('bench_service_client %s: %s' % (service, result.stderr[-300:]))
-            return [float(line) for line in result.stdout.split()]
+            lines = result.stdout.split()
+            self.failed_calls += lines.count('failed')
+            return [float(line) for line in lines if line != 'failed']
         if 'get_' in service:
             srv_class, args = self.srv.GetJointProperties, ('joint1',)
         else:
@@ -790,10 +797,13 @@ def pyspy_executable():
 
 
 def pyspy_profile(pid, seconds, path):
-    """Python stacks of a process sampled by py-spy (busy threads only); the functions with the
-    largest self and inclusive shares."""
+    """Python stacks of a process sampled by py-spy (the thread holding the GIL); the functions
+    with the largest self and inclusive shares."""
     raw = path[:-len('.txt')] + '.stacks'
+    # --gil: only the thread running Python code; threads blocked in a socket read would
+    # otherwise look busy.
     recorded = subprocess.run([pyspy_executable(), 'record', '--format', 'raw', '--nonblocking',
+                               '--gil',
                                '-d', str(seconds), '-p', str(pid), '-o', raw],
                               capture_output=True, text=True, timeout=seconds + 60)
     if recorded.returncode != 0:
@@ -807,7 +817,7 @@ def pyspy_profile(pid, seconds, path):
         f.write('self %   inclusive %   function\n')
         for frame, (own, inclusive) in by_inclusive:
             f.write('%6.1f   %11.1f   %s\n' % (own * 100, inclusive * 100, frame))
-    return 'py-spy, %g s of samples of busy threads: self %s; inclusive %s' % (
+    return 'py-spy, %g s of samples of the thread running Python: self %s; inclusive %s' % (
         seconds, ', '.join('%s %.0f %%' % (frame, own * 100) for frame, (own, _) in by_self[:6]),
         ', '.join('%s %.0f %%' % (frame, inclusive * 100)
                   for frame, (_, inclusive) in by_inclusive[:8]))
@@ -902,11 +912,11 @@ def write_period_plot(runs, path):
     pyplot = _pyplot()
     figure, axes = pyplot.subplots(figsize=(7, 4))
     for rate in sorted(runs):
-        intervals = [i * 1e3 * rate / 1000.0 for i in runs[rate]['wall_intervals']]
+        intervals = [interval * rate for interval in runs[rate]['wall_intervals']]
         axes.hist(intervals, bins=60, histtype='step', label='%d Hz' % rate, log=True)
-    axes.set_xlabel('wall interval between jnt_pos arrivals / period (x 1000)')
+    axes.set_xlabel('wall interval between jnt_pos arrivals / period')
     axes.set_ylabel('count')
-    axes.set_title('Controller periods in wall time (1000 = on time)')
+    axes.set_title('Controller periods in wall time (1 = on time, 2 = one period missed)')
     axes.legend()
     figure.tight_layout()
     figure.savefig(path, dpi=100)
