@@ -14,10 +14,11 @@ from onedof_sim.private_ros import PrivateRos, wait_until
 WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
                              'minimal_robot_description.urdf')
-ENGINES = ('ode',)
+ENGINES = ('ode', 'bullet')
 # The command that starts each engine's simulator node, as a user types it.
 SIM_COMMANDS = {
     'ode': ['rosrun', 'onedof_sim', 'onedof_sim'],
+    'bullet': ['rosrun', 'onedof_sim', 'onedof_sim_bullet'],
 }
 
 
