@@ -203,6 +203,25 @@ def _read_rate(name, current):
     return value
 
 
+def _read_gravity():
+    """~gravity as a list [x, y, z] or a string of three numbers ("0 0 -9.8", "[0, 0, -9.8]");
+    None when unset."""
+    if not rospy.has_param('~gravity'):
+        return None
+    value = rospy.get_param('~gravity')
+    if isinstance(value, str):
+        try:
+            value = [float(v) for v in value.replace('[', ' ').replace(']', ' ')
+                     .replace(',', ' ').split()]
+        except ValueError:
+            value = []
+    if (not isinstance(value, list) or len(value) != 3
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise OptionError('parameter %s must be three numbers [x, y, z]'
+                          % rospy.resolve_name('~gravity'))
+    return Vec3(*map(float, value))
+
+
 def read_node_options(args):
     """Private parameters (the ODE node's names, see src/ros/gazebo_api.cpp) and gzserver's
     flags in args (without the program name and ROS remappings); raises OptionError."""
@@ -212,7 +231,6 @@ def read_node_options(args):
     p.step = float(_read_param('time_step', reals, p.step))
     options.max_update_rate = _read_rate('max_update_rate', options.max_update_rate)
     options.paused = _read_param('paused', (bool,), options.paused)
-    gravity = _read_param('gravity', (list,), None)
     p.quick_step = _read_param('quick_step', (bool,), p.quick_step)
     p.auto_disable_bodies = _read_param('auto_disable_bodies', (bool,), p.auto_disable_bodies)
     p.sor_pgs_precon_iters = _read_count('sor_pgs_precon_iters', p.sor_pgs_precon_iters)
@@ -223,15 +241,12 @@ def read_node_options(args):
     p.max_contacts = _read_count('max_contacts', p.max_contacts)
     options.states_publish_frequency = _read_rate('states_publish_frequency',
                                                   options.states_publish_frequency)
+    gravity = _read_gravity()
     if gravity is not None:
-        if len(gravity) != 3 or not all(isinstance(g, reals) and not isinstance(g, bool)
-                                        for g in gravity):
-            raise OptionError('parameter %s must be a list [x, y, z]'
-                              % rospy.resolve_name('~gravity'))
-        p.gravity = Vec3(*map(float, gravity))
+        p.gravity = gravity
     index = 0
     while index < len(args):
-        if args[index] == '-u':
+        if args[index] in ('-u', '--pause'):
             options.paused = True
         elif args[index] == '-e' and index + 1 < len(args):
             index += 1
