@@ -1,6 +1,7 @@
 """The main job end to end: `play_tutorial` on a built workspace plays the whole tutorial and
 writes every output; its figures agree with the closed-form physics, and its rviz screenshot shows
 the robot and the table."""
+import fcntl
 import json
 import os
 import subprocess
@@ -11,25 +12,45 @@ import pytest
 from onedof_sim import tutorial_physics as physics
 
 PHASE_DURATION = 5.0
+# Half speed: the suite runs two tests side by side on two cores, and a Python controller that
+# misses periods applies less torque than the tutorial's (the link droops further). At half speed
+# it keeps its 100 Hz of sim time on a loaded machine; the physics is the same.
+REAL_TIME_FACTOR = 0.5
 OUTPUTS = ('phase1_command_1.0.png', 'phase2_command_2.0.png', 'phase3_upright_0.0.png',
            'phase4_table_2.5.png', 'tutorial.png', 'samples.csv', 'rviz_final.png', 'summary.md',
            'summary.json')
 
 
-@pytest.fixture(scope='module')
-def tutorial(tmp_path_factory):
-    output = tmp_path_factory.mktemp('tutorial')
+def play_tutorial(output):
     env = dict(os.environ)
     env.pop('DISPLAY', None)  # headless: the player brings its own Xvfb
     start = time.monotonic()
     result = subprocess.run(['rosrun', 'onedof_sim', 'play_tutorial', '--output', str(output),
-                             '--phase-duration', str(PHASE_DURATION)],
+                             '--phase-duration', str(PHASE_DURATION),
+                             '--real-time-factor', str(REAL_TIME_FACTOR)],
                             capture_output=True, text=True, timeout=600, env=env)
-    wall = time.monotonic() - start
-    assert result.returncode == 0, result.stdout[-4000:] + result.stderr[-4000:]
+    return dict(returncode=result.returncode, stdout=result.stdout, stderr=result.stderr,
+                wall=time.monotonic() - start)
+
+
+@pytest.fixture
+def tutorial(tmp_path_factory):
+    """The tutorial, played once per test session: every test here runs in its own forked process
+    (and maybe another xdist worker), so the first one plays it under a lock and the others read
+    what it wrote."""
+    shared = tmp_path_factory.getbasetemp().parent / 'tutorial_once'
+    shared.mkdir(exist_ok=True)
+    output = shared / 'output'
+    with open(shared / 'lock', 'w') as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (shared / 'run.json').exists():
+            run = play_tutorial(output)
+            (shared / 'run.json').write_text(json.dumps(run))
+        run = json.loads((shared / 'run.json').read_text())
+    assert run['returncode'] == 0, run['stdout'][-4000:] + run['stderr'][-4000:]
     with open(output / 'summary.json') as f:
         summary = json.load(f)
-    return dict(output=output, stdout=result.stdout, wall=wall,
+    return dict(output=output, stdout=run['stdout'], wall=run['wall'],
                 phases={row['name']: row for row in summary['phases']})
 
 
@@ -73,9 +94,9 @@ def test_link_rests_on_the_table_pressing_with_the_remaining_error(tutorial):
 
 
 def test_plays_in_about_its_sim_time(tutorial):
-    # A bound against hangs and sleeps, not a speed test: 4 phases of sim time at real-time
-    # factor 1 plus start-up and the rviz screenshot.
-    assert tutorial['wall'] < 4 * PHASE_DURATION + 120
+    # A bound against hangs and sleeps, not a speed test: 4 phases of sim time at the real-time
+    # factor plus start-up, the table's spawn and the rviz screenshot.
+    assert tutorial['wall'] < 4 * PHASE_DURATION / REAL_TIME_FACTOR + 90
 
 
 def count_pixels(png, region, predicate):

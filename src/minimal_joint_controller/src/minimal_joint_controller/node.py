@@ -151,7 +151,18 @@ class MinimalJointController:
                                    self.joint_name, result.status_message)
 
 
+USAGE = '''usage: rosrun minimal_joint_controller minimal_joint_controller [_kp:=10] [_kv:=3]
+       [_rate:=100] [_joint_name:=joint1] [_torque_limit:=N] [name remappings]
+
+The tutorial's PD joint controller: reads the joint through /gazebo/get_joint_properties, applies
+Kp * wrap(pos_cmd - q) - Kv * rate through /gazebo/apply_joint_effort for one period, at _rate Hz of
+ROS time; listens on pos_cmd, publishes jnt_pos, jnt_vel, jnt_trq and joint_states.'''
+
+
 def main():
+    if {'-h', '--help'} & set(rospy.myargv()[1:]):
+        print(USAGE)
+        return 0
     rospy.init_node('minimal_joint_controller')
     try:
         params = read_parameters()

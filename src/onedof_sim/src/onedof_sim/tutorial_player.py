@@ -29,6 +29,7 @@ PHASES = (
     Phase('upright_0.0', 0.0, None),
     Phase('table_2.5', 2.5, SPAWN_TABLE),
 )
+DEFAULT_TIME_STEP = 0.001  # the simulators' default step, s
 RECORDED_TOPICS = ('pos_cmd', 'jnt_pos', 'jnt_vel', 'jnt_trq')
 
 
@@ -203,7 +204,8 @@ def summary_markdown(rows, physics_engine):
     return '\n'.join(lines) + '\n'
 
 
-def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
+def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True,
+         real_time_factor=1.0):
     """Plays the tutorial; returns the per-phase summary rows. Raises with the reason on failure."""
     from onedof_sim import plot
     os.makedirs(output, exist_ok=True)
@@ -216,10 +218,12 @@ def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True):
         say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
         # Paused until the controller runs: the upright pose is an unstable balance, which one
         # engine holds exactly and the other loses to round-off before a late controller starts.
-        say('roslaunch minimal_robot_description minimal_robot_description.launch physics:=%s '
-            'paused:=true' % physics_engine)
-        ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
-                   'physics:=' + physics_engine, 'paused:=true'], name='launch_simulator')
+        launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
+                  'physics:=' + physics_engine, 'paused:=true']
+        if real_time_factor != 1.0:
+            launch.append('max_update_rate:=%g' % (real_time_factor / DEFAULT_TIME_STEP))
+        say(' '.join(launch))
+        ros.start(launch, name='launch_simulator')
         os.environ.update(ros.env)
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)

@@ -799,7 +799,8 @@ bool GazeboApi::getPhysicsProperties(GetPhysicsProperties::Request&,
   ode.cfm = p.cfm;
   ode.erp = p.erp;
   ode.max_contacts = p.max_contacts;
-  return succeed(res, "GetPhysicsProperties: got properties");
+  // The message has no engine field: the status names the engine, as the pybullet node does.
+  return succeed(res, "GetPhysicsProperties: got properties (engine: ode)");
 }
 
 bool GazeboApi::setPhysicsProperties(SetPhysicsProperties::Request& req,
