@@ -22,6 +22,7 @@ from api_client import GazeboApi
 from conftest import TUTORIAL_URDF, start_sim
 from onedof_sim import tutorial_physics as physics
 from onedof_sim.private_ros import wait_until
+from onedof_sim.transforms import quaternion_multiply
 
 CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
 RATE_HZ = 100.0
@@ -197,15 +198,6 @@ def test_joint_states_carry_the_joint_and_match_jnt_pos(robot):
     positions = {msg.data for _, msg in robot.jnt_pos.samples}
     recent = [msg for _, msg in robot.joint_states.samples[-50:]]
     assert sum(msg.position[0] in positions for msg in recent) >= len(recent) - 2
-
-
-def quaternion_multiply(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz)
 
 
 def test_joint_states_drive_robot_state_publisher(ros, robot):

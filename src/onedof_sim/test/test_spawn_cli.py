@@ -8,6 +8,7 @@ import pytest
 
 from onedof_sim import spawn_cli
 from onedof_sim.spawn_cli import SpawnError
+from onedof_sim.transforms import quaternion_from_rpy
 
 PACKAGE_MODELS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'models')
 URDF = '<robot name="r"><link name="a"/></robot>'
@@ -76,14 +77,14 @@ def test_empty_model_name_is_refused():
 
 def test_quaternion_matches_tf_convention():
     # Zero angles: identity. A pure yaw, pitch, roll: half-angle about z, y, x.
-    assert spawn_cli.quaternion_from_rpy(0, 0, 0) == (0, 0, 0, 1)
+    assert quaternion_from_rpy(0, 0, 0) == (0, 0, 0, 1)
     for axis, rpy in ((0, (0.7, 0, 0)), (1, (0, 0.7, 0)), (2, (0, 0, 0.7))):
-        q = spawn_cli.quaternion_from_rpy(*rpy)
+        q = quaternion_from_rpy(*rpy)
         expected = [0, 0, 0, math.cos(0.35)]
         expected[axis] = math.sin(0.35)
         assert q == pytest.approx(expected)
     # All three: the rotation matrix of the quaternion is Rz(yaw) Ry(pitch) Rx(roll).
-    x, y, z, w = spawn_cli.quaternion_from_rpy(0.1, 0.2, 0.3)
+    x, y, z, w = quaternion_from_rpy(0.1, 0.2, 0.3)
     from_quaternion = np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],

@@ -29,6 +29,9 @@ import xml.etree.ElementTree as ElementTree
 import pybullet
 from pybullet_utils import bullet_client
 
+from onedof_sim.transforms import (add, compose, cross, invert, normalized, quaternion_conjugate,
+                                   quaternion_from_rpy, quaternion_multiply, rotate, sub)
+
 Vec3 = collections.namedtuple('Vec3', 'x y z', defaults=(0.0, 0.0, 0.0))
 # Unit quaternion, w first (as world.h).
 Quat = collections.namedtuple('Quat', 'w x y z', defaults=(1.0, 0.0, 0.0, 0.0))
@@ -144,70 +147,12 @@ DEFAULT_FRICTION = 1.0
 MAX_JOINT_VELOCITY = 1.0e6
 WORLD_FRAMES = ('', 'world')
 
-# ------------------------------------------------------------------------------------------------
-# Rigid transforms: (position (x, y, z), quaternion (x, y, z, w) as pybullet orders it).
-
-
-def _quat_mul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz)
-
-
-def _quat_conj(q):
-    return (-q[0], -q[1], -q[2], q[3])
-
-
-def _rotate(q, v):
-    x, y, z = _quat_mul(_quat_mul(q, (v[0], v[1], v[2], 0.0)), _quat_conj(q))[:3]
-    return (x, y, z)
-
-
-def _cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _add(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-def _sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def _compose(a, b):
-    """The transform a * b: b expressed in a's parent frame."""
-    return _add(a[0], _rotate(a[1], b[0])), _quat_mul(a[1], b[1])
-
-
-def _invert(t):
-    q_inv = _quat_conj(t[1])
-    return tuple(-c for c in _rotate(q_inv, t[0])), q_inv
-
-
-def _quat_from_rpy(roll, pitch, yaw):
-    """Fixed-axis roll about x, then pitch about y, then yaw about z (URDF and SDF)."""
-    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
-    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
-    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-    return (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
-            cr * cp * sy - sr * sp * cy, cr * cp * cy + sr * sp * sy)
-
-
-def _normalized(q):
-    n = math.sqrt(sum(c * c for c in q))
-    return tuple(c / n for c in q)
-
-
 IDENTITY = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 
 
 def _transform_from_pose(pose):
     o = pose.orientation
-    return (tuple(pose.position), _normalized((o.x, o.y, o.z, o.w)))
+    return (tuple(pose.position), normalized((o.x, o.y, o.z, o.w)))
 
 
 def _pose_from_transform(t):
@@ -347,7 +292,7 @@ def _urdf_origin(element):
         return IDENTITY
     xyz = _floats(origin.get('xyz', '0 0 0'), 3, 'origin xyz')
     rpy = _floats(origin.get('rpy', '0 0 0'), 3, 'origin rpy')
-    return tuple(xyz), _quat_from_rpy(*rpy)
+    return tuple(xyz), quaternion_from_rpy(*rpy)
 
 
 def _element_link(joint, tag):
@@ -496,7 +441,7 @@ def _sdf_pose(element):
     if pose.get('relative_to'):
         raise ModelError('the bullet engine does not support <pose relative_to>')
     x, y, z, roll, pitch, yaw = _floats(pose.text, 6, 'pose')
-    return (x, y, z), _quat_from_rpy(roll, pitch, yaw)
+    return (x, y, z), quaternion_from_rpy(roll, pitch, yaw)
 
 
 def parse_sdf(xml):
@@ -701,10 +646,10 @@ class BulletWorld:
         frame = reference[0]
         model = self._models[job.model]
         self._client.applyExternalForce(
-            model.body, model.link_index[job.target], _rotate(frame[1], job.force),
-            _compose(frame, (job.point, IDENTITY[1]))[0], pybullet.WORLD_FRAME)
+            model.body, model.link_index[job.target], rotate(frame[1], job.force),
+            compose(frame, (job.point, IDENTITY[1]))[0], pybullet.WORLD_FRAME)
         self._client.applyExternalTorque(model.body, model.link_index[job.target],
-                                         _rotate(frame[1], job.torque), pybullet.WORLD_FRAME)
+                                         rotate(frame[1], job.torque), pybullet.WORLD_FRAME)
 
     def time_ns(self):
         return self._time_ns
@@ -776,7 +721,7 @@ class BulletWorld:
             spec = parse_urdf(xml) if model_format == ModelFormat.URDF else parse_sdf(xml)
         except ModelError as error:
             return Status.Error('SpawnModel: %s' % error)
-        model_pose = _compose(frame[0], _transform_from_pose(pose))
+        model_pose = compose(frame[0], _transform_from_pose(pose))
         try:
             model = (self._build_urdf(name, xml, spec, model_pose)
                      if model_format == ModelFormat.URDF else
@@ -834,8 +779,8 @@ class BulletWorld:
         shapes = [self._compound_shape(link.collisions) for link in spec.links]
         base = spec.links[0]
         others = spec.links[1:]  # static models only: welded to the base
-        base_pose = _compose(model_pose, base.pose)
-        in_base = [_compose(_invert(base.pose), link.pose) for link in others]
+        base_pose = compose(model_pose, base.pose)
+        in_base = [compose(invert(base.pose), link.pose) for link in others]
         body = self._client.createMultiBody(
             baseMass=0.0 if spec.is_static else base.mass, baseCollisionShapeIndex=shapes[0],
             basePosition=base_pose[0], baseOrientation=base_pose[1],
@@ -1108,7 +1053,7 @@ class BulletWorld:
     def reset_world(self):
         """Every model back to its spawn pose and configuration, zero velocity; drops jobs."""
         for model in self._models.values():
-            inertial = _compose(model.spawn_base, model.base_inertial)
+            inertial = compose(model.spawn_base, model.base_inertial)
             self._client.resetBasePositionAndOrientation(model.body, *inertial)
             self._client.resetBaseVelocity(model.body, (0, 0, 0), (0, 0, 0))
             for joint in model.joints.values():
@@ -1133,7 +1078,7 @@ class BulletWorld:
                 for collision in link.collisions:
                     shapes.append(CollisionShape(
                         model.name, link.name, collision.shape, Vec3(*collision.size),
-                        _pose_from_transform(_compose(frame, collision.origin))))
+                        _pose_from_transform(compose(frame, collision.origin))))
         return shapes
 
     # --- frames -------------------------------------------------------------------------------
@@ -1143,7 +1088,7 @@ class BulletWorld:
         at its inertial frame, and reports a link's frame apart from its centre of mass."""
         if index == -1:
             inertial = self._client.getBasePositionAndOrientation(model.body)
-            return _compose(inertial, _invert(model.base_inertial))
+            return compose(inertial, invert(model.base_inertial))
         state = self._client.getLinkState(model.body, index, computeForwardKinematics=True)
         return tuple(state[4]), tuple(state[5])
 
@@ -1159,7 +1104,7 @@ class BulletWorld:
                                               computeForwardKinematics=True)
             com, linear, angular = state[0], state[6], state[7]
         frame = self._link_frame(model, index)
-        return frame, _add(linear, _cross(angular, _sub(frame[0], com))), tuple(angular)
+        return frame, add(linear, cross(angular, sub(frame[0], com))), tuple(angular)
 
     def _entity_frame(self, entity):
         """(transform, linear, angular) of "" / "world", a model (its canonical link) or
@@ -1186,19 +1131,19 @@ class BulletWorld:
     def _move_model(self, model, link_name, reference, pose, twist):
         """Moves the model rigidly, joint positions kept and joint rates zeroed, so that the
         frame of link_name gets pose and twist (in the reference transform's axes)."""
-        target = _compose(reference, _transform_from_pose(pose))
-        motion = _compose(target, _invert(self._link_frame(model, model.link_index[link_name])))
-        inertial = _compose(_compose(motion, self._link_frame(model, -1)), model.base_inertial)
+        target = compose(reference, _transform_from_pose(pose))
+        motion = compose(target, invert(self._link_frame(model, model.link_index[link_name])))
+        inertial = compose(compose(motion, self._link_frame(model, -1)), model.base_inertial)
         self._client.resetBasePositionAndOrientation(model.body, *inertial)
         for joint in model.joints.values():
             if joint.spec.type != JointType.FIXED:
                 position = self._client.getJointState(model.body, joint.index)[0]
                 self._client.resetJointState(model.body, joint.index, position, 0.0)
-        linear = _rotate(reference[1], tuple(twist.linear))
-        angular = _rotate(reference[1], tuple(twist.angular))
+        linear = rotate(reference[1], tuple(twist.linear))
+        angular = rotate(reference[1], tuple(twist.angular))
         # pybullet's base velocity is that of its centre of mass. A base fixed to the world
         # does not move: the twist is ignored there.
-        com_linear = _add(linear, _cross(angular, _sub(inertial[0], target[0])))
+        com_linear = add(linear, cross(angular, sub(inertial[0], target[0])))
         self._client.resetBaseVelocity(model.body, com_linear, angular)
 
 
@@ -1206,8 +1151,8 @@ def _relative(state, reference):
     """Gazebo's convention for a state relative to an entity: pose in the entity frame,
     velocities relative to the entity's and expressed in its axes."""
     (frame, linear, angular), (ref, ref_linear, ref_angular) = state, reference
-    inverse = _invert(ref)
-    pose = _compose(inverse, frame)
-    linear = _rotate(inverse[1], _sub(linear, ref_linear))
-    angular = _rotate(inverse[1], _sub(angular, ref_angular))
+    inverse = invert(ref)
+    pose = compose(inverse, frame)
+    linear = rotate(inverse[1], sub(linear, ref_linear))
+    angular = rotate(inverse[1], sub(angular, ref_angular))
     return _pose_from_transform(pose), Twist(Vec3(*linear), Vec3(*angular))

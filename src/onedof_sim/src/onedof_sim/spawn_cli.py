@@ -170,18 +170,6 @@ def load_local_model_xml(args, folders, stdin):
     return None
 
 
-def quaternion_from_rpy(roll, pitch, yaw):
-    """(x, y, z, w) of the rotation Rz(yaw) * Ry(pitch) * Rx(roll), as gazebo_ros' spawn_model
-    computes it (tf's quaternion_from_euler, static axes sxyz)."""
-    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
-    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
-    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
-    return (sr * cp * cy - cr * sp * sy,
-            cr * sp * cy + sr * cp * sy,
-            cr * cp * sy - sr * sp * cy,
-            cr * cp * cy + sr * sp * sy)
-
-
 def service_name(args, service):
     """Name of a simulator service in -gazebo_namespace."""
     return '%s/%s' % (args.gazebo_namespace.rstrip('/'), service)
