@@ -132,7 +132,7 @@ class RvizView:
                 return False
             return differing_pixels(path, previous) < STEADY_PIXELS
 
-        wait_until(steady_frame, timeout, interval=1.0, what='a steady rviz picture')
+        wait_until(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
         os.remove(previous)
 
     def _subscribed(self, topic):
