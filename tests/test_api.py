@@ -310,12 +310,17 @@ def test_use_sim_time_already_set_is_kept(ros, engine):
     assert ros.master().getParam('/test', '/use_sim_time')[2] is False
 
 
-def test_reset_simulation_returns_time_and_robot_to_spawn(ros, engine, api):
+def robot_moved_then_paused(ros, engine, api):
+    """The robot spawned, moved off its spawn pose, 0.3 s of sim time run, then paused."""
     start_sim(ros, engine)
     api.spawn_robot()
     assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.3]).success
     wait_until(lambda: api.sim_time_ns() > 300 * STEP_NS, 60, what='sim time 0.3 s')
     api.pause_physics()
+
+
+def test_reset_simulation_returns_time_and_robot_to_spawn(ros, engine, api):
+    robot_moved_then_paused(ros, engine, api)
     assert api.joint() != (0.0, 0.0)
     api.reset_simulation()
     assert api.get_world_properties().sim_time == 0.0
@@ -324,11 +329,7 @@ def test_reset_simulation_returns_time_and_robot_to_spawn(ros, engine, api):
 
 
 def test_reset_world_resets_poses_while_time_runs_on(ros, engine, api):
-    start_sim(ros, engine)
-    api.spawn_robot()
-    assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.3]).success
-    wait_until(lambda: api.sim_time_ns() > 300 * STEP_NS, 60, what='sim time 0.3 s')
-    api.pause_physics()
+    robot_moved_then_paused(ros, engine, api)
     paused_at = api.sim_time_ns()
     api.reset_world()
     assert api.sim_time_ns() == paused_at

@@ -869,6 +869,12 @@ def _pyplot():
     return pyplot
 
 
+def _save(pyplot, figure, path):
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    pyplot.close(figure)
+
+
 def write_scaling_plot(rates, labels, exponents, path):
     pyplot = _pyplot()
     figure, axes = pyplot.subplots(figsize=(7, 4.5))
@@ -883,9 +889,7 @@ def write_scaling_plot(rates, labels, exponents, path):
     axes.set_title('Scaling: URDF chains, as fast as possible, no ROS')
     axes.grid(True, which='both', alpha=0.3)
     axes.legend()
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    pyplot.close(figure)
+    _save(pyplot, figure, path)
 
 
 def write_latency_plot(samples, name, path):
@@ -907,9 +911,7 @@ def write_latency_plot(samples, name, path):
     axes.set_ylabel('round trip (us)')
     axes.set_title('Service round trips, %s node against the bare service' % name)
     axes.legend()
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    pyplot.close(figure)
+    _save(pyplot, figure, path)
 
 
 def write_pacing_plot(windows, name, path):
@@ -922,9 +924,7 @@ def write_pacing_plot(windows, name, path):
     axes.set_xlabel('one-second window (wall time)')
     axes.set_ylabel('real-time factor')
     axes.set_title('Pacing at real-time factor 1, %s node (dashed: +-1 %%)' % name)
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    pyplot.close(figure)
+    _save(pyplot, figure, path)
 
 
 def write_period_plot(runs, path):
@@ -937,9 +937,7 @@ def write_period_plot(runs, path):
     axes.set_ylabel('count')
     axes.set_title('Controller periods in wall time (1 = on time, 2 = one period missed)')
     axes.legend()
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    pyplot.close(figure)
+    _save(pyplot, figure, path)
 
 
 # --- the command -------------------------------------------------------------------------------
