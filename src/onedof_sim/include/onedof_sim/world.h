@@ -1,4 +1,5 @@
-// The physics core of onedof_sim: a world of rigid-body models over ODE, free of ROS.
+// The physics core of onedof_sim: a world of rigid-body models over a physics engine (ODE,
+// Bullet: engineNames()), free of ROS.
 //
 // A test or the ROS layer drives it step by step. It is not thread-safe: the owner serialises
 // calls (the ROS node holds one mutex between service callbacks and the step loop).
@@ -111,7 +112,12 @@ enum class ModelFormat { Urdf, Sdf };
 
 class World {
  public:
-  explicit World(const PhysicsParams& params = PhysicsParams());
+  // The engines World can run on, in registry order; the first is the default.
+  static std::vector<std::string> engineNames();
+
+  // Throws std::invalid_argument for an engine not in engineNames().
+  explicit World(const std::string& engine = engineNames().front(),
+                 const PhysicsParams& params = PhysicsParams());
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -124,6 +130,7 @@ class World {
   double time() const;  // seconds
   uint64_t stepCount() const;
 
+  const std::string& engineName() const;
   const PhysicsParams& params() const;
   // Refuses non-finite numbers, step <= 0, negative iteration counts: world unchanged.
   Status setParams(const PhysicsParams& params);

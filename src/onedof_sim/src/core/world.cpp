@@ -1,28 +1,27 @@
-// The ODE world behind World: model building, stepping, effort jobs, state access.
+// World: everything about a simulated world that does not depend on the physics engine.
 //
-// Frames. Every link has a link frame (URDF/SDF) and, if it moves, an ODE body. ODE requires the
-// body origin at the centre of mass, so a body frame sits at the COM of its links with the axes
-// of its reference link, and each link keeps the exact link-frame pose in its body frame.
-// Links joined by fixed joints share one body (their masses lumped with dMassAdd): a rigid weld
-// is exact that way, where an ODE fixed joint would only be held by ERP and drift. Links fixed to
-// `world` (and all links of a static model) have no body: their geoms are static geoms of the
-// environment, and joints to them attach to ODE's static environment (body 0).
+// Frames. Every link has a link frame (URDF/SDF) and, if it moves, an engine body. Bodies sit at
+// the centre of mass of their links with the axes of their reference link, and each link keeps
+// the exact link-frame pose in its body frame. Links joined by fixed joints share one body (their
+// masses lumped here): a rigid weld is exact that way, where an engine's fixed joint would only
+// be held by error correction and drift. Links fixed to `world` (and all links of a static model)
+// have no body: their collision shapes are anchored to the environment, and joints to them attach
+// to it.
 //
-// Joint zero. ODE takes a hinge's or slider's zero from the body poses at the moment the axis is
-// set. So placing a model always goes through the zero configuration first (set the axes there),
-// then to the wanted joint positions by forward kinematics; see placeModel().
+// Placing a model always goes through the zero configuration first (the engine attaches the
+// joints there, so that they read zero there), then to the wanted joint positions by forward
+// kinematics; see placeModel().
 #include "onedof_sim/world.h"
 
-#include <ode/ode.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
+#include "engine.h"
 #include "model_description.h"
 #include "pose_math.h"
 
@@ -39,33 +38,20 @@ constexpr double kGroundMu = 100, kGroundMu2 = 50;
 // Above this a link crosses 0.1 m per default step: contacts tunnel and the state means nothing,
 // so it is a blow-up being born, not motion. Nothing in a robot arm gets near it.
 constexpr double kMaxLinearSpeed = 100;
-// Several contact points constraining the same motion (a cylinder end on the ground gives four)
-// make dWorldStep's Dantzig LCP singular with Gazebo's CFM of 0: it fails a pivot ("LCP internal
-// error") in the tutorial's own scenes, the arm lying on the ground or pressing the table. ODE's
-// own double-precision default CFM, 1e-10 (a compliance of 0.1 nm per N), regularises that and
-// removed every such failure in those scenes; it is a floor for contacts only, so joints and the
-// reported cfm stay exact.
-constexpr double kMinContactCfm = 1e-10;
 // At most this many step warnings are kept between two takeWarnings() calls; a stuck model would
 // otherwise fill memory at the step rate.
 constexpr size_t kMaxWarnings = 100;
 
-// ODE integrates rotation linearly, so a link turning by more than about 0.1 rad per step leaves
-// its joints visibly apart (the chord error is r * angle^2 / 2 per step, and ERP only removes a
-// fifth of it per step). 0.1 rad per step is 100 rad/s at 1 kHz, well above any robot joint. It
-// also keeps the joint unwrapping (which adds wrap(raw - last_raw) each step) far from its limit
-// of pi per step.
+// Engines integrate rotation linearly, so a link turning by more than about 0.1 rad per step
+// leaves its joints visibly apart (the chord error is r * angle^2 / 2 per step, and error
+// correction only removes a fifth of it per step). 0.1 rad per step is 100 rad/s at 1 kHz, well
+// above any robot joint. It also keeps the joint unwrapping (which adds wrap(raw - last_raw) each
+// step) far from its limit of pi per step.
 double maxAngularSpeed(double step) { return 0.1 / step; }
 // A joint effort or body wrench may take its bodies from rest to the speed caps in no fewer steps
 // than this: past that the caps would clip every step and the joints come apart. A real actuator
 // is orders of magnitude weaker.
 constexpr double kStepsToSpeedCap = 10;
-
-Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
-Quat toQuat(const dReal* q) { return {q[0], q[1], q[2], q[3]}; }  // ODE is also w first
-void toOde(const Quat& q, dQuaternion out) {
-  out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z;
-}
 
 int64_t saturatingAdd(int64_t a, int64_t b) {
   return b > kForever - a ? kForever : a + b;
@@ -92,42 +78,82 @@ Pose jointMotion(const JointDescription& joint, double q) {
   return Pose();
 }
 
-struct ModelRecord;
+// A symmetric 3x3 inertia tensor, for lumping welded links into one body.
+using Matrix3 = std::array<std::array<double, 3>, 3>;
 
-// What the contact callback needs to know about a geom (dGeomSetData points here).
-struct GeomRecord {
-  const ModelRecord* model = nullptr;  // null: the ground plane
-  double mu = 1, mu2 = 1;
-};
+Matrix3 rotationMatrix(const Quat& q) {
+  Matrix3 r;
+  const Vec3 columns[3] = {rotate(q, {1, 0, 0}), rotate(q, {0, 1, 0}), rotate(q, {0, 0, 1})};
+  for (int c = 0; c < 3; ++c) {
+    r[0][c] = columns[c].x;
+    r[1][c] = columns[c].y;
+    r[2][c] = columns[c].z;
+  }
+  return r;
+}
+
+// R I R^T: a tensor given in a frame rotated by q, expressed in the outer frame.
+Matrix3 rotateTensor(const Quat& q, const Matrix3& inertia) {
+  const Matrix3 r = rotationMatrix(q);
+  Matrix3 out{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l) out[i][j] += r[i][k] * inertia[k][l] * r[j][l];
+  return out;
+}
+
+// Parallel axes: the tensor of a point mass m at offset d, about the origin.
+Matrix3 pointMassTensor(double m, const Vec3& d) {
+  const double v[3] = {d.x, d.y, d.z};
+  Matrix3 out{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[i][j] = m * ((i == j ? dot(d, d) : 0) - v[i] * v[j]);
+  return out;
+}
+
+// Sylvester's criterion: what no rigid body violates.
+bool isPositiveDefinite(const Matrix3& m) {
+  const double minor2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  return m[0][0] > 0 && minor2 > 0 && det > 0;
+}
+
+// u^T I u for a unit axis u given in the tensor's frame.
+double momentAbout(const BodySpec& body, const Vec3& u) {
+  return body.ixx * u.x * u.x + body.iyy * u.y * u.y + body.izz * u.z * u.z +
+         2 * (body.ixy * u.x * u.y + body.ixz * u.x * u.z + body.iyz * u.y * u.z);
+}
 
 struct LinkRecord {
   LinkDescription desc;
   int parent_joint = -1;
-  dBodyID body = nullptr;  // null: anchored to the static environment
-  bool sets_body_pose = false;  // the reference link of its body: the one that places it
-  Pose link_in_body;            // exact link frame in the body (COM) frame
-  Pose anchored_pose;           // world pose, when body is null
-  std::vector<GeomRecord> geom_records;  // parallel to desc.collisions
-  std::vector<dGeomID> geoms;            // parallel to desc.collisions
+  int body = -1;                  // -1: anchored to the static environment
+  bool sets_body_pose = false;    // the reference link of its body: the one that places it
+  Pose link_in_body;              // exact link frame in the body (COM) frame
+  Pose anchored_pose;             // world pose, when anchored
+  int first_anchored_shape = -1;  // its collisions' index in ModelSpec::anchored_shapes
 };
 
 struct JointRecord {
   JointDescription desc;
-  int parent = -1;  // link index; -1: the static environment (`world`)
+  int parent = -1;        // link index; -1: the static environment (`world`)
   int child = -1;
-  dJointID ode = nullptr;    // null for fixed joints: those are welded bodies or anchored links
-  double position = 0;       // unwrapped
-  double last_raw = 0;       // ODE's wrapped reading at the last update
-  std::vector<dBodyID> moved_bodies;  // the bodies below the joint
+  int engine_joint = -1;  // -1 for fixed joints: those are welded bodies or anchored links
+  double position = 0;    // unwrapped
+  double last_raw = 0;    // the engine's wrapped reading at the last update
+  std::vector<int> moved_bodies;  // the bodies below the joint
 };
 
 struct ModelRecord {
   std::string name;
   bool is_static = false;
-  dSpaceID space = nullptr;  // one space per model: its geoms are never tested against each other
   std::vector<LinkRecord> links;  // parents before children
   std::vector<JointRecord> joints;
-  std::vector<dBodyID> bodies;
+  std::vector<BodySpec> bodies;   // mass and inertia, for the effort bounds
+  std::unique_ptr<EngineModel> engine_model;
   size_t canonical = 0;
   Pose frame_pose;  // world pose of the model frame, where joints to `world` are anchored
   Pose spawn_pose;
@@ -149,136 +175,14 @@ struct BodyWrenchJob {
   int64_t start_ns, end_ns;
 };
 
-// ODE reports solver trouble (typically "LCP internal error" while deep interpenetration is being
-// pushed apart) through one process-wide message handler that prints to stderr, once per step it
-// happens: thousands of lines for one bad spawn. step() points this at its world so that the
-// messages become one warning per episode instead; outside step() they still go to stderr.
-struct OdeMessages {
-  int count = 0;
-  std::string first;
-};
-thread_local OdeMessages* stepping_world_messages = nullptr;
-
-void collectOdeMessage(int, const char* format, va_list args) {
-  if (!stepping_world_messages) {
-    std::vfprintf(stderr, format, args);
-    std::fputc('\n', stderr);
-    return;
-  }
-  if (stepping_world_messages->count++ == 0) {
-    char text[256];
-    std::vsnprintf(text, sizeof text, format, args);
-    stepping_world_messages->first = text;
-  }
-}
-
 struct BodyState {
-  dBodyID body;
-  dVector3 position, linear, angular;
-  dQuaternion orientation;
+  EngineModel* model;
+  int body;
+  Pose pose;
+  Twist twist;
 };
 
-bool isFiniteBody(dBodyID body) {
-  const dReal* values[] = {dBodyGetPosition(body), dBodyGetQuaternion(body),
-                           dBodyGetLinearVel(body), dBodyGetAngularVel(body)};
-  for (const dReal* v : values)
-    for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(v[i])) return false;
-  return std::isfinite(dBodyGetQuaternion(body)[3]);
-}
-
-Pose bodyPose(dBodyID body) {
-  return {toVec3(dBodyGetPosition(body)), toQuat(dBodyGetQuaternion(body))};
-}
-
-void setBodyPose(dBodyID body, const Pose& pose) {
-  dBodySetPosition(body, pose.position.x, pose.position.y, pose.position.z);
-  dQuaternion q;
-  toOde(pose.orientation, q);
-  dBodySetQuaternion(body, q);
-}
-
-Pose linkWorldPose(const LinkRecord& link) {
-  return link.body ? compose(bodyPose(link.body), link.link_in_body) : link.anchored_pose;
-}
-
-Twist linkWorldTwist(const LinkRecord& link) {
-  Twist twist;
-  if (!link.body) return twist;
-  const Vec3 origin = linkWorldPose(link).position;
-  dVector3 velocity;
-  dBodyGetPointVel(link.body, origin.x, origin.y, origin.z, velocity);
-  twist.linear = toVec3(velocity);
-  twist.angular = toVec3(dBodyGetAngularVel(link.body));
-  return twist;
-}
-
-// ODE hinges report (-pi, pi]; sliders report the position itself.
-double rawPosition(const JointRecord& joint) {
-  return dJointGetType(joint.ode) == dJointTypeHinge ? dJointGetHingeAngle(joint.ode)
-                                                     : dJointGetSliderPosition(joint.ode);
-}
-
-double jointRate(const JointRecord& joint) {
-  if (!joint.ode) return 0;
-  return dJointGetType(joint.ode) == dJointTypeHinge ? dJointGetHingeAngleRate(joint.ode)
-                                                     : dJointGetSliderPositionRate(joint.ode);
-}
-
-void updateJointPositions(ModelRecord* model) {
-  for (JointRecord& joint : model->joints) {
-    if (!joint.ode) continue;
-    const double raw = rawPosition(joint);
-    joint.position = dJointGetType(joint.ode) == dJointTypeHinge
-                         ? joint.position + std::remainder(raw - joint.last_raw, 2 * M_PI)
-                         : raw;
-    joint.last_raw = raw;
-  }
-}
-
-// Adds a generalised force along a joint: + on the child (body 0), - on the parent.
-void addJointEffort(const JointRecord& joint, double effort) {
-  for (int i = 0; i < 2; ++i)
-    if (dBodyID body = dJointGetBody(joint.ode, i)) dBodyEnable(body);
-  if (dJointGetType(joint.ode) == dJointTypeHinge)
-    dJointAddHingeTorque(joint.ode, effort);
-  else
-    dJointAddSliderForce(joint.ode, effort);
-}
-
-// The largest effort that, on the bodies below the joint taken as one rigid body, reaches the
-// speed cap from rest in kStepsToSpeedCap steps. The real (articulated) inertia can only be smaller, so this is
-// not a guarantee; the per-step speed cap and the non-finite rollback catch the rest.
-double safeEffortBound(const JointRecord& joint, double step) {
-  const bool hinge = dJointGetType(joint.ode) == dJointTypeHinge;
-  dVector3 axis, anchor{0, 0, 0, 0};
-  if (hinge) {
-    dJointGetHingeAxis(joint.ode, axis);
-    dJointGetHingeAnchor(joint.ode, anchor);
-  } else {
-    dJointGetSliderAxis(joint.ode, axis);
-  }
-  const Vec3 u = toVec3(axis), a = toVec3(anchor);
-  double inertia = 0;
-  for (dBodyID body : joint.moved_bodies) {
-    dMass mass;
-    dBodyGetMass(body, &mass);
-    if (!hinge) {
-      inertia += mass.mass;
-      continue;
-    }
-    const dReal* r = dBodyGetRotation(body);
-    const Vec3 u_body{r[0] * u.x + r[4] * u.y + r[8] * u.z, r[1] * u.x + r[5] * u.y + r[9] * u.z,
-                      r[2] * u.x + r[6] * u.y + r[10] * u.z};
-    const double c[3] = {u_body.x, u_body.y, u_body.z};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) inertia += c[i] * mass.I[i * 4 + j] * c[j];
-    const Vec3 arm = toVec3(dBodyGetPosition(body)) - a;
-    inertia += mass.mass * (dot(arm, arm) - dot(arm, u) * dot(arm, u));
-  }
-  const double speed = hinge ? maxAngularSpeed(step) : kMaxLinearSpeed;
-  return inertia * speed / (kStepsToSpeedCap * step);
-}
+bool isFinite(const Twist& t) { return core::isFinite(t.linear) && core::isFinite(t.angular); }
 
 Status validateParams(const PhysicsParams& p) {
   const double numbers[] = {p.step,      p.gravity.x, p.gravity.y, p.gravity.z,
@@ -296,70 +200,114 @@ Status validateParams(const PhysicsParams& p) {
         "SetPhysicsProperties: cfm, contact_surface_layer, contact_max_correcting_vel and "
         "sor_pgs_rms_error_tol must be >= 0, sor_pgs_w > 0");
   if (p.sor_pgs_iters < 1) return Status::Error("SetPhysicsProperties: sor_pgs_iters must be >= 1");
-  // dCollide takes the contact count in 16 bits.
+  // ODE's dCollide takes the contact count in 16 bits.
   if (p.max_contacts > 0xffff) return Status::Error("SetPhysicsProperties: max_contacts must be <= 65535");
   return Status::Ok();
+}
+
+const EngineEntry& findEngine(const std::string& name) {
+  for (const EngineEntry& entry : engineRegistry())
+    if (entry.name == name) return entry;
+  std::string known;
+  for (const EngineEntry& entry : engineRegistry()) known += (known.empty() ? "" : ", ") + entry.name;
+  throw std::invalid_argument("unknown physics engine '" + name + "' (known: " + known + ")");
 }
 
 }  // namespace
 
 struct World::Impl {
+  std::string engine_name;
+  std::unique_ptr<Engine> engine;
   PhysicsParams params;
   int64_t step_ns = 0;
   int64_t time_ns = 0;
   uint64_t steps = 0;
-  dWorldID world = nullptr;
-  dSpaceID space = nullptr;
-  dJointGroupID contact_group = nullptr;
-  dGeomID ground = nullptr;
-  GeomRecord ground_record{nullptr, kGroundMu, kGroundMu2};
-  std::vector<dContact> contact_buffer;
   std::vector<std::unique_ptr<ModelRecord>> models;  // spawn order; records never move
   std::vector<JointEffortJob> joint_jobs;
   std::vector<BodyWrenchJob> wrench_jobs;
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
-  OdeMessages ode_messages;
-  bool ode_struggled = false;  // warned already, until a step passes without an ODE message
+  bool engine_struggled = false;  // warned already, until a step passes without a solver message
 
-  explicit Impl(const PhysicsParams& p) {
-    dInitODE2(0);
-    dSetMessageHandler(&collectOdeMessage);
-    world = dWorldCreate();
-    space = dSimpleSpaceCreate(nullptr);
-    contact_group = dJointGroupCreate(0);
-    ground = dCreatePlane(space, 0, 0, 1, 0);
-    dGeomSetData(ground, &ground_record);
+  Impl(const std::string& name, const PhysicsParams& p)
+      : engine_name(name), engine(findEngine(name).make()) {
+    engine->addGroundPlane(kGroundMu, kGroundMu2);
     // A constructor cannot report: invalid parameters fall back to the defaults.
     applyParams(validateParams(p).ok ? p : PhysicsParams());
   }
 
   ~Impl() {
-    while (!models.empty()) destroyModel(models.size() - 1);
-    dJointGroupDestroy(contact_group);
-    dSpaceDestroy(space);  // destroys the ground plane with it
-    dWorldDestroy(world);
-    dCloseODE();
+    models.clear();  // before the engine they live in
   }
 
   void applyParams(const PhysicsParams& p) {
     params = p;
     step_ns = std::llround(p.step * 1e9);
-    dWorldSetGravity(world, p.gravity.x, p.gravity.y, p.gravity.z);
-    dWorldSetERP(world, p.erp);
-    dWorldSetCFM(world, p.cfm);
-    dWorldSetContactSurfaceLayer(world, p.contact_surface_layer);
-    dWorldSetContactMaxCorrectingVel(world, p.contact_max_correcting_vel);
-    dWorldSetQuickStepNumIterations(world, static_cast<int>(p.sor_pgs_iters));
-    dWorldSetQuickStepW(world, p.sor_pgs_w);
-    dWorldSetAutoDisableFlag(world, p.auto_disable_bodies ? 1 : 0);
-    // sor_pgs_precon_iters and sor_pgs_rms_error_tol have no ODE 0.16 counterpart: they are kept
-    // only so that get_physics_properties returns what was set.
-    contact_buffer.resize(p.max_contacts);
+    engine->setParams(p);
   }
 
   void warn(const std::string& text) {
     if (warnings.size() < kMaxWarnings) warnings.push_back(text);
+  }
+
+  // --- state of links and joints -----------------------------------------------------------
+
+  Pose linkWorldPose(const ModelRecord& model, const LinkRecord& link) const {
+    return link.body >= 0 ? compose(model.engine_model->bodyPose(link.body), link.link_in_body)
+                          : link.anchored_pose;
+  }
+
+  Twist linkWorldTwist(const ModelRecord& model, const LinkRecord& link) const {
+    if (link.body < 0) return Twist();
+    const Pose body_pose = model.engine_model->bodyPose(link.body);
+    const Twist body = model.engine_model->bodyTwist(link.body);
+    const Vec3 origin = transformPoint(body_pose, link.link_in_body.position);
+    return {body.linear + cross(body.angular, origin - body_pose.position), body.angular};
+  }
+
+  double jointRate(const ModelRecord& model, const JointRecord& joint) const {
+    return joint.engine_joint < 0 ? 0 : model.engine_model->jointRate(joint.engine_joint);
+  }
+
+  // The joint's anchor and axis in the world as the child sits now.
+  JointFrame jointFrame(const ModelRecord& model, const JointRecord& joint) const {
+    const LinkRecord& child = model.links[joint.child];
+    const Pose mapping = compose(linkWorldPose(model, child), inverse(child.desc.pose));
+    return {transformPoint(mapping, joint.desc.anchor), rotate(mapping.orientation, joint.desc.axis)};
+  }
+
+  void updateJointPositions(ModelRecord* model) {
+    for (JointRecord& joint : model->joints) {
+      if (joint.engine_joint < 0) continue;
+      const double raw = model->engine_model->jointPosition(joint.engine_joint);
+      joint.position = joint.desc.type == JointType::Prismatic
+                           ? raw
+                           : joint.position + std::remainder(raw - joint.last_raw, 2 * M_PI);
+      joint.last_raw = raw;
+    }
+  }
+
+  // The largest effort that, on the bodies below the joint taken as one rigid body, reaches the
+  // speed cap from rest in kStepsToSpeedCap steps. The real (articulated) inertia can only be
+  // smaller, so this is not a guarantee; the per-step speed cap and the non-finite rollback catch
+  // the rest.
+  double safeEffortBound(const ModelRecord& model, const JointRecord& joint) const {
+    const bool prismatic = joint.desc.type == JointType::Prismatic;
+    const JointFrame frame = jointFrame(model, joint);
+    double inertia = 0;
+    for (int body : joint.moved_bodies) {
+      const BodySpec& mass = model.bodies[body];
+      if (prismatic) {
+        inertia += mass.mass;
+        continue;
+      }
+      const Pose pose = model.engine_model->bodyPose(body);
+      inertia += momentAbout(mass, rotate(conjugate(pose.orientation), frame.axis));
+      const Vec3 arm = pose.position - frame.anchor;
+      inertia += mass.mass * (dot(arm, arm) - dot(arm, frame.axis) * dot(arm, frame.axis));
+    }
+    const double speed = prismatic ? kMaxLinearSpeed : maxAngularSpeed(params.step);
+    return inertia * speed / (kStepsToSpeedCap * params.step);
   }
 
   // --- lookups -------------------------------------------------------------------------------
@@ -416,17 +364,16 @@ struct World::Impl {
     } else if (!findLink(name, &model, &link)) {
       return false;
     }
-    *pose = linkWorldPose(model->links[link]);
-    *twist = linkWorldTwist(model->links[link]);
+    *pose = linkWorldPose(*model, model->links[link]);
+    *twist = linkWorldTwist(*model, model->links[link]);
     return true;
   }
 
   // --- building ------------------------------------------------------------------------------
 
-  // Everything that can fail is checked here, before any ODE object exists, so that a refused
-  // spawn leaves the world as it was. Fills the link/joint records and the body masses.
-  Status planModel(const ModelDescription& desc, ModelRecord* model,
-                   std::vector<int>* body_of_link, std::vector<dMass>* body_masses) const {
+  // Everything that can fail is checked here, before the engine sees the model, so that a
+  // refused spawn leaves the world as it was. Fills the link/joint records and the engine's spec.
+  Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec) const {
     std::map<std::string, int> index;
     for (const LinkDescription& link : desc.links) {
       index[link.name] = static_cast<int>(model->links.size());
@@ -444,143 +391,106 @@ struct World::Impl {
       model->joints.push_back(record);
     }
     // Bodies: a link welded by a fixed joint to a moving parent shares its body; a link welded to
-    // `world` (or in a static model) is anchored (-1).
+    // `world` (or in a static model) is anchored.
     std::vector<int> reference_link;  // per body
-    body_of_link->assign(model->links.size(), -1);
-    for (size_t i = 0; i < model->links.size(); ++i) {
-      const int parent_joint = model->links[i].parent_joint;
+    for (LinkRecord& link : model->links) {
       if (model->is_static) continue;
-      if (parent_joint >= 0 && model->joints[parent_joint].desc.type == JointType::Fixed) {
-        const int parent = model->joints[parent_joint].parent;
-        (*body_of_link)[i] = parent < 0 ? -1 : (*body_of_link)[parent];
+      if (link.parent_joint >= 0 && model->joints[link.parent_joint].desc.type == JointType::Fixed) {
+        const int parent = model->joints[link.parent_joint].parent;
+        link.body = parent < 0 ? -1 : model->links[parent].body;
         continue;
       }
-      (*body_of_link)[i] = static_cast<int>(reference_link.size());
-      reference_link.push_back(static_cast<int>(i));
+      link.body = static_cast<int>(reference_link.size());
+      reference_link.push_back(static_cast<int>(&link - model->links.data()));
     }
-    body_masses->assign(reference_link.size(), dMass());
-    for (dMass& mass : *body_masses) dMassSetZero(&mass);
-    for (size_t i = 0; i < model->links.size(); ++i) {
-      const int body = (*body_of_link)[i];
-      const LinkDescription& link = model->links[i].desc;
-      const double values[] = {link.mass, link.ixx, link.ixy, link.ixz, link.iyy, link.iyz, link.izz};
+    // Each body's mass, first moment and inertia about the reference link's origin, in its axes.
+    const size_t body_count = reference_link.size();
+    std::vector<double> masses(body_count, 0);
+    std::vector<Vec3> moments(body_count);
+    std::vector<Matrix3> tensors(body_count, Matrix3{});
+    for (const LinkRecord& link : model->links) {
+      const LinkDescription& d = link.desc;
+      const double values[] = {d.mass, d.ixx, d.ixy, d.ixz, d.iyy, d.iyz, d.izz};
       for (double v : values)
-        if (!std::isfinite(v)) return Status::Error("link '" + link.name + "' has a non-finite inertial");
-      if (body < 0 || !link.has_inertial || link.mass == 0) continue;
-      if (link.mass < 0) return Status::Error("link '" + link.name + "' has a negative mass");
-      // The link's inertia about its COM in its inertial frame, turned into the body's reference
-      // link frame: rotate about the origin first (c is still 0), then move to the COM.
-      const Pose link_in_reference =
-          compose(inverse(model->links[reference_link[body]].desc.pose), link.pose);
-      const Pose inertial = compose(link_in_reference, link.com);
-      dMass mass;
-      dMassSetParameters(&mass, link.mass, 0, 0, 0, link.ixx, link.iyy, link.izz, link.ixy,
-                         link.ixz, link.iyz);
-      dMatrix3 rotation;
-      dQuaternion q;
-      toOde(inertial.orientation, q);
-      dQtoR(q, rotation);
-      dMassRotate(&mass, rotation);
-      dMassTranslate(&mass, inertial.position.x, inertial.position.y, inertial.position.z);
-      dMassAdd(&(*body_masses)[body], &mass);
+        if (!std::isfinite(v)) return Status::Error("link '" + d.name + "' has a non-finite inertial");
+      if (link.body < 0 || !d.has_inertial || d.mass == 0) continue;
+      if (d.mass < 0) return Status::Error("link '" + d.name + "' has a negative mass");
+      const Pose inertial = compose(
+          compose(inverse(model->links[reference_link[link.body]].desc.pose), d.pose), d.com);
+      const Matrix3 own{{{d.ixx, d.ixy, d.ixz}, {d.ixy, d.iyy, d.iyz}, {d.ixz, d.iyz, d.izz}}};
+      const Matrix3 rotated = rotateTensor(inertial.orientation, own);
+      const Matrix3 offset = pointMassTensor(d.mass, inertial.position);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) tensors[link.body][i][j] += rotated[i][j] + offset[i][j];
+      masses[link.body] += d.mass;
+      moments[link.body] = moments[link.body] + d.mass * inertial.position;
     }
-    for (size_t body = 0; body < reference_link.size(); ++body) {
-      dMass& mass = (*body_masses)[body];
+    for (size_t body = 0; body < body_count; ++body) {
       const LinkRecord& reference = model->links[reference_link[body]];
-      if (!(mass.mass > 0))
+      if (!(masses[body] > 0))
         return Status::Error("link '" + reference.desc.name +
                              "' moves but has no mass (give it an <inertial>)");
-      const Vec3 com{mass.c[0], mass.c[1], mass.c[2]};
-      dMassTranslate(&mass, -com.x, -com.y, -com.z);
-      if (!dMassCheck(&mass))
+      const Vec3 com = (1 / masses[body]) * moments[body];
+      const Matrix3 to_com = pointMassTensor(masses[body], com);
+      Matrix3 inertia;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) inertia[i][j] = tensors[body][i][j] - to_com[i][j];
+      if (!isPositiveDefinite(inertia))
         return Status::Error("link '" + reference.desc.name +
                              "' has an inertia that no rigid body can have");
+      BodySpec spec_body;
+      spec_body.mass = masses[body];
+      spec_body.ixx = inertia[0][0], spec_body.iyy = inertia[1][1], spec_body.izz = inertia[2][2];
+      spec_body.ixy = inertia[0][1], spec_body.ixz = inertia[0][2], spec_body.iyz = inertia[1][2];
+      spec_body.gravity = reference.desc.gravity;
+      spec->bodies.push_back(spec_body);
       // Body frame: at the COM, axes of the reference link.
-      for (size_t i = 0; i < model->links.size(); ++i) {
-        if ((*body_of_link)[i] != static_cast<int>(body)) continue;
-        const Pose link_in_reference =
-            compose(inverse(reference.desc.pose), model->links[i].desc.pose);
-        model->links[i].link_in_body = {link_in_reference.position - com,
-                                        link_in_reference.orientation};
+      for (LinkRecord& link : model->links) {
+        if (link.body != static_cast<int>(body)) continue;
+        const Pose link_in_reference = compose(inverse(reference.desc.pose), link.desc.pose);
+        link.link_in_body = {link_in_reference.position - com, link_in_reference.orientation};
       }
       model->links[reference_link[body]].sets_body_pose = true;
     }
-    return Status::Ok();
-  }
-
-  void createOdeObjects(ModelRecord* model, const std::vector<int>& body_of_link,
-                        const std::vector<dMass>& body_masses) {
-    model->space = dSimpleSpaceCreate(space);
-    for (const dMass& mass : body_masses) {
-      dBodyID body = dBodyCreate(world);
-      dBodySetMass(body, &mass);
-      model->bodies.push_back(body);
-    }
-    for (size_t i = 0; i < model->links.size(); ++i) {
-      LinkRecord& link = model->links[i];
-      if (body_of_link[i] >= 0) {
-        link.body = model->bodies[body_of_link[i]];
-        if (link.sets_body_pose) dBodySetGravityMode(link.body, link.desc.gravity ? 1 : 0);
-      }
-      for (const CollisionDescription& collision : link.desc.collisions)
-        link.geom_records.push_back({model, collision.mu, collision.mu2});
-      for (size_t c = 0; c < link.desc.collisions.size(); ++c) {
-        const CollisionDescription& collision = link.desc.collisions[c];
-        const Vec3& s = collision.size;
-        dGeomID geom = collision.shape == GeometryShape::Box
-                           ? dCreateBox(model->space, s.x, s.y, s.z)
-                       : collision.shape == GeometryShape::Cylinder
-                           ? dCreateCylinder(model->space, s.x, s.z)
-                           : dCreateSphere(model->space, s.x);
-        dGeomSetData(geom, &link.geom_records[c]);
-        if (link.body) {
-          dGeomSetBody(geom, link.body);
-          const Pose offset = compose(link.link_in_body, collision.pose);
-          dGeomSetOffsetPosition(geom, offset.position.x, offset.position.y, offset.position.z);
-          dQuaternion q;
-          toOde(offset.orientation, q);
-          dGeomSetOffsetQuaternion(geom, q);
+    for (LinkRecord& link : model->links) {
+      if (link.body < 0) link.first_anchored_shape = static_cast<int>(spec->anchored_shapes.size());
+      for (const CollisionDescription& collision : link.desc.collisions) {
+        ShapeSpec shape{collision.shape, collision.size, collision.pose, collision.mu, collision.mu2};
+        if (link.body < 0) {
+          spec->anchored_shapes.push_back(shape);
+          continue;
         }
-        link.geoms.push_back(geom);
+        shape.pose = compose(link.link_in_body, collision.pose);
+        spec->bodies[link.body].shapes.push_back(shape);
       }
     }
     for (JointRecord& joint : model->joints) {
-      const JointDescription& d = joint.desc;
-      if (d.type == JointType::Fixed || !model->links[joint.child].body) continue;
-      const bool hinge = d.type != JointType::Prismatic;
-      joint.ode = hinge ? dJointCreateHinge(world, nullptr) : dJointCreateSlider(world, nullptr);
-      auto set = [&](int parameter, double value) {
-        hinge ? dJointSetHingeParam(joint.ode, parameter, value)
-              : dJointSetSliderParam(joint.ode, parameter, value);
-      };
-      if (d.has_limits && d.lower <= d.upper) {
-        // ODE ignores hinge stops outside [-pi, pi].
-        set(dParamLoStop, hinge ? std::max(d.lower, -M_PI) : d.lower);
-        set(dParamHiStop, hinge ? std::min(d.upper, M_PI) : d.upper);
-      }
-      if (d.friction > 0) {
-        // Coulomb friction: a motor that wants zero speed and can push at most `friction`.
-        set(dParamVel, 0);
-        set(dParamFMax, d.friction);
-      }
+      const int child_body = model->links[joint.child].body;
+      if (joint.desc.type == JointType::Fixed || child_body < 0) continue;
+      joint.engine_joint = static_cast<int>(spec->joints.size());
+      JointSpec spec_joint;
+      spec_joint.prismatic = joint.desc.type == JointType::Prismatic;
+      spec_joint.parent = joint.parent < 0 ? -1 : model->links[joint.parent].body;
+      spec_joint.child = child_body;
+      spec_joint.has_limits = joint.desc.has_limits;
+      spec_joint.lower = joint.desc.lower;
+      spec_joint.upper = joint.desc.upper;
+      spec_joint.friction = joint.desc.friction;
+      spec->joints.push_back(spec_joint);
     }
     // The bodies each joint moves: every body below it in the tree.
-    for (size_t i = 0; i < model->links.size(); ++i) {
-      dBodyID body = model->links[i].body;
-      if (!body || !model->links[i].sets_body_pose) continue;
-      for (int j = model->links[i].parent_joint; j >= 0;
+    for (const LinkRecord& link : model->links) {
+      if (link.body < 0 || !link.sets_body_pose) continue;
+      for (int j = link.parent_joint; j >= 0;
            j = model->joints[j].parent < 0 ? -1 : model->links[model->joints[j].parent].parent_joint)
-        if (model->joints[j].ode) model->joints[j].moved_bodies.push_back(body);
+        if (model->joints[j].engine_joint >= 0) model->joints[j].moved_bodies.push_back(link.body);
     }
+    model->bodies = spec->bodies;
+    return Status::Ok();
   }
 
   void destroyModel(size_t index) {
     ModelRecord* model = models[index].get();
-    for (JointRecord& joint : model->joints)
-      if (joint.ode) dJointDestroy(joint.ode);
-    dSpaceSetCleanup(model->space, 1);  // destroys its geoms
-    dSpaceDestroy(model->space);
-    for (dBodyID body : model->bodies) dBodyDestroy(body);
     dropJobs([model](const ModelRecord* m) { return m == model; });
     models.erase(models.begin() + index);
   }
@@ -620,65 +530,55 @@ struct World::Impl {
     return poses;
   }
 
-  void setLinkPoses(ModelRecord* model, const std::vector<Pose>& poses) {
+  // The bodies' poses for the links' poses; anchored links take theirs (and their shapes) now.
+  std::vector<Pose> placeLinks(ModelRecord* model, const std::vector<Pose>& poses) {
+    std::vector<Pose> body_poses(model->bodies.size());
     for (size_t i = 0; i < model->links.size(); ++i) {
       LinkRecord& link = model->links[i];
-      if (link.body) {
-        if (link.sets_body_pose) setBodyPose(link.body, compose(poses[i], inverse(link.link_in_body)));
+      if (link.body >= 0) {
+        if (link.sets_body_pose) body_poses[link.body] = compose(poses[i], inverse(link.link_in_body));
         continue;
       }
       link.anchored_pose = poses[i];
-      for (size_t c = 0; c < link.geoms.size(); ++c) {
-        const Pose pose = compose(poses[i], link.desc.collisions[c].pose);
-        dGeomSetPosition(link.geoms[c], pose.position.x, pose.position.y, pose.position.z);
-        dQuaternion q;
-        toOde(pose.orientation, q);
-        dGeomSetQuaternion(link.geoms[c], q);
-      }
+      for (size_t c = 0; c < link.desc.collisions.size(); ++c)
+        model->engine_model->setAnchoredShapePose(link.first_anchored_shape + static_cast<int>(c),
+                                                  compose(poses[i], link.desc.collisions[c].pose));
     }
+    return body_poses;
   }
 
-  // Puts the model at joint positions q (fixed joints ignored) with zero velocity. The joints
-  // are re-attached in the zero configuration, because ODE takes their zero from the body poses
-  // when the axis is set; the anchors of joints to the environment follow frame_pose that way.
+  // Puts the model at joint positions q (fixed joints ignored) with zero velocity.
   void placeModel(ModelRecord* model, const Pose& frame_pose, const std::vector<Pose>& root_poses,
                   const std::vector<double>& q) {
     model->frame_pose = frame_pose;
     const std::vector<Pose> zero_poses =
         forwardKinematics(*model, frame_pose, root_poses, std::vector<double>(q.size(), 0.0));
-    setLinkPoses(model, zero_poses);
-    for (JointRecord& joint : model->joints) {
-      if (!joint.ode) continue;
+    const std::vector<Pose> zero_body_poses = placeLinks(model, zero_poses);
+    std::vector<JointFrame> frames;
+    for (const JointRecord& joint : model->joints) {
+      if (joint.engine_joint < 0) continue;
       const LinkRecord& child = model->links[joint.child];
-      dBodyID parent = joint.parent < 0 ? nullptr : model->links[joint.parent].body;
-      dJointAttach(joint.ode, child.body, parent);  // child first: positive moves the child
       const Pose mapping = compose(zero_poses[joint.child], inverse(child.desc.pose));
-      const Vec3 anchor = transformPoint(mapping, joint.desc.anchor);
-      const Vec3 axis = rotate(mapping.orientation, joint.desc.axis);
-      if (dJointGetType(joint.ode) == dJointTypeHinge) {
-        dJointSetHingeAnchor(joint.ode, anchor.x, anchor.y, anchor.z);
-        dJointSetHingeAxis(joint.ode, axis.x, axis.y, axis.z);
-      } else {
-        dJointSetSliderAxis(joint.ode, axis.x, axis.y, axis.z);
-      }
+      frames.push_back({transformPoint(mapping, joint.desc.anchor),
+                        rotate(mapping.orientation, joint.desc.axis)});
     }
-    setLinkPoses(model, forwardKinematics(*model, frame_pose, root_poses, q));
-    for (dBodyID body : model->bodies) {
-      dBodySetLinearVel(body, 0, 0, 0);
-      dBodySetAngularVel(body, 0, 0, 0);
-      dBodyEnable(body);
-    }
+    model->engine_model->attachJoints(zero_body_poses, frames);
+    const std::vector<Pose> body_poses =
+        placeLinks(model, forwardKinematics(*model, frame_pose, root_poses, q));
+    for (size_t body = 0; body < body_poses.size(); ++body)
+      model->engine_model->setBodyState(static_cast<int>(body), body_poses[body], Twist());
     for (size_t j = 0; j < model->joints.size(); ++j) {
       JointRecord& joint = model->joints[j];
-      joint.position = joint.ode ? q[j] : 0;
-      if (joint.ode) joint.last_raw = rawPosition(joint);
+      joint.position = joint.engine_joint >= 0 ? q[j] : 0;
+      if (joint.engine_joint >= 0)
+        joint.last_raw = model->engine_model->jointPosition(joint.engine_joint);
     }
     model->velocity_capped = false;
   }
 
   std::vector<Pose> currentLinkPoses(const ModelRecord& model) const {
     std::vector<Pose> poses;
-    for (const LinkRecord& link : model.links) poses.push_back(linkWorldPose(link));
+    for (const LinkRecord& link : model.links) poses.push_back(linkWorldPose(model, link));
     return poses;
   }
 
@@ -698,99 +598,60 @@ struct World::Impl {
 
   // --- stepping ------------------------------------------------------------------------------
 
-  static void nearCallback(void* data, dGeomID a, dGeomID b) {
-    if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
-      // Two models, or a model and the ground: test their geoms against each other. A model's
-      // space is never collided with itself, which is what keeps a model from self-colliding.
-      dSpaceCollide2(a, b, data, &nearCallback);
-      return;
-    }
-    static_cast<Impl*>(data)->addContacts(a, b);
-  }
-
-  void addContacts(dGeomID a, dGeomID b) {
-    dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
-    // Static against static or against the ground. Links joined by a joint are in one model,
-    // and a model is never collided with itself (nearCallback), so they never get here.
-    if ((!body_a && !body_b) || contact_buffer.empty()) return;
-    const auto* record_a = static_cast<const GeomRecord*>(dGeomGetData(a));
-    const auto* record_b = static_cast<const GeomRecord*>(dGeomGetData(b));
-    const int count = dCollide(a, b, static_cast<int>(contact_buffer.size()),
-                               &contact_buffer[0].geom, sizeof(dContact));
-    for (int i = 0; i < count; ++i) {
-      dContact& contact = contact_buffer[i];
-      contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM;
-      contact.surface.mu = std::min(record_a->mu, record_b->mu);
-      contact.surface.mu2 = std::min(record_a->mu2, record_b->mu2);
-      contact.surface.soft_erp = params.erp;
-      contact.surface.soft_cfm = std::max(params.cfm, kMinContactCfm);
-      dJointID joint = dJointCreateContact(world, contact_group, &contact);
-      dJointAttach(joint, body_a, body_b);
-    }
-  }
-
   void applyJobs(int64_t t) {
     for (const JointEffortJob& job : joint_jobs)
       if (job.start_ns <= t && t < job.end_ns)
-        addJointEffort(job.model->joints[job.joint], job.effort);
+        job.model->engine_model->addJointEffort(job.model->joints[job.joint].engine_joint,
+                                                job.effort);
     for (const BodyWrenchJob& job : wrench_jobs) {
       if (job.start_ns > t || t >= job.end_ns) continue;
       Pose frame;
       Twist unused;
       if (!resolveFrame(job.reference_frame, &frame, &unused)) continue;  // reference deleted
-      const Vec3 force = rotate(frame.orientation, job.force);
-      const Vec3 torque = rotate(frame.orientation, job.torque);
-      const Vec3 point = transformPoint(frame, job.point);
-      dBodyID body = job.model->links[job.link].body;
-      dBodyEnable(body);
-      dBodyAddForceAtPos(body, force.x, force.y, force.z, point.x, point.y, point.z);
-      dBodyAddTorque(body, torque.x, torque.y, torque.z);
+      job.model->engine_model->addBodyWrench(job.model->links[job.link].body,
+                                             rotate(frame.orientation, job.force),
+                                             transformPoint(frame, job.point),
+                                             rotate(frame.orientation, job.torque));
     }
   }
 
   void applyDamping() {
     for (const auto& model : models)
       for (const JointRecord& joint : model->joints)
-        if (joint.ode && joint.desc.damping != 0)
-          addJointEffort(joint, -joint.desc.damping * jointRate(joint));
+        if (joint.engine_joint >= 0 && joint.desc.damping != 0)
+          model->engine_model->addJointEffort(joint.engine_joint,
+                                              -joint.desc.damping * jointRate(*model, joint));
   }
 
   void saveStates() {
     saved_states.clear();
     for (const auto& model : models)
-      for (dBodyID body : model->bodies) {
-        BodyState s;
-        s.body = body;
-        std::copy_n(dBodyGetPosition(body), 3, s.position);
-        std::copy_n(dBodyGetQuaternion(body), 4, s.orientation);
-        std::copy_n(dBodyGetLinearVel(body), 3, s.linear);
-        std::copy_n(dBodyGetAngularVel(body), 3, s.angular);
-        saved_states.push_back(s);
+      for (size_t body = 0; body < model->bodies.size(); ++body) {
+        const int b = static_cast<int>(body);
+        saved_states.push_back({model->engine_model.get(), b, model->engine_model->bodyPose(b),
+                                model->engine_model->bodyTwist(b)});
       }
   }
 
-  // A non-finite state is unrecoverable for ODE, so the whole step is undone and the models that
-  // blew up are stopped; then every model's speed is capped (see kMaxLinearSpeed and
+  // A non-finite state is unrecoverable for an engine, so the whole step is undone and the models
+  // that blew up are stopped; then every model's speed is capped (see kMaxLinearSpeed and
   // maxAngularSpeed), scaling all its bodies alike so that its joints stay consistent.
   void guardStates() {
     std::vector<ModelRecord*> blown_up;
     for (const auto& model : models)
-      for (dBodyID body : model->bodies)
-        if (!isFiniteBody(body)) {
+      for (size_t body = 0; body < model->bodies.size(); ++body) {
+        const Pose pose = model->engine_model->bodyPose(static_cast<int>(body));
+        if (!isFinite(pose) || !isFinite(model->engine_model->bodyTwist(static_cast<int>(body)))) {
           blown_up.push_back(model.get());
           break;
         }
-    if (!blown_up.empty()) {
-      for (const BodyState& s : saved_states) {
-        dBodySetPosition(s.body, s.position[0], s.position[1], s.position[2]);
-        dBodySetQuaternion(s.body, s.orientation);
-        dBodySetLinearVel(s.body, s.linear[0], s.linear[1], s.linear[2]);
-        dBodySetAngularVel(s.body, s.angular[0], s.angular[1], s.angular[2]);
       }
+    if (!blown_up.empty()) {
+      for (const BodyState& s : saved_states) s.model->setBodyState(s.body, s.pose, s.twist);
       for (ModelRecord* model : blown_up) {
-        for (dBodyID body : model->bodies) {
-          dBodySetLinearVel(body, 0, 0, 0);
-          dBodySetAngularVel(body, 0, 0, 0);
+        for (size_t body = 0; body < model->bodies.size(); ++body) {
+          const int b = static_cast<int>(body);
+          model->engine_model->setBodyState(b, model->engine_model->bodyPose(b), Twist());
         }
         warn("model '" + model->name +
              "' reached a non-finite state: the step was undone and the model stopped");
@@ -798,19 +659,21 @@ struct World::Impl {
     }
     const double max_angular = maxAngularSpeed(params.step);
     for (const auto& model : models) {
+      EngineModel& engine_model = *model->engine_model;
+      const int body_count = static_cast<int>(model->bodies.size());
       double scale = 1;
-      for (dBodyID body : model->bodies) {
-        const double linear = norm(toVec3(dBodyGetLinearVel(body)));
-        const double angular = norm(toVec3(dBodyGetAngularVel(body)));
+      for (int body = 0; body < body_count; ++body) {
+        const Twist twist = engine_model.bodyTwist(body);
+        const double linear = norm(twist.linear);
+        const double angular = norm(twist.angular);
         if (linear > kMaxLinearSpeed) scale = std::min(scale, kMaxLinearSpeed / linear);
         if (angular > max_angular) scale = std::min(scale, max_angular / angular);
       }
       if (scale < 1) {
-        for (dBodyID body : model->bodies) {
-          const Vec3 v = scale * toVec3(dBodyGetLinearVel(body));
-          const Vec3 w = scale * toVec3(dBodyGetAngularVel(body));
-          dBodySetLinearVel(body, v.x, v.y, v.z);
-          dBodySetAngularVel(body, w.x, w.y, w.z);
+        for (int body = 0; body < body_count; ++body) {
+          const Twist twist = engine_model.bodyTwist(body);
+          engine_model.setBodyState(body, engine_model.bodyPose(body),
+                                    {scale * twist.linear, scale * twist.angular});
         }
         if (!model->velocity_capped)
           warn("model '" + model->name + "' exceeded " + formatNumber(kMaxLinearSpeed) +
@@ -833,18 +696,10 @@ struct World::Impl {
     applyJobs(time_ns);
     applyDamping();
     saveStates();
-    ode_messages = OdeMessages();
-    stepping_world_messages = &ode_messages;
-    dSpaceCollide(space, this, &nearCallback);
-    if (params.quick_step)
-      dWorldQuickStep(world, params.step);
-    else
-      dWorldStep(world, params.step);
-    stepping_world_messages = nullptr;
-    if (ode_messages.count > 0 && !ode_struggled)
-      warn("ODE: " + ode_messages.first);
-    ode_struggled = ode_messages.count > 0;
-    dJointGroupEmpty(contact_group);
+    std::string solver_message;
+    engine->step(params.step, &solver_message);
+    if (!solver_message.empty() && !engine_struggled) warn(solver_message);
+    engine_struggled = !solver_message.empty();
     guardStates();
     for (const auto& model : models) updateJointPositions(model.get());
     time_ns += step_ns;
@@ -876,13 +731,21 @@ struct World::Impl {
   }
 };
 
-World::World(const PhysicsParams& params) : impl_(new Impl(params)) {}
+std::vector<std::string> World::engineNames() {
+  std::vector<std::string> names;
+  for (const EngineEntry& entry : engineRegistry()) names.push_back(entry.name);
+  return names;
+}
+
+World::World(const std::string& engine, const PhysicsParams& params)
+    : impl_(new Impl(engine, params)) {}
 World::~World() = default;
 
 void World::step() { impl_->step(); }
 int64_t World::timeNs() const { return impl_->time_ns; }
 double World::time() const { return impl_->time_ns * 1e-9; }
 uint64_t World::stepCount() const { return impl_->steps; }
+const std::string& World::engineName() const { return impl_->engine_name; }
 const PhysicsParams& World::params() const { return impl_->params; }
 
 Status World::setParams(const PhysicsParams& params) {
@@ -916,11 +779,10 @@ Status World::spawn(const std::string& name, const std::string& xml, ModelFormat
   auto model = std::make_unique<ModelRecord>();
   model->name = name;
   model->is_static = desc.is_static;
-  std::vector<int> body_of_link;
-  std::vector<dMass> body_masses;
-  status = impl_->planModel(desc, model.get(), &body_of_link, &body_masses);
+  ModelSpec spec;
+  status = impl_->planModel(desc, model.get(), &spec);
   if (!status.ok) return Status::Error("SpawnModel: " + status.message);
-  impl_->createOdeObjects(model.get(), body_of_link, body_masses);
+  model->engine_model = impl_->engine->addModel(spec);
   model->spawn_pose = compose(frame, {pose.position, normalized(pose.orientation)});
   impl_->resetModel(model.get());
   impl_->models.push_back(std::move(model));
@@ -979,8 +841,8 @@ Status World::modelState(const std::string& name, const std::string& reference_f
   if (!impl_->resolveFrame(reference_frame, &frame, &frame_twist))
     return Status::Error("GetModelState: reference frame '" + reference_frame + "' not found");
   const LinkRecord& root = model->links[model->canonical];
-  *pose = linkWorldPose(root);
-  *twist = linkWorldTwist(root);
+  *pose = impl_->linkWorldPose(*model, root);
+  *twist = impl_->linkWorldTwist(*model, root);
   makeRelative(frame, frame_twist, pose, twist);
   return Status::Ok("GetModelState: got properties");
 }
@@ -998,17 +860,18 @@ Status World::setModelState(const std::string& name, const Pose& pose, const Twi
     return Status::Error("SetModelState: reference frame '" + reference_frame + "' not found");
   const Pose target = compose(frame, {pose.position, normalized(pose.orientation)});
   // The whole model moves rigidly with its root link.
-  const Pose motion = compose(target, inverse(linkWorldPose(model->links[model->canonical])));
+  const Pose motion =
+      compose(target, inverse(impl_->linkWorldPose(*model, model->links[model->canonical])));
   std::vector<Pose> root_poses = impl_->currentLinkPoses(*model);
   for (Pose& p : root_poses) p = compose(motion, p);
   impl_->placeModel(model, compose(motion, model->frame_pose), root_poses,
                     impl_->currentPositions(*model));
   const Vec3 linear = rotate(frame.orientation, twist.linear);
   const Vec3 angular = rotate(frame.orientation, twist.angular);
-  for (dBodyID body : model->bodies) {
-    const Vec3 v = linear + cross(angular, toVec3(dBodyGetPosition(body)) - target.position);
-    dBodySetLinearVel(body, v.x, v.y, v.z);
-    dBodySetAngularVel(body, angular.x, angular.y, angular.z);
+  for (size_t body = 0; body < model->bodies.size(); ++body) {
+    const Pose body_pose = model->engine_model->bodyPose(body);
+    const Vec3 v = linear + cross(angular, body_pose.position - target.position);
+    model->engine_model->setBodyState(body, body_pose, {v, angular});
   }
   return Status::Ok("SetModelState: set model state done");
 }
@@ -1063,8 +926,8 @@ Status World::linkState(const std::string& scoped_link, const std::string& refer
   Twist frame_twist;
   if (!impl_->resolveFrame(reference_frame, &frame, &frame_twist))
     return Status::Error("GetLinkState: reference frame '" + reference_frame + "' not found");
-  *pose = linkWorldPose(model->links[index]);
-  *twist = linkWorldTwist(model->links[index]);
+  *pose = impl_->linkWorldPose(*model, model->links[index]);
+  *twist = impl_->linkWorldTwist(*model, model->links[index]);
   makeRelative(frame, frame_twist, pose, twist);
   return Status::Ok("GetLinkState: got state");
 }
@@ -1076,7 +939,7 @@ Status World::setLinkState(const std::string& scoped_link, const Pose& pose, con
   if (!impl_->findLink(scoped_link, &model, &index))
     return Status::Error("SetLinkState: link not found");
   const LinkRecord& link = model->links[index];
-  if (!link.body)
+  if (link.body < 0)
     return Status::Error("SetLinkState: link '" + scoped_link +
                          "' is anchored to the world; move its model with set_model_state");
   if (!isFinite(pose) || !isFinite(twist.linear) || !isFinite(twist.angular) ||
@@ -1088,14 +951,12 @@ Status World::setLinkState(const std::string& scoped_link, const Pose& pose, con
     return Status::Error("SetLinkState: reference frame '" + reference_frame + "' not found");
   // As Gazebo: only this link's body moves; its joints pull it back in the next steps.
   const Pose target = compose(frame, {pose.position, normalized(pose.orientation)});
-  setBodyPose(link.body, compose(target, inverse(link.link_in_body)));
+  const Pose body_pose = compose(target, inverse(link.link_in_body));
   const Vec3 linear = rotate(frame.orientation, twist.linear);
   const Vec3 angular = rotate(frame.orientation, twist.angular);
-  const Vec3 v = linear + cross(angular, toVec3(dBodyGetPosition(link.body)) - target.position);
-  dBodySetLinearVel(link.body, v.x, v.y, v.z);
-  dBodySetAngularVel(link.body, angular.x, angular.y, angular.z);
-  dBodyEnable(link.body);
-  updateJointPositions(model);
+  const Vec3 v = linear + cross(angular, body_pose.position - target.position);
+  model->engine_model->setBodyState(link.body, body_pose, {v, angular});
+  impl_->updateJointPositions(model);
   return Status::Ok("SetLinkState: success");
 }
 
@@ -1119,7 +980,7 @@ Status World::jointInfo(const std::string& joint_name, JointInfo* out) const {
   info.has_damping = joint.desc.has_damping;
   info.damping = joint.desc.damping;
   info.position = joint.position;
-  info.rate = jointRate(joint);
+  info.rate = impl_->jointRate(*model, joint);
   *out = info;
   return Status::Ok("GetJointProperties: got properties");
 }
@@ -1131,14 +992,14 @@ Status World::applyJointEffort(const std::string& joint_name, double effort, int
   if (!impl_->findJoint(joint_name, &model, &index))
     return Status::Error("ApplyJointEffort: joint not found");
   const JointRecord& joint = model->joints[index];
-  if (!joint.ode)
+  if (joint.engine_joint < 0)
     return Status::Error("ApplyJointEffort: joint '" + joint_name + "' is fixed and takes no effort");
   if (!std::isfinite(effort)) return Status::Error("ApplyJointEffort: effort is not finite");
   int64_t start = 0, end = 0;
   std::string note;
   if (!impl_->jobWindow(start_ns, duration_ns, &start, &end, &note))
     return Status::Ok("ApplyJointEffort: effort set" + note);
-  const double safe = safeEffortBound(joint, impl_->params.step);
+  const double safe = impl_->safeEffortBound(*model, joint);
   if (std::abs(effort) > joint.desc.effort_limit) {
     effort = std::copysign(joint.desc.effort_limit, effort);
     note += "; clamped to the joint's effort limit " + formatNumber(joint.desc.effort_limit);
@@ -1170,8 +1031,8 @@ Status World::applyBodyWrench(const std::string& scoped_link, const std::string&
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
     return Status::Error("ApplyBodyWrench: body does not exist");
-  dBodyID body = model->links[index].body;
-  if (!body)
+  const int body = model->links[index].body;
+  if (body < 0)
     return Status::Error("ApplyBodyWrench: body '" + scoped_link + "' is anchored to the world");
   Pose frame;
   Twist unused;
@@ -1184,11 +1045,10 @@ Status World::applyBodyWrench(const std::string& scoped_link, const std::string&
   if (!impl_->jobWindow(start_ns, duration_ns, &start, &end, &note))
     return Status::Ok("ApplyBodyWrench: wrench set" + note);
   // The same safety bound as for joint efforts, on this body alone.
-  dMass mass;
-  dBodyGetMass(body, &mass);
+  const BodySpec& mass = model->bodies[body];
   const double step = impl_->params.step;
   const double max_force = mass.mass * kMaxLinearSpeed / (kStepsToSpeedCap * step);
-  const double max_torque = std::min({mass.I[0], mass.I[5], mass.I[10]}) * maxAngularSpeed(step) /
+  const double max_torque = std::min({mass.ixx, mass.iyy, mass.izz}) * maxAngularSpeed(step) /
                             (kStepsToSpeedCap * step);
   Vec3 f = force, t = torque;
   if (norm(f) > max_force) f = (max_force / norm(f)) * f;
@@ -1230,15 +1090,13 @@ std::vector<CollisionShape> World::collisionShapes() const {
   shapes.push_back(ground);
   for (const auto& model : impl_->models)
     for (const LinkRecord& link : model->links)
-      for (size_t c = 0; c < link.geoms.size(); ++c) {
+      for (const CollisionDescription& collision : link.desc.collisions) {
         CollisionShape shape;
         shape.model = model->name;
         shape.link = link.desc.name;
-        shape.shape = link.desc.collisions[c].shape;
-        shape.size = link.desc.collisions[c].size;
-        dQuaternion q;
-        dGeomGetQuaternion(link.geoms[c], q);
-        shape.pose = {toVec3(dGeomGetPosition(link.geoms[c])), toQuat(q)};
+        shape.shape = collision.shape;
+        shape.size = collision.size;
+        shape.pose = compose(impl_->linkWorldPose(*model, link), collision.pose);
         shapes.push_back(shape);
       }
   return shapes;

@@ -1,5 +1,7 @@
-// Acceptance tests of the physics core, against closed-form physics. Each drives a World step by
-// step; the figures they print (period, energy drift, penetration) are quoted in the README.
+// The contract of the physics core, against closed-form physics: every test runs once per engine
+// of the registry (World::engineNames()), so each rule is asserted once for all engines. Each
+// drives a World step by step; the figures they print (period, energy drift, penetration) are
+// quoted in the README.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -113,8 +115,18 @@ void spawnLiftedRobot(World* world) {
   ASSERT_TRUE(world->spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, at(0, 0, 0.5)).ok);
 }
 
-TEST(TutorialRobot, SpawnsLikeTheTutorialSays) {
-  World world;
+// One fixture per suite, each instantiated for every engine (see the end of the file).
+class BodyWrench : public ::testing::TestWithParam<std::string> {};
+class Contacts : public ::testing::TestWithParam<std::string> {};
+class Errors : public ::testing::TestWithParam<std::string> {};
+class Joints : public ::testing::TestWithParam<std::string> {};
+class Models : public ::testing::TestWithParam<std::string> {};
+class Robustness : public ::testing::TestWithParam<std::string> {};
+class State : public ::testing::TestWithParam<std::string> {};
+class TutorialRobot : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(TutorialRobot, SpawnsLikeTheTutorialSays) {
+  World world(GetParam());
   const Status status =
       world.spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, Pose());
   ASSERT_TRUE(status.ok) << status.message;
@@ -135,8 +147,8 @@ TEST(TutorialRobot, SpawnsLikeTheTutorialSays) {
 }
 
 // 1. Small swing about the lowest point: T = 2 pi sqrt(I / (m g d)).
-TEST(TutorialRobot, SmallSwingHasTheCompoundPendulumPeriod) {
-  World world;
+TEST_P(TutorialRobot, SmallSwingHasTheCompoundPendulumPeriod) {
+  World world(GetParam());
   spawnLiftedRobot(&world);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI - 0.01}).ok);
   std::vector<double> upward_crossings;  // times where q - pi goes from < 0 to >= 0
@@ -157,8 +169,8 @@ TEST(TutorialRobot, SmallSwingHasTheCompoundPendulumPeriod) {
 }
 
 // 2. Undamped large swing: energy (above the lowest COM height) stays within 1 %.
-TEST(TutorialRobot, UndampedSwingKeepsItsEnergy) {
-  World world;
+TEST_P(TutorialRobot, UndampedSwingKeepsItsEnergy) {
+  World world(GetParam());
   spawnLiftedRobot(&world);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok);
   // COM height above its lowest point is d (1 + cos q).
@@ -179,11 +191,11 @@ TEST(TutorialRobot, UndampedSwingKeepsItsEnergy) {
 
 // 3. Sign convention (axis +y): q > 0 tilts link2 toward +x, gravity's torque about +y is
 // +m g d sin q, so the effort that holds it at q is -m g d sin q.
-TEST(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
+TEST_P(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
   const double hold = 2.0;
   const double effort = -kMass * kG * kArm * std::sin(hold);
   for (double sign : {1.0, -1.0}) {
-    World world;
+    World world(GetParam());
     spawnLiftedRobot(&world);
     ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {hold}).ok);
     Pose pose;
@@ -203,7 +215,7 @@ TEST(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
     }
   }
   // And without effort, gravity makes q grow at q = 2 (toward the bottom at pi).
-  World world;
+  World world(GetParam());
   spawnLiftedRobot(&world);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {hold}).ok);
   world.step();
@@ -214,8 +226,8 @@ TEST(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
 // 4. A free prismatic joint along z under gravity: q = -g t^2 / 2. ODE integrates semi-implicitly
 // (v first, then x with the new v), so after n steps q = -g dt^2 n (n + 1) / 2 exactly, which is
 // the closed form minus g t dt / 2.
-TEST(Joints, PrismaticFallsFreely) {
-  World world;
+TEST_P(Joints, PrismaticFallsFreely) {
+  World world(GetParam());
   const std::string urdf =
       "<robot name=\"lift\"><link name=\"world\"/><joint name=\"slide\" type=\"prismatic\">"
       "<parent link=\"world\"/><child link=\"carriage\"/><axis xyz=\"0 0 1\"/>"
@@ -236,8 +248,8 @@ TEST(Joints, PrismaticFallsFreely) {
 }
 
 // 5. link2 falls from 0.3 toward +q and is stopped by the upper limit 0.5.
-TEST(Joints, RevoluteLimitStopsTheJoint) {
-  World world;
+TEST_P(Joints, RevoluteLimitStopsTheJoint) {
+  World world(GetParam());
   ASSERT_TRUE(world.spawn("robot", limitedTutorialUrdf(-0.5, 0.5), ModelFormat::Urdf, Pose()).ok);
   ASSERT_TRUE(world.setModelConfiguration("robot", {"joint1"}, {0.3}).ok);
   double highest = 0;
@@ -252,8 +264,8 @@ TEST(Joints, RevoluteLimitStopsTheJoint) {
   EXPECT_NEAR(jointRate(world, "joint1"), 0, 0.01);
 }
 
-TEST(Joints, ContinuousJointIsNotWrapped) {
-  World world(withoutGravity());
+TEST_P(Joints, ContinuousJointIsNotWrapped) {
+  World world(GetParam(), withoutGravity());
   ASSERT_TRUE(world.spawn("rotor", rotorUrdf(0.5), ModelFormat::Urdf, Pose()).ok);
   ASSERT_TRUE(world.applyJointEffort("spin", 1.0, 0, -1).ok);
   double previous = 0;
@@ -270,8 +282,8 @@ TEST(Joints, ContinuousJointIsNotWrapped) {
   EXPECT_NEAR(jointPosition(world, "spin"), 7.0, 1e-5);
 }
 
-TEST(Joints, ViscousDampingSlowsTheJoint) {
-  World world(withoutGravity());
+TEST_P(Joints, ViscousDampingSlowsTheJoint) {
+  World world(GetParam(), withoutGravity());
   std::string urdf = rotorUrdf(0.5);
   urdf.replace(urdf.find("</joint>"), 8, "<dynamics damping=\"0.5\"/></joint>");
   ASSERT_TRUE(world.spawn("rotor", urdf, ModelFormat::Urdf, Pose()).ok);
@@ -286,8 +298,8 @@ TEST(Joints, ViscousDampingSlowsTheJoint) {
 }
 
 // 6.
-TEST(Contacts, FallingBoxRestsOnTheGround) {
-  World world;
+TEST_P(Contacts, FallingBoxRestsOnTheGround) {
+  World world(GetParam());
   const double side = 0.2;
   ASSERT_TRUE(world.spawn("box", boxUrdf(side), ModelFormat::Urdf, at(0, 0, 0.5)).ok);
   steps(&world, 2000);
@@ -304,7 +316,7 @@ TEST(Contacts, FallingBoxRestsOnTheGround) {
 
 // 7. Effort jobs, on a rotor of inertia 0.5 without gravity: its speed after the steps a job
 // covered is effort * steps * dt / I.
-class EffortJobs : public ::testing::Test {
+class EffortJobs : public ::testing::TestWithParam<std::string> {
  protected:
   static constexpr double kInertia = 0.5;
   void SetUp() override {
@@ -313,17 +325,17 @@ class EffortJobs : public ::testing::Test {
   double speedAfter(double effort, int covered_steps) const {
     return effort * covered_steps * kStep / kInertia;
   }
-  World world{withoutGravity()};
+  World world{GetParam(), withoutGravity()};
 };
 
-TEST_F(EffortJobs, TenMillisecondJobActsOnExactlyTenSteps) {
+TEST_P(EffortJobs, TenMillisecondJobActsOnExactlyTenSteps) {
   const Status status = world.applyJointEffort("spin", 1.0, 0, 10 * kMs);
   EXPECT_EQ(status.message, "ApplyJointEffort: effort set");
   steps(&world, 30);
   EXPECT_NEAR(jointRate(world, "spin"), speedAfter(1.0, 10), 1e-12);
 }
 
-TEST_F(EffortJobs, BackToBackJobsGiveAConstantEffort) {
+TEST_P(EffortJobs, BackToBackJobsGiveAConstantEffort) {
   for (int job = 0; job < 5; ++job)
     ASSERT_TRUE(world.applyJointEffort("spin", 1.0, job * 10 * kMs, 10 * kMs).ok);
   for (int n = 1; n <= 60; ++n) {
@@ -332,7 +344,7 @@ TEST_F(EffortJobs, BackToBackJobsGiveAConstantEffort) {
   }
 }
 
-TEST_F(EffortJobs, StartInThePastMeansNowAndFutureStartsWait) {
+TEST_P(EffortJobs, StartInThePastMeansNowAndFutureStartsWait) {
   steps(&world, 5);
   ASSERT_TRUE(world.applyJointEffort("spin", 1.0, 0, 10 * kMs).ok);  // covers steps 5..14
   ASSERT_TRUE(world.applyJointEffort("spin", 1.0, 20 * kMs, 3 * kMs).ok);  // steps 20..22
@@ -342,7 +354,7 @@ TEST_F(EffortJobs, StartInThePastMeansNowAndFutureStartsWait) {
   EXPECT_NEAR(jointRate(world, "spin"), speedAfter(1.0, 13), 1e-12);
 }
 
-TEST_F(EffortJobs, ForeverUntilCleared) {
+TEST_P(EffortJobs, ForeverUntilCleared) {
   ASSERT_TRUE(world.applyJointEffort("spin", 1.0, 0, -1).ok);
   steps(&world, 30);
   world.clearJointForces("spin");
@@ -350,14 +362,14 @@ TEST_F(EffortJobs, ForeverUntilCleared) {
   EXPECT_NEAR(jointRate(world, "spin"), speedAfter(1.0, 30), 1e-12);
 }
 
-TEST_F(EffortJobs, JobsOnOneJointSum) {
+TEST_P(EffortJobs, JobsOnOneJointSum) {
   ASSERT_TRUE(world.applyJointEffort("spin", 0.5, 0, 10 * kMs).ok);
   ASSERT_TRUE(world.applyJointEffort("spin", 1.0, 0, 10 * kMs).ok);
   steps(&world, 20);
   EXPECT_NEAR(jointRate(world, "spin"), speedAfter(1.5, 10), 1e-12);
 }
 
-TEST_F(EffortJobs, ZeroDurationAppliesNothing) {
+TEST_P(EffortJobs, ZeroDurationAppliesNothing) {
   const Status status = world.applyJointEffort("spin", 1.0, 0, 0);
   EXPECT_TRUE(status.ok);
   EXPECT_NE(status.message.find("nothing was applied"), std::string::npos) << status.message;
@@ -365,7 +377,7 @@ TEST_F(EffortJobs, ZeroDurationAppliesNothing) {
   EXPECT_EQ(jointRate(world, "spin"), 0.0);
 }
 
-TEST_F(EffortJobs, DurationShorterThanTheStepActsForExactlyOneStep) {
+TEST_P(EffortJobs, DurationShorterThanTheStepActsForExactlyOneStep) {
   steps(&world, 3);
   const Status status = world.applyJointEffort("spin", 1.0, world.timeNs() + kMs / 2, kMs / 3);
   EXPECT_TRUE(status.ok);
@@ -374,7 +386,7 @@ TEST_F(EffortJobs, DurationShorterThanTheStepActsForExactlyOneStep) {
   EXPECT_NEAR(jointRate(world, "spin"), speedAfter(1.0, 1), 1e-12);
 }
 
-TEST_F(EffortJobs, EffortIsClampedToTheLimit) {
+TEST_P(EffortJobs, EffortIsClampedToTheLimit) {
   const Status status = world.applyJointEffort("spin", -5.0, 0, 10 * kMs);
   EXPECT_TRUE(status.ok);
   EXPECT_NE(status.message.find("clamped to the joint's effort limit 2"), std::string::npos)
@@ -383,7 +395,7 @@ TEST_F(EffortJobs, EffortIsClampedToTheLimit) {
   EXPECT_NEAR(jointRate(world, "spin"), speedAfter(-2.0, 10), 1e-12);
 }
 
-TEST_F(EffortJobs, NonFiniteEffortIsRefused) {
+TEST_P(EffortJobs, NonFiniteEffortIsRefused) {
   for (double effort : {kNaN, std::numeric_limits<double>::infinity()}) {
     const Status status = world.applyJointEffort("spin", effort, 0, -1);
     EXPECT_FALSE(status.ok);
@@ -393,8 +405,8 @@ TEST_F(EffortJobs, NonFiniteEffortIsRefused) {
   EXPECT_EQ(world.applyJointEffort("nope", 1, 0, -1).message, "ApplyJointEffort: joint not found");
 }
 
-TEST(BodyWrench, ForceAtTheCentreForTenMilliseconds) {
-  World world(withoutGravity());
+TEST_P(BodyWrench, ForceAtTheCentreForTenMilliseconds) {
+  World world(GetParam(), withoutGravity());
   ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(0, 0, 1)).ok);
   ASSERT_TRUE(world.applyBodyWrench("box::box", "", {0, 0, 1}, {2, 0, 0}, {0, 0, 0}, 0, 10 * kMs).ok);
   steps(&world, 20);
@@ -434,8 +446,8 @@ std::string snapshot(const World& world) {
   return s.str();
 }
 
-TEST(Errors, RefusedCallsLeaveTheWorldUnchanged) {
-  World world;
+TEST_P(Errors, RefusedCallsLeaveTheWorldUnchanged) {
+  World world(GetParam());
   ASSERT_TRUE(world.spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, Pose()).ok);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {0.4}).ok);
   const std::string before = snapshot(world);
@@ -481,8 +493,8 @@ TEST(Errors, RefusedCallsLeaveTheWorldUnchanged) {
   EXPECT_EQ(world.params().step, 0.001);
 }
 
-TEST(Errors, UnsupportedContentIsRefused) {
-  World world;
+TEST_P(Errors, UnsupportedContentIsRefused) {
+  World world(GetParam());
   const std::string massless =
       "<robot name=\"r\"><link name=\"a\"/><link name=\"b\"/><joint name=\"j\" type=\"continuous\">"
       "<parent link=\"a\"/><child link=\"b\"/></joint></robot>";
@@ -523,8 +535,8 @@ std::string sevenJointArmUrdf() {
   return s.str();
 }
 
-TEST(Models, SevenJointArmLoadsAndMoves) {
-  World world;
+TEST_P(Models, SevenJointArmLoadsAndMoves) {
+  World world(GetParam());
   ASSERT_TRUE(world.spawn("arm", sevenJointArmUrdf(), ModelFormat::Urdf, at(0, 0, 0.5)).ok);
   std::vector<std::string> joints;
   std::vector<double> start;
@@ -546,8 +558,8 @@ TEST(Models, SevenJointArmLoadsAndMoves) {
   EXPECT_TRUE(warnings.empty()) << warnings.front();
 }
 
-TEST(Models, CafeTableIsStaticAndHoldsABox) {
-  World world;
+TEST_P(Models, CafeTableIsStaticAndHoldsABox) {
+  World world(GetParam());
   const Status table = world.spawn("cafe_table", cafeTableSdf(), ModelFormat::Sdf, at(1, 0, 0));
   ASSERT_TRUE(table.ok) << table.message;
   ModelInfo info;
@@ -592,8 +604,8 @@ std::string sdfPendulum() {
          "</model></sdf>";
 }
 
-TEST(Models, SdfJointsLinkPosesAndLimits) {
-  World world;
+TEST_P(Models, SdfJointsLinkPosesAndLimits) {
+  World world(GetParam());
   const Status status = world.spawn("pendulum", sdfPendulum(), ModelFormat::Sdf, at(0, 0, 0.6));
   ASSERT_TRUE(status.ok) << status.message;
   JointInfo info;
@@ -619,8 +631,8 @@ TEST(Models, SdfJointsLinkPosesAndLimits) {
 }
 
 // Two boxes welded by a fixed joint, with a massless tool frame on the second, fall as one body.
-TEST(Models, FixedJointWeldsMovingLinks) {
-  World world;
+TEST_P(Models, FixedJointWeldsMovingLinks) {
+  World world(GetParam());
   const std::string box =
       "<collision><geometry><box size=\"0.2 0.2 0.2\"/></geometry></collision>";
   const std::string urdf =
@@ -647,8 +659,8 @@ TEST(Models, FixedJointWeldsMovingLinks) {
 }
 
 // 10.
-TEST(State, ResetPutsModelsBackAndDropsJobs) {
-  World world;
+TEST_P(State, ResetPutsModelsBackAndDropsJobs) {
+  World world(GetParam());
   spawnLiftedRobot(&world);
   ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok);
@@ -671,8 +683,8 @@ TEST(State, ResetPutsModelsBackAndDropsJobs) {
   EXPECT_EQ(world.stepCount(), 0u);
 }
 
-TEST(State, ModelAndLinkStateRoundTrip) {
-  World world(withoutGravity());
+TEST_P(State, ModelAndLinkStateRoundTrip) {
+  World world(GetParam(), withoutGravity());
   ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(0, 0, 1)).ok);
   Pose target = at(1, 2, 3);
   target.orientation = {std::cos(0.3), 0, 0, std::sin(0.3)};  // 0.6 rad about z
@@ -699,8 +711,8 @@ TEST(State, ModelAndLinkStateRoundTrip) {
   EXPECT_NEAR(pose.position.y, 2 + std::sin(0.6), 1e-12);
 }
 
-TEST(State, SetModelStateMovesTheWholeModel) {
-  World world;
+TEST_P(State, SetModelStateMovesTheWholeModel) {
+  World world(GetParam());
   ASSERT_TRUE(world.spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, Pose()).ok);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI}).ok);
   ASSERT_TRUE(world.setModelState("one_DOF_robot", at(1, 0, 0.5), Twist(), "").ok);
@@ -714,8 +726,8 @@ TEST(State, SetModelStateMovesTheWholeModel) {
   EXPECT_NEAR(jointPosition(world, "joint1"), M_PI, 1e-6);
 }
 
-TEST(State, SetModelConfigurationPutsTheJointAtTheAngle) {
-  World world;
+TEST_P(State, SetModelConfigurationPutsTheJointAtTheAngle) {
+  World world(GetParam());
   ASSERT_TRUE(world.spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, Pose()).ok);
   const Status status = world.setModelConfiguration("one_DOF_robot", {"joint1"}, {2.5});
   EXPECT_EQ(status.message, "SetModelConfiguration: success");
@@ -731,8 +743,8 @@ TEST(State, SetModelConfigurationPutsTheJointAtTheAngle) {
 
 // A link whose COM is off its origin and whose inertial frame is turned by 90 degrees about z:
 // its principal moments (1, 2, 3) become (2, 1, 3) about the link axes.
-TEST(State, InertialOffsetAndRotationAreExact) {
-  World world(withoutGravity());
+TEST_P(State, InertialOffsetAndRotationAreExact) {
+  World world(GetParam(), withoutGravity());
   const std::string urdf = "<robot name=\"odd\"><link name=\"odd\">" +
                            inertial(2, 1, 2, 3, "0.1 0.2 0.3", "0 0 1.5707963267948966") +
                            "</link></robot>";
@@ -764,8 +776,8 @@ TEST(State, InertialOffsetAndRotationAreExact) {
 }
 
 // 11. The simulator survives what it is asked to do.
-TEST(Robustness, HugeEffortNeverProducesNaN) {
-  World world;
+TEST_P(Robustness, HugeEffortNeverProducesNaN) {
+  World world(GetParam());
   spawnLiftedRobot(&world);
   const Status status = world.applyJointEffort("joint1", 1e12, 0, -1);
   EXPECT_TRUE(status.ok);
@@ -786,8 +798,8 @@ TEST(Robustness, HugeEffortNeverProducesNaN) {
   EXPECT_FALSE(world.takeWarnings().empty());
 }
 
-TEST(Robustness, TableSpawnedThroughTheArmSeparatesWithoutBlowingUp) {
-  World world;
+TEST_P(Robustness, TableSpawnedThroughTheArmSeparatesWithoutBlowingUp) {
+  World world(GetParam());
   ASSERT_TRUE(world.spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, Pose()).ok);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {2.0}).ok);
   ASSERT_TRUE(world.spawn("cafe_table", cafeTableSdf(), ModelFormat::Sdf, at(0.85, 0, 0)).ok);
@@ -799,6 +811,25 @@ TEST(Robustness, TableSpawnedThroughTheArmSeparatesWithoutBlowingUp) {
               jointPosition(world, "joint1"));
   EXPECT_LT(std::abs(jointRate(world, "joint1")), 20);
 }
+
+INSTANTIATE_TEST_SUITE_P(Engines, BodyWrench, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, Contacts, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, Errors, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, Joints, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, Models, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, Robustness, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, State, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, TutorialRobot, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, EffortJobs, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
 
 }  // namespace
 }  // namespace onedof_sim

@@ -1,0 +1,111 @@
+// The engine seam: what World asks of a physics engine. Private to the core.
+//
+// World does everything that does not depend on the engine: parsing, the model registry and
+// scoped names, reference frames, welding links joined by fixed joints into one rigid body and
+// lumping their masses, forward kinematics, effort and wrench jobs, the speed caps and the
+// non-finite rollback. An engine only ever sees rigid bodies (frame at the centre of mass, full
+// inertia tensor about it), collision shapes on them or anchored to the environment, and 1-DOF
+// joints between two bodies or a body and the environment.
+//
+// Adding an engine: one adapter file in engines/ implementing Engine and EngineModel, and one
+// entry in engines/registry.cpp.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "onedof_sim/world.h"
+
+namespace onedof_sim {
+namespace core {
+
+struct ShapeSpec {
+  GeometryShape shape = GeometryShape::Box;  // Box, Cylinder (along z) or Sphere
+  Vec3 size;   // as CollisionShape::size
+  Pose pose;   // in the body frame; for an anchored shape, set by setAnchoredShapePose
+  double mu = 1, mu2 = 1;  // a contact uses the smaller value of its two shapes
+};
+
+struct BodySpec {
+  double mass = 0;  // > 0
+  // Inertia about the centre of mass in the body's axes (the body frame's origin is the COM).
+  double ixx = 0, iyy = 0, izz = 0, ixy = 0, ixz = 0, iyz = 0;
+  bool gravity = true;
+  std::vector<ShapeSpec> shapes;
+};
+
+struct JointSpec {
+  bool prismatic = false;  // else a hinge
+  int parent = -1;         // body index; -1: the static environment
+  int child = 0;           // body index
+  bool has_limits = false;
+  double lower = 0, upper = 0;  // rad or m, from the zero configuration
+  double friction = 0;          // Coulomb friction, N m or N
+};
+
+struct ModelSpec {
+  std::vector<BodySpec> bodies;
+  std::vector<ShapeSpec> anchored_shapes;  // on the static environment, placed by the world
+  std::vector<JointSpec> joints;
+};
+
+// A joint's line in world coordinates.
+struct JointFrame {
+  Vec3 anchor;
+  Vec3 axis;  // unit; positive motion moves the child along / about it
+};
+
+// One model inside an engine; destroying it removes it from the engine.
+class EngineModel {
+ public:
+  virtual ~EngineModel() = default;
+
+  // Puts every body at zero_poses (the zero configuration) and attaches each joint along its
+  // frame, so that the joint reads 0 there. World then moves the bodies with setBodyState.
+  virtual void attachJoints(const std::vector<Pose>& zero_poses,
+                            const std::vector<JointFrame>& frames) = 0;
+
+  virtual Pose bodyPose(int body) const = 0;    // the COM frame in the world
+  virtual Twist bodyTwist(int body) const = 0;  // linear velocity of the COM, angular, world axes
+  virtual void setBodyState(int body, const Pose& pose, const Twist& twist) = 0;
+  virtual void setAnchoredShapePose(int shape, const Pose& world_pose) = 0;
+
+  // Hinges: the child's angle about the axis relative to the parent, wrapped to (-pi, pi];
+  // sliders: the child's displacement along the axis. World unwraps hinges.
+  virtual double jointPosition(int joint) const = 0;
+  virtual double jointRate(int joint) const = 0;
+
+  // Forces for the coming step only: the engine clears them when it has stepped.
+  virtual void addJointEffort(int joint, double effort) = 0;  // + on the child, - on the parent
+  virtual void addBodyWrench(int body, const Vec3& force, const Vec3& world_point,
+                             const Vec3& torque) = 0;
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  // Only valid parameters arrive here (World validates). Parameters an engine has no counterpart
+  // for are kept by World for get_physics_properties and ignored here.
+  virtual void setParams(const PhysicsParams& params) = 0;
+  // The ground plane z = 0 with Gazebo's surface; called once, before any model.
+  virtual void addGroundPlane(double mu, double mu2) = 0;
+  // Bodies of one model never collide with each other.
+  virtual std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) = 0;
+  // One step of dt seconds with the forces added since the last one. Solver trouble the engine
+  // reports during the step (ODE's "LCP internal error") goes to *solver_message, first one only.
+  virtual void step(double dt, std::string* solver_message) = 0;
+};
+
+struct EngineEntry {
+  std::string name;  // as ~physics and physics:= take it
+  std::function<std::unique_ptr<Engine>()> make;
+};
+
+// The one list of engines (engines/registry.cpp).
+const std::vector<EngineEntry>& engineRegistry();
+
+}  // namespace core
+}  // namespace onedof_sim

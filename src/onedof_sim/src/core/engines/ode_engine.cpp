@@ -1,0 +1,312 @@
+// ODE 0.16 behind the engine seam.
+//
+// Each model gets its own collision space, and spaces are collided with each other but never
+// with themselves: that is what keeps a model from colliding with itself. ODE takes a hinge's or
+// slider's zero from the body poses at the moment its axis is set, which is why attachJoints
+// re-attaches every joint in the zero configuration.
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <deque>
+
+#include "engine.h"
+#include "pose_math.h"
+
+namespace onedof_sim {
+namespace core {
+namespace {
+
+// Several contact points constraining the same motion (a cylinder end on the ground gives four)
+// make dWorldStep's Dantzig LCP singular with Gazebo's CFM of 0: it fails a pivot ("LCP internal
+// error") in the tutorial's own scenes, the arm lying on the ground or pressing the table. ODE's
+// own double-precision default CFM, 1e-10 (a compliance of 0.1 nm per N), regularises that and
+// removed every such failure in those scenes; it is a floor for contacts only, so joints and the
+// reported cfm stay exact.
+constexpr double kMinContactCfm = 1e-10;
+
+Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
+void toOde(const Quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
+
+void setGeomPose(dGeomID geom, const Pose& pose, bool as_offset) {
+  dQuaternion q;
+  toOde(pose.orientation, q);
+  if (as_offset) {
+    dGeomSetOffsetPosition(geom, pose.position.x, pose.position.y, pose.position.z);
+    dGeomSetOffsetQuaternion(geom, q);
+  } else {
+    dGeomSetPosition(geom, pose.position.x, pose.position.y, pose.position.z);
+    dGeomSetQuaternion(geom, q);
+  }
+}
+
+// The friction of a geom, for the contact callback (dGeomSetData points here).
+struct Surface {
+  double mu = 1, mu2 = 1;
+};
+
+// ODE reports solver trouble through one process-wide message handler that prints to stderr,
+// once per step it happens: thousands of lines for one bad spawn. step() points this at the
+// stepping engine's message, so that the world can make it one warning per episode; outside a
+// step it still goes to stderr.
+thread_local std::string* stepping_message = nullptr;
+thread_local bool stepping_message_set = false;
+
+void collectOdeMessage(int, const char* format, va_list args) {
+  if (!stepping_message) {
+    std::vfprintf(stderr, format, args);
+    std::fputc('\n', stderr);
+    return;
+  }
+  if (!stepping_message_set) {
+    char text[256];
+    std::vsnprintf(text, sizeof text, format, args);
+    *stepping_message = std::string("ODE: ") + text;
+    stepping_message_set = true;
+  }
+}
+
+class OdeModel : public EngineModel {
+ public:
+  OdeModel(dWorldID world, dSpaceID parent_space, const ModelSpec& spec) {
+    space_ = dSimpleSpaceCreate(parent_space);
+    for (const BodySpec& spec_body : spec.bodies) {
+      dBodyID body = dBodyCreate(world);
+      dMass mass;
+      dMassSetParameters(&mass, spec_body.mass, 0, 0, 0, spec_body.ixx, spec_body.iyy,
+                         spec_body.izz, spec_body.ixy, spec_body.ixz, spec_body.iyz);
+      dBodySetMass(body, &mass);
+      dBodySetGravityMode(body, spec_body.gravity ? 1 : 0);
+      for (const ShapeSpec& shape : spec_body.shapes) {
+        dGeomID geom = createGeom(shape);
+        dGeomSetBody(geom, body);
+        setGeomPose(geom, shape.pose, true);
+      }
+      bodies_.push_back(body);
+    }
+    for (const ShapeSpec& shape : spec.anchored_shapes) anchored_.push_back(createGeom(shape));
+    for (const JointSpec& spec_joint : spec.joints) {
+      const bool hinge = !spec_joint.prismatic;
+      dJointID joint = hinge ? dJointCreateHinge(world, nullptr) : dJointCreateSlider(world, nullptr);
+      auto set = [&](int parameter, double value) {
+        hinge ? dJointSetHingeParam(joint, parameter, value)
+              : dJointSetSliderParam(joint, parameter, value);
+      };
+      if (spec_joint.has_limits && spec_joint.lower <= spec_joint.upper) {
+        // ODE ignores hinge stops outside [-pi, pi].
+        set(dParamLoStop, hinge ? std::max(spec_joint.lower, -M_PI) : spec_joint.lower);
+        set(dParamHiStop, hinge ? std::min(spec_joint.upper, M_PI) : spec_joint.upper);
+      }
+      if (spec_joint.friction > 0) {
+        // Coulomb friction: a motor that wants zero speed and can push at most `friction`.
+        set(dParamVel, 0);
+        set(dParamFMax, spec_joint.friction);
+      }
+      joints_.push_back({joint, spec_joint.parent, spec_joint.child, hinge});
+    }
+  }
+
+  ~OdeModel() override {
+    for (const Joint& joint : joints_) dJointDestroy(joint.id);
+    dSpaceSetCleanup(space_, 1);  // destroys its geoms
+    dSpaceDestroy(space_);
+    for (dBodyID body : bodies_) dBodyDestroy(body);
+  }
+
+  void attachJoints(const std::vector<Pose>& zero_poses,
+                    const std::vector<JointFrame>& frames) override {
+    for (size_t b = 0; b < bodies_.size(); ++b) setPose(bodies_[b], zero_poses[b]);
+    for (size_t j = 0; j < joints_.size(); ++j) {
+      const Joint& joint = joints_[j];
+      dBodyID parent = joint.parent < 0 ? nullptr : bodies_[joint.parent];
+      dJointAttach(joint.id, bodies_[joint.child], parent);  // child first: positive moves it
+      const Vec3& anchor = frames[j].anchor;
+      const Vec3& axis = frames[j].axis;
+      if (joint.hinge) {
+        dJointSetHingeAnchor(joint.id, anchor.x, anchor.y, anchor.z);
+        dJointSetHingeAxis(joint.id, axis.x, axis.y, axis.z);
+      } else {
+        dJointSetSliderAxis(joint.id, axis.x, axis.y, axis.z);
+      }
+    }
+  }
+
+  Pose bodyPose(int body) const override {
+    const dReal* q = dBodyGetQuaternion(bodies_[body]);
+    return {toVec3(dBodyGetPosition(bodies_[body])), {q[0], q[1], q[2], q[3]}};
+  }
+
+  Twist bodyTwist(int body) const override {
+    return {toVec3(dBodyGetLinearVel(bodies_[body])), toVec3(dBodyGetAngularVel(bodies_[body]))};
+  }
+
+  void setBodyState(int body, const Pose& pose, const Twist& twist) override {
+    dBodyID id = bodies_[body];
+    setPose(id, pose);
+    dBodySetLinearVel(id, twist.linear.x, twist.linear.y, twist.linear.z);
+    dBodySetAngularVel(id, twist.angular.x, twist.angular.y, twist.angular.z);
+    dBodyEnable(id);
+  }
+
+  void setAnchoredShapePose(int shape, const Pose& world_pose) override {
+    setGeomPose(anchored_[shape], world_pose, false);
+  }
+
+  double jointPosition(int joint) const override {
+    const Joint& j = joints_[joint];
+    return j.hinge ? dJointGetHingeAngle(j.id) : dJointGetSliderPosition(j.id);
+  }
+
+  double jointRate(int joint) const override {
+    const Joint& j = joints_[joint];
+    return j.hinge ? dJointGetHingeAngleRate(j.id) : dJointGetSliderPositionRate(j.id);
+  }
+
+  void addJointEffort(int joint, double effort) override {
+    const Joint& j = joints_[joint];
+    dBodyEnable(bodies_[j.child]);
+    if (j.parent >= 0) dBodyEnable(bodies_[j.parent]);
+    if (j.hinge)
+      dJointAddHingeTorque(j.id, effort);
+    else
+      dJointAddSliderForce(j.id, effort);
+  }
+
+  void addBodyWrench(int body, const Vec3& force, const Vec3& point, const Vec3& torque) override {
+    dBodyID id = bodies_[body];
+    dBodyEnable(id);
+    dBodyAddForceAtPos(id, force.x, force.y, force.z, point.x, point.y, point.z);
+    dBodyAddTorque(id, torque.x, torque.y, torque.z);
+  }
+
+ private:
+  struct Joint {
+    dJointID id;
+    int parent, child;
+    bool hinge;
+  };
+
+  dGeomID createGeom(const ShapeSpec& shape) {
+    const Vec3& s = shape.size;
+    dGeomID geom = shape.shape == GeometryShape::Box        ? dCreateBox(space_, s.x, s.y, s.z)
+                   : shape.shape == GeometryShape::Cylinder ? dCreateCylinder(space_, s.x, s.z)
+                                                            : dCreateSphere(space_, s.x);
+    surfaces_.push_back({shape.mu, shape.mu2});
+    dGeomSetData(geom, &surfaces_.back());  // a deque: never moves
+    return geom;
+  }
+
+  static void setPose(dBodyID body, const Pose& pose) {
+    dBodySetPosition(body, pose.position.x, pose.position.y, pose.position.z);
+    dQuaternion q;
+    toOde(pose.orientation, q);
+    dBodySetQuaternion(body, q);
+  }
+
+  dSpaceID space_ = nullptr;
+  std::vector<dBodyID> bodies_;
+  std::vector<dGeomID> anchored_;
+  std::vector<Joint> joints_;
+  std::deque<Surface> surfaces_;
+};
+
+class OdeEngine : public Engine {
+ public:
+  OdeEngine() {
+    dInitODE2(0);
+    dSetMessageHandler(&collectOdeMessage);
+    world_ = dWorldCreate();
+    space_ = dSimpleSpaceCreate(nullptr);
+    contact_group_ = dJointGroupCreate(0);
+  }
+
+  ~OdeEngine() override {
+    dJointGroupDestroy(contact_group_);
+    dSpaceDestroy(space_);  // destroys the ground plane with it
+    dWorldDestroy(world_);
+    dCloseODE();
+  }
+
+  void setParams(const PhysicsParams& p) override {
+    params_ = p;
+    dWorldSetGravity(world_, p.gravity.x, p.gravity.y, p.gravity.z);
+    dWorldSetERP(world_, p.erp);
+    dWorldSetCFM(world_, p.cfm);
+    dWorldSetContactSurfaceLayer(world_, p.contact_surface_layer);
+    dWorldSetContactMaxCorrectingVel(world_, p.contact_max_correcting_vel);
+    dWorldSetQuickStepNumIterations(world_, static_cast<int>(p.sor_pgs_iters));
+    dWorldSetQuickStepW(world_, p.sor_pgs_w);
+    dWorldSetAutoDisableFlag(world_, p.auto_disable_bodies ? 1 : 0);
+    // sor_pgs_precon_iters and sor_pgs_rms_error_tol have no ODE 0.16 counterpart.
+    contact_buffer_.resize(p.max_contacts);
+  }
+
+  void addGroundPlane(double mu, double mu2) override {
+    ground_surface_ = {mu, mu2};
+    dGeomID ground = dCreatePlane(space_, 0, 0, 1, 0);
+    dGeomSetData(ground, &ground_surface_);
+  }
+
+  std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
+    return std::make_unique<OdeModel>(world_, space_, spec);
+  }
+
+  void step(double dt, std::string* solver_message) override {
+    stepping_message = solver_message;
+    stepping_message_set = false;
+    dSpaceCollide(space_, this, &nearCallback);
+    if (params_.quick_step)
+      dWorldQuickStep(world_, dt);
+    else
+      dWorldStep(world_, dt);
+    stepping_message = nullptr;
+    dJointGroupEmpty(contact_group_);
+  }
+
+ private:
+  static void nearCallback(void* data, dGeomID a, dGeomID b) {
+    if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
+      // Two models, or a model and the ground: test their geoms against each other. A model's
+      // space is never collided with itself.
+      dSpaceCollide2(a, b, data, &nearCallback);
+      return;
+    }
+    static_cast<OdeEngine*>(data)->addContacts(a, b);
+  }
+
+  void addContacts(dGeomID a, dGeomID b) {
+    dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
+    // Anchored against anchored or against the ground.
+    if ((!body_a && !body_b) || contact_buffer_.empty()) return;
+    const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
+    const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
+    const int count = dCollide(a, b, static_cast<int>(contact_buffer_.size()),
+                               &contact_buffer_[0].geom, sizeof(dContact));
+    for (int i = 0; i < count; ++i) {
+      dContact& contact = contact_buffer_[i];
+      contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM;
+      contact.surface.mu = std::min(surface_a->mu, surface_b->mu);
+      contact.surface.mu2 = std::min(surface_a->mu2, surface_b->mu2);
+      contact.surface.soft_erp = params_.erp;
+      contact.surface.soft_cfm = std::max(params_.cfm, kMinContactCfm);
+      dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
+      dJointAttach(joint, body_a, body_b);
+    }
+  }
+
+  PhysicsParams params_;
+  dWorldID world_ = nullptr;
+  dSpaceID space_ = nullptr;
+  dJointGroupID contact_group_ = nullptr;
+  Surface ground_surface_;
+  std::vector<dContact> contact_buffer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> makeOdeEngine() { return std::make_unique<OdeEngine>(); }
+
+}  // namespace core
+}  // namespace onedof_sim
