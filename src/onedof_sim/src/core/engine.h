@@ -22,10 +22,13 @@ namespace onedof_sim {
 namespace core {
 
 struct ShapeSpec {
-  GeometryShape shape = GeometryShape::Box;  // Box, Cylinder (along z) or Sphere
+  // Box, Cylinder (along z) or Sphere; never Plane (the ground is addGroundPlane).
+  GeometryShape shape = GeometryShape::Box;
   Vec3 size;   // as CollisionShape::size
   Pose pose;   // in the body frame; for an anchored shape, set by setAnchoredShapePose
-  double mu = 1, mu2 = 1;  // a contact uses the smaller value of its two shapes
+  // A contact uses the smaller value of its two shapes; an engine with isotropic friction
+  // (Bullet) uses mu only.
+  double mu = 1, mu2 = 1;
 };
 
 struct BodySpec {

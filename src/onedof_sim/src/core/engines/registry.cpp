@@ -7,10 +7,12 @@ namespace onedof_sim {
 namespace core {
 
 std::unique_ptr<Engine> makeOdeEngine();
+std::unique_ptr<Engine> makeBulletEngine();
 
 const std::vector<EngineEntry>& engineRegistry() {
   static const std::vector<EngineEntry> entries{
       {"ode", makeOdeEngine},
+      {"bullet", makeBulletEngine},
   };
   return entries;
 }

@@ -1,0 +1,429 @@
+// Bullet 3 (double precision) behind the engine seam: maximal coordinates, that is rigid bodies
+// held together by btHingeConstraint and btSliderConstraint, stepped by the sequential-impulse
+// (PGS) solver.
+//
+// PhysicsParams: gravity, sor_pgs_iters (iterations), sor_pgs_w (SOR, Bullet applies it to
+// contacts only), erp (joints and contacts), cfm and contact_surface_layer (Bullet's linear
+// slop: the same allowed penetration) map onto the solver. Ignored: quick_step (Bullet has one
+// solver), auto_disable_bodies (bodies never sleep here, as in ODE's default), max_contacts
+// (Bullet keeps at most four points per pair of objects), sor_pgs_precon_iters,
+// sor_pgs_rms_error_tol, and contact_max_correcting_vel (btContactSolverInfo::m_maxErrorReduction
+// looks like it but the sequential-impulse solver never reads it).
+//
+// Bullet wants the inertia tensor diagonal, so each btRigidBody sits in its body's principal
+// axes and the adapter turns poses back into the BodySpec frame; twists and forces are in world
+// axes about the centre of mass and need no conversion.
+//
+// Friction is isotropic: a contact uses the smaller mu of its two shapes and mu2 is ignored.
+#include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <stdexcept>
+
+#include "engine.h"
+#include "pose_math.h"
+
+namespace onedof_sim {
+namespace core {
+namespace {
+
+// Bullet's default 4 cm margin rounds a box's edges and corners by as much; contact angles are
+// checked against the geometry within a few mrad. Boxes and cylinders keep their outer extents
+// whatever the margin (it is taken from the inside), and a sphere's margin is its radius.
+constexpr double kMargin = 0.0005;
+
+btVector3 toBt(const Vec3& v) { return {v.x, v.y, v.z}; }
+btQuaternion toBt(const Quat& q) { return {q.x, q.y, q.z, q.w}; }
+btTransform toBt(const Pose& p) { return btTransform(toBt(p.orientation), toBt(p.position)); }
+Vec3 fromBt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+Quat fromBt(const btQuaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
+Pose fromBt(const btTransform& t) { return {fromBt(t.getOrigin()), fromBt(t.getRotation())}; }
+
+// A frame at `origin` whose column `axis_column` (0 = x, 2 = z) is `axis`.
+btTransform jointFrame(const Vec3& origin, const Vec3& axis, int axis_column) {
+  const btVector3 n = toBt(axis);
+  btVector3 p, q;
+  btPlaneSpace1(n, p, q);  // q = n x p: (p, q, n) and (n, p, q) are right-handed
+  btMatrix3x3 basis;
+  if (axis_column == 2)
+    basis.setValue(p.x(), q.x(), n.x(), p.y(), q.y(), n.y(), p.z(), q.z(), n.z());
+  else
+    basis.setValue(n.x(), p.x(), q.x(), n.y(), p.y(), q.y(), n.z(), p.z(), q.z());
+  return btTransform(basis, toBt(origin));
+}
+
+std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec) {
+  const Vec3& s = spec.size;
+  std::unique_ptr<btCollisionShape> shape;
+  switch (spec.shape) {
+    case GeometryShape::Box:
+      shape = std::make_unique<btBoxShape>(btVector3(s.x / 2, s.y / 2, s.z / 2));
+      break;
+    case GeometryShape::Cylinder:
+      shape = std::make_unique<btCylinderShapeZ>(btVector3(s.x, s.x, s.z / 2));
+      break;
+    case GeometryShape::Sphere:
+      return std::make_unique<btSphereShape>(s.x);
+    default:
+      throw std::invalid_argument("Bullet engine: a model shape must be a box, cylinder or sphere");
+  }
+  shape->setMargin(kMargin);
+  return shape;
+}
+
+// A compound body's collision object points (user pointer) at the mu of each child shape; the
+// contact reports which child touched, so friction follows the shape as in Gazebo. Anything
+// else (the ground, anchored shapes) carries its mu as the object's friction.
+double shapeMu(const btCollisionObjectWrapper* wrapper, int child) {
+  const btCollisionObject* object = wrapper->getCollisionObject();
+  const auto* mu = static_cast<const std::vector<double>*>(object->getUserPointer());
+  if (mu && child >= 0 && child < static_cast<int>(mu->size())) return (*mu)[child];
+  return object->getFriction();
+}
+
+bool onContactAdded(btManifoldPoint& point, const btCollisionObjectWrapper* a, int, int child_a,
+                    const btCollisionObjectWrapper* b, int, int child_b) {
+  point.m_combinedFriction = std::min(shapeMu(a, child_a), shapeMu(b, child_b));
+  return true;
+}
+
+// Objects carry their model's id as user index (-1: the ground); one model never collides with
+// itself, whatever was added or removed before.
+struct ModelFilter : btOverlapFilterCallback {
+  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+    if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) ||
+        !(b->m_collisionFilterGroup & a->m_collisionFilterMask))
+      return false;
+    const int model_a = static_cast<const btCollisionObject*>(a->m_clientObject)->getUserIndex();
+    const int model_b = static_cast<const btCollisionObject*>(b->m_clientObject)->getUserIndex();
+    return model_a < 0 || model_a != model_b;
+  }
+};
+
+// Joint friction as a motor that wants zero speed and may push at most `friction`. The hinge
+// takes the motor bound as an impulse, so it is set from the step the solver is running.
+class FrictionHinge : public btHingeConstraint {
+ public:
+  FrictionHinge(btRigidBody& a, btRigidBody& b, const btTransform& frame_a,
+                const btTransform& frame_b, double friction)
+      : btHingeConstraint(a, b, frame_a, frame_b), friction_(friction) {
+    enableAngularMotor(true, 0, 0);
+  }
+  void getInfo2(btConstraintInfo2* info) override {
+    setMaxMotorImpulse(friction_ / info->fps);
+    btHingeConstraint::getInfo2(info);
+  }
+
+ private:
+  double friction_;
+};
+
+class BulletModel : public EngineModel {
+ public:
+  BulletModel(btDiscreteDynamicsWorld* world, int id, const ModelSpec& spec) : world_(world) {
+    for (const BodySpec& spec_body : spec.bodies) {
+      bodies_.emplace_back();
+      Body& body = bodies_.back();
+      btMatrix3x3 inertia(spec_body.ixx, spec_body.ixy, spec_body.ixz, spec_body.ixy,
+                          spec_body.iyy, spec_body.iyz, spec_body.ixz, spec_body.iyz,
+                          spec_body.izz);
+      btMatrix3x3 principal;  // columns: the principal axes in the BodySpec frame
+      inertia.diagonalize(principal, SIMD_EPSILON, 100);
+      principal.getRotation(body.principal);
+      const btTransform from_principal = btTransform(body.principal).inverse();
+      body.compound = std::make_unique<btCompoundShape>();
+      for (const ShapeSpec& shape : spec_body.shapes) {
+        body.shapes.push_back(makeShape(shape));
+        body.compound->addChildShape(from_principal * toBt(shape.pose), body.shapes.back().get());
+        body.mu.push_back(shape.mu);
+      }
+      const btVector3 diagonal(inertia[0][0], inertia[1][1], inertia[2][2]);
+      btRigidBody::btRigidBodyConstructionInfo info(spec_body.mass, nullptr, body.compound.get(),
+                                                    diagonal);
+      info.m_linearDamping = info.m_angularDamping = 0;
+      info.m_restitution = 0;
+      body.rigid = std::make_unique<btRigidBody>(info);
+      btRigidBody& rigid = *body.rigid;
+      rigid.setFlags(BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY |
+                     (spec_body.gravity ? 0 : BT_DISABLE_WORLD_GRAVITY));
+      rigid.setGravity(btVector3(0, 0, 0));  // addRigidBody sets the world's unless disabled
+      rigid.setActivationState(DISABLE_DEACTIVATION);
+      rigid.setCollisionFlags(rigid.getCollisionFlags() |
+                              btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
+      rigid.setUserIndex(id);
+      rigid.setUserPointer(&body.mu);
+      world_->addRigidBody(&rigid);
+    }
+    for (const ShapeSpec& shape : spec.anchored_shapes) {
+      anchored_.emplace_back();
+      Anchored& anchored = anchored_.back();
+      anchored.shape = makeShape(shape);
+      anchored.object = std::make_unique<btCollisionObject>();
+      anchored.object->setCollisionShape(anchored.shape.get());
+      anchored.object->setWorldTransform(toBt(shape.pose));
+      anchored.object->setFriction(shape.mu);
+      anchored.object->setRestitution(0);
+      anchored.object->setUserIndex(id);
+      world_->addCollisionObject(anchored.object.get(), btBroadphaseProxy::StaticFilter,
+                                 btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+    }
+    joints_.resize(spec.joints.size());
+    for (size_t j = 0; j < joints_.size(); ++j) joints_[j].spec = spec.joints[j];
+  }
+
+  ~BulletModel() override {
+    removeConstraints();
+    for (Body& body : bodies_) world_->removeRigidBody(body.rigid.get());
+    for (Anchored& anchored : anchored_) world_->removeCollisionObject(anchored.object.get());
+  }
+
+  void attachJoints(const std::vector<Pose>& zero_poses,
+                    const std::vector<JointFrame>& frames) override {
+    removeConstraints();
+    for (size_t b = 0; b < bodies_.size(); ++b) setPose(static_cast<int>(b), zero_poses[b]);
+    for (size_t j = 0; j < joints_.size(); ++j) {
+      Joint& joint = joints_[j];
+      const JointSpec& spec = joint.spec;
+      const Pose parent_pose = spec.parent < 0 ? Pose() : zero_poses[spec.parent];
+      const Pose& child_pose = zero_poses[spec.child];
+      const Pose parent_inverse = inverse(parent_pose);
+      joint.axis_in_parent = rotate(parent_inverse.orientation, frames[j].axis);
+      joint.anchor_in_parent = transformPoint(parent_inverse, frames[j].anchor);
+      joint.anchor_in_child = transformPoint(inverse(child_pose), frames[j].anchor);
+      joint.zero_relative = multiply(parent_inverse.orientation, child_pose.orientation);
+
+      // The static world is Bullet's fixed body, at the origin: the single-body constructors
+      // would do the same, except that btHingeConstraint's takes the world frame's axes as the
+      // body's (right only for an unrotated body).
+      btRigidBody& child = *bodies_[spec.child].rigid;
+      btRigidBody& parent =
+          spec.parent < 0 ? btTypedConstraint::getFixedBody() : *bodies_[spec.parent].rigid;
+      const btTransform world_frame =
+          jointFrame(frames[j].anchor, frames[j].axis, spec.prismatic ? 0 : 2);
+      const btTransform in_child = child.getCenterOfMassTransform().inverse() * world_frame;
+      const btTransform in_parent = parent.getCenterOfMassTransform().inverse() * world_frame;
+      const bool limited = spec.has_limits && spec.lower <= spec.upper;
+      if (spec.prismatic) {
+        // The slider moves frame B along frame A's x: child as B, so positive moves the child.
+        // Its rotation about the axis stays locked (angular limits 0, 0 by default).
+        auto slider = std::make_unique<btSliderConstraint>(parent, child, in_parent, in_child, true);
+        if (limited) {
+          slider->setLowerLinLimit(spec.lower);
+          slider->setUpperLinLimit(spec.upper);
+        }
+        if (spec.friction > 0) {
+          slider->setPoweredLinMotor(true);
+          slider->setTargetLinMotorVelocity(0);
+          slider->setMaxLinMotorForce(spec.friction);  // a force: Bullet divides by the rate
+        }
+        joint.constraint = std::move(slider);
+      } else {
+        // getHingeAngle is A's rotation relative to B about the axis: child as A.
+        std::unique_ptr<btHingeConstraint> hinge =
+            spec.friction > 0
+                ? std::make_unique<FrictionHinge>(child, parent, in_child, in_parent, spec.friction)
+                : std::make_unique<btHingeConstraint>(child, parent, in_child, in_parent);
+        if (limited) {
+          // As ODE, which ignores stops outside [-pi, pi]. Bias 1: the stop is corrected at the
+          // world's erp like every other constraint; relaxation 0: Bullet uses it as the
+          // stop's restitution, which ODE's default stops do not have.
+          hinge->setLimit(std::max(spec.lower, -M_PI), std::min(spec.upper, M_PI), 0.9, 1.0, 0.0);
+        }
+        joint.constraint = std::move(hinge);
+      }
+      world_->addConstraint(joint.constraint.get());  // the model filter keeps them apart
+    }
+  }
+
+  Pose bodyPose(int body) const override {
+    const Body& b = bodies_[body];
+    return fromBt(b.rigid->getCenterOfMassTransform() * btTransform(b.principal).inverse());
+  }
+
+  Twist bodyTwist(int body) const override {
+    const btRigidBody& rigid = *bodies_[body].rigid;
+    return {fromBt(rigid.getLinearVelocity()), fromBt(rigid.getAngularVelocity())};
+  }
+
+  void setBodyState(int body, const Pose& pose, const Twist& twist) override {
+    setPose(body, pose);
+    btRigidBody& rigid = *bodies_[body].rigid;
+    rigid.setLinearVelocity(toBt(twist.linear));
+    rigid.setAngularVelocity(toBt(twist.angular));
+  }
+
+  void setAnchoredShapePose(int shape, const Pose& world_pose) override {
+    btCollisionObject* object = anchored_[shape].object.get();
+    object->setWorldTransform(toBt(world_pose));
+    world_->updateSingleAabb(object);
+  }
+
+  double jointPosition(int joint) const override {
+    const Joint& j = joints_[joint];
+    const Pose parent = parentPose(j);
+    const Pose child = bodyPose(j.spec.child);
+    if (j.spec.prismatic) {
+      const Vec3 offset = transformPoint(child, j.anchor_in_child) -
+                          transformPoint(parent, j.anchor_in_parent);
+      return dot(rotate(parent.orientation, j.axis_in_parent), offset);
+    }
+    // The child's rotation relative to the parent since the zero configuration is a pure
+    // rotation about the axis (up to the constraint error, which this ignores).
+    Quat turn = multiply(multiply(conjugate(parent.orientation), child.orientation),
+                         conjugate(j.zero_relative));
+    if (turn.w < 0) turn = {-turn.w, -turn.x, -turn.y, -turn.z};
+    const double angle = 2 * std::atan2(dot({turn.x, turn.y, turn.z}, j.axis_in_parent), turn.w);
+    return angle <= -M_PI ? angle + 2 * M_PI : angle;
+  }
+
+  double jointRate(int joint) const override {
+    const Joint& j = joints_[joint];
+    const Pose parent = parentPose(j);
+    const Twist parent_twist = j.spec.parent < 0 ? Twist() : bodyTwist(j.spec.parent);
+    const Twist child_twist = bodyTwist(j.spec.child);
+    const Vec3 axis = rotate(parent.orientation, j.axis_in_parent);
+    if (!j.spec.prismatic) return dot(axis, child_twist.angular - parent_twist.angular);
+    // The derivative of jointPosition: both anchor points move, and the axis turns with the
+    // parent.
+    const Pose child = bodyPose(j.spec.child);
+    const Vec3 child_arm = rotate(child.orientation, j.anchor_in_child);
+    const Vec3 parent_arm = rotate(parent.orientation, j.anchor_in_parent);
+    const Vec3 offset = (child.position + child_arm) - (parent.position + parent_arm);
+    const Vec3 relative_velocity = (child_twist.linear + cross(child_twist.angular, child_arm)) -
+                                   (parent_twist.linear + cross(parent_twist.angular, parent_arm));
+    return dot(axis, relative_velocity) + dot(cross(parent_twist.angular, axis), offset);
+  }
+
+  void addJointEffort(int joint, double effort) override {
+    const Joint& j = joints_[joint];
+    btRigidBody& child = *bodies_[j.spec.child].rigid;
+    btRigidBody* parent = j.spec.parent < 0 ? nullptr : bodies_[j.spec.parent].rigid.get();
+    const btVector3 axis =
+        effort * toBt(rotate(parentPose(j).orientation, j.axis_in_parent));
+    if (!j.spec.prismatic) {
+      child.applyTorque(axis);
+      if (parent) parent->applyTorque(-axis);
+      return;
+    }
+    child.applyCentralForce(axis);
+    if (!parent) return;
+    parent->applyCentralForce(-axis);
+    // The two forces act along parallel lines through the two centres of mass: a couple unless
+    // those lie on one line. Cancel it, half on each body, as ODE's dJointAddSliderForce does.
+    const btVector3 couple = (child.getCenterOfMassPosition() - parent->getCenterOfMassPosition())
+                                 .cross(axis);
+    child.applyTorque(-0.5 * couple);
+    parent->applyTorque(-0.5 * couple);
+  }
+
+  void addBodyWrench(int body, const Vec3& force, const Vec3& world_point,
+                     const Vec3& torque) override {
+    btRigidBody& rigid = *bodies_[body].rigid;
+    rigid.applyForce(toBt(force), toBt(world_point) - rigid.getCenterOfMassPosition());
+    rigid.applyTorque(toBt(torque));
+  }
+
+ private:
+  struct Body {
+    std::vector<std::unique_ptr<btCollisionShape>> shapes;
+    std::unique_ptr<btCompoundShape> compound;
+    std::unique_ptr<btRigidBody> rigid;
+    btQuaternion principal;  // the btRigidBody's axes in the BodySpec frame
+    std::vector<double> mu;  // per child shape of `compound`
+  };
+  struct Anchored {
+    std::unique_ptr<btCollisionShape> shape;
+    std::unique_ptr<btCollisionObject> object;
+  };
+  struct Joint {
+    JointSpec spec;
+    // The joint line in the parent's frame (the world for parent -1) and the child's, and the
+    // child's orientation relative to the parent, all in the zero configuration.
+    Vec3 axis_in_parent, anchor_in_parent, anchor_in_child;
+    Quat zero_relative;
+    std::unique_ptr<btTypedConstraint> constraint;
+  };
+
+  Pose parentPose(const Joint& joint) const {
+    return joint.spec.parent < 0 ? Pose() : bodyPose(joint.spec.parent);
+  }
+
+  void setPose(int body, const Pose& pose) {
+    Body& b = bodies_[body];
+    b.rigid->setCenterOfMassTransform(toBt(pose) * btTransform(b.principal));
+  }
+
+  void removeConstraints() {
+    for (Joint& joint : joints_) {
+      if (!joint.constraint) continue;
+      world_->removeConstraint(joint.constraint.get());
+      joint.constraint.reset();
+    }
+  }
+
+  btDiscreteDynamicsWorld* world_;
+  std::deque<Body> bodies_;  // never moves a Body: its collision object points at its mu
+  std::vector<Anchored> anchored_;
+  std::vector<Joint> joints_;
+};
+
+class BulletEngine : public Engine {
+ public:
+  BulletEngine() {
+    gContactAddedCallback = &onContactAdded;
+    world_.getPairCache()->setOverlapFilterCallback(&filter_);
+    btContactSolverInfo& solver = world_.getSolverInfo();
+    // ODE's friction pyramid has two directions; Bullet's default, one along the sliding
+    // velocity, lets a body at rest creep sideways under a steady push.
+    solver.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+  }
+
+  void setParams(const PhysicsParams& p) override {
+    world_.setGravity(toBt(p.gravity));
+    btContactSolverInfo& solver = world_.getSolverInfo();
+    solver.m_numIterations = static_cast<int>(p.sor_pgs_iters);
+    solver.m_sor = p.sor_pgs_w;
+    solver.m_erp = p.erp;   // joints
+    solver.m_erp2 = p.erp;  // contacts
+    solver.m_globalCfm = p.cfm;
+    solver.m_linearSlop = p.contact_surface_layer;
+  }
+
+  void addGroundPlane(double mu, double) override {
+    ground_.setCollisionShape(&ground_shape_);
+    ground_.setFriction(mu);
+    ground_.setRestitution(0);
+    world_.addCollisionObject(&ground_, btBroadphaseProxy::StaticFilter,
+                              btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+  }
+
+  std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
+    return std::make_unique<BulletModel>(&world_, next_model_id_++, spec);
+  }
+
+  // maxSubSteps 0: exactly one step of dt, no fixed-step interpolation. Bullet reports no
+  // solver trouble, so *solver_message is left alone.
+  void step(double dt, std::string*) override { world_.stepSimulation(dt, 0); }
+
+ private:
+  // Declared in construction order; the world goes first on destruction.
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_{&configuration_};
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  ModelFilter filter_;
+  btStaticPlaneShape ground_shape_{btVector3(0, 0, 1), 0};
+  btCollisionObject ground_;
+  btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
+  int next_model_id_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> makeBulletEngine() { return std::make_unique<BulletEngine>(); }
+
+}  // namespace core
+}  // namespace onedof_sim
