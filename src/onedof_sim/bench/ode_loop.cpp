@@ -47,7 +47,11 @@ int main(int argc, char** argv) {
     const auto format = flag == "--urdf" ? onedof_sim::ModelFormat::Urdf
                                          : onedof_sim::ModelFormat::Sdf;
     const onedof_sim::Status status = world.spawn(argv[i + 1], xml.str(), format, pose);
-    if (!status.ok) return usage("spawn " + std::string(argv[i + 1]) + ": " + status.message);
+    if (!status.ok()) {
+      std::ostringstream why;
+      why << "spawn " << argv[i + 1] << ": " << status;
+      return usage(why.str());
+    }
   }
   std::cout << "ready" << std::endl;
 

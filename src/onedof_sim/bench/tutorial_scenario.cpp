@@ -80,7 +80,10 @@ std::string readFile(const std::string& path) {
 }
 
 void check(const onedof_sim::Status& status, const std::string& doing) {
-  if (!status.ok) throw std::runtime_error(doing + ": " + status.message);
+  if (status.ok()) return;
+  std::ostringstream why;
+  why << doing << ": " << status;
+  throw std::runtime_error(why.str());
 }
 
 onedof_sim::JointInfo joint1(const onedof_sim::World& world) {

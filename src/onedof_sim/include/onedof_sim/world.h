@@ -9,7 +9,9 @@
 #pragma once
 
 #include <cstdint>
+#include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,13 +36,47 @@ struct Twist {
   Vec3 angular;
 };
 
-// Outcome of every call that can fail on bad input. On failure the world is unchanged and
-// message names the problem; on success message is the status text to report.
+// What a call that can fail on bad input found: a code and the fact that goes with it, never a
+// text (the ROS layer words them as Gazebo does). On failure the world is unchanged.
+enum class StatusCode {
+  Ok,
+  ModelNotFound,           // subject: the model name asked for
+  LinkNotFound,            // subject: the link name asked for
+  JointNotFound,           // subject: the joint name asked for
+  ReferenceFrameNotFound,  // subject: the frame name asked for
+  ModelExists,             // subject: the model name
+  EmptyModelName,
+  NotFinite,               // subject: the argument, joint or PhysicsParams field
+  ZeroQuaternion,          // a pose's orientation has no direction to normalise to
+  ModelRejected,           // subject: why the XML makes no model (the parser's reason)
+  JointIsFixed,            // subject: the joint name asked for; it takes no effort
+  LinkAnchored,            // subject: the link name asked for; it has no body to move or push
+  LengthMismatch,          // joint names and positions differ in count
+  InvalidParameter,        // subject: the PhysicsParams field out of its range (see setParams)
+};
+
 struct Status {
-  bool ok = true;
-  std::string message;
-  static Status Ok(std::string m = "") { return {true, std::move(m)}; }
-  static Status Error(std::string m) { return {false, std::move(m)}; }
+  StatusCode code = StatusCode::Ok;
+  std::string subject;
+  bool ok() const { return code == StatusCode::Ok; }
+};
+
+// For logs and test failures: the code's name, then the subject quoted (ModelNotFound 'nope').
+std::ostream& operator<<(std::ostream& out, StatusCode code);
+std::ostream& operator<<(std::ostream& out, const Status& status);
+
+// What an accepted effort or wrench job became, for the caller to report.
+struct JobOutcome {
+  bool queued = true;                // false: the duration was 0, so nothing was applied
+  bool widened_to_one_step = false;  // 0 < duration < step: it acts for exactly one step
+  std::optional<double> effort_limit;  // set when the effort was clamped to the joint's limit
+  // Set when the job was clamped to the most its bodies take without the simulation blowing up
+  // (see World::applyJointEffort): a joint's effort, or a wrench's |force| and |torque|.
+  std::optional<double> safe_effort;
+  struct WrenchBound {
+    double force = 0, torque = 0;
+  };
+  std::optional<WrenchBound> safe_wrench;
 };
 
 // Solver settings; the ODE fields of gazebo_msgs/ODEPhysics plus step and gravity.
@@ -132,27 +168,31 @@ class World {
 
   const std::string& engineName() const;
   const PhysicsParams& params() const;
-  // Refuses non-finite numbers, step <= 0, negative iteration counts: world unchanged.
+  // Refuses (subject: the field) a non-finite number (NotFinite), and (InvalidParameter) a step
+  // under 1 ns, erp outside [0, 1], a negative cfm, contact_surface_layer,
+  // contact_max_correcting_vel or sor_pgs_rms_error_tol, sor_pgs_w <= 0, sor_pgs_iters < 1,
+  // max_contacts > 65535 (ODE takes it in 16 bits).
   Status setParams(const PhysicsParams& params);
 
   // --- models ------------------------------------------------------------------------------
   // Parses xml (URDF with urdfdom, SDF with libsdformat), builds the model and places its root
   // at `pose` expressed in `reference_frame` ("" or "world", a model name, or "model::link").
-  // Errors: duplicate name, empty name, bad XML, unsupported content, unknown reference frame,
-  // non-finite pose.
+  // Refuses, in this order: a non-finite or zero-quaternion pose, an empty or taken name, an
+  // unknown reference frame, XML that makes no model (ModelRejected with the reason).
   Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
                const Pose& pose, const std::string& reference_frame = "");
   Status deleteModel(const std::string& name);
   std::vector<std::string> modelNames() const;  // in spawn order
-  bool hasModel(const std::string& name) const;
 
   Status modelProperties(const std::string& name, ModelInfo* out) const;
   // Pose and twist of the model's root link frame, in reference_frame ("" / "world" or entity).
   Status modelState(const std::string& name, const std::string& reference_frame, Pose* pose,
                     Twist* twist) const;
+  // Refuses a non-finite pose or twist before it looks the model up.
   Status setModelState(const std::string& name, const Pose& pose, const Twist& twist,
                        const std::string& reference_frame);
-  // Sets joint positions with zero velocity, moving the links below each joint.
+  // Sets joint positions with zero velocity, moving the links below each joint. Checks the
+  // lengths and the numbers before the names.
   Status setModelConfiguration(const std::string& model, const std::vector<std::string>& joints,
                                const std::vector<double>& positions);
 
@@ -160,6 +200,8 @@ class World {
   Status linkProperties(const std::string& scoped_link, LinkInfo* out) const;
   Status linkState(const std::string& scoped_link, const std::string& reference_frame,
                    Pose* pose, Twist* twist) const;
+  // Refuses a non-finite pose or twist before it looks the link up; an anchored link (LinkAnchored)
+  // moves only with its model.
   Status setLinkState(const std::string& scoped_link, const Pose& pose, const Twist& twist,
                       const std::string& reference_frame);
   std::vector<std::string> linkNames() const;  // all links of all models, scoped
@@ -168,19 +210,21 @@ class World {
   Status jointInfo(const std::string& joint, JointInfo* out) const;
 
   // Effort jobs: start and duration in nanoseconds of sim time. A start before now means now.
-  // duration < 0: until cleared; == 0: nothing is queued (ok, and the message says so);
-  // 0 < duration < step: exactly one step (the message says so). Effort is clamped to the joint's
-  // effort limit (the message says so); non-finite effort is refused.
+  // duration < 0: until cleared; == 0: nothing is queued; 0 < duration < step: exactly one step.
+  // Effort is clamped to the joint's effort limit, then to what takes the bodies below the joint
+  // from rest to the speed cap in no fewer than 10 steps; non-finite effort is refused. *outcome
+  // (optional) says which of these happened.
   Status applyJointEffort(const std::string& joint, double effort, int64_t start_ns,
-                          int64_t duration_ns);
+                          int64_t duration_ns, JobOutcome* outcome = nullptr);
   // Drops every pending job on joints of that bare name (any model).
   void clearJointForces(const std::string& joint);
 
   // Wrench on a link, force and torque in reference_frame's orientation, force applied at
-  // reference_point (in reference_frame). Same job rules as joint efforts.
+  // reference_point (in reference_frame). Same job rules as joint efforts, the bound on this
+  // body alone; non-finite numbers are refused before the names are looked up.
   Status applyBodyWrench(const std::string& scoped_link, const std::string& reference_frame,
                          const Vec3& reference_point, const Vec3& force, const Vec3& torque,
-                         int64_t start_ns, int64_t duration_ns);
+                         int64_t start_ns, int64_t duration_ns, JobOutcome* outcome = nullptr);
   void clearBodyWrenches(const std::string& scoped_link);
 
   // --- reset ---------------------------------------------------------------------------------

@@ -59,7 +59,12 @@ struct ModelDescription {
   std::string canonical_link;
 };
 
-// Both fill `out` only on success; the error message names the problem (parser reasons included).
+// A model the world cannot build, and why (the reason names the link, joint or parser error).
+inline Status rejected(std::string reason) {
+  return {StatusCode::ModelRejected, std::move(reason)};
+}
+
+// Both fill `out` only on success; else ModelRejected with the reason.
 Status parseUrdf(const std::string& xml, ModelDescription* out);
 Status parseSdf(const std::string& xml, ModelDescription* out);
 

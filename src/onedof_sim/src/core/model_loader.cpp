@@ -55,24 +55,24 @@ Status finish(ModelDescription* model) {
   std::map<std::string, size_t> link_index;
   for (size_t i = 0; i < model->links.size(); ++i) {
     const std::string& name = model->links[i].name;
-    if (name == kWorldLink) return Status::Error("a model link may not be called 'world'");
-    if (!link_index.emplace(name, i).second) return Status::Error("duplicate link '" + name + "'");
+    if (name == kWorldLink) return rejected("a model link may not be called 'world'");
+    if (!link_index.emplace(name, i).second) return rejected("duplicate link '" + name + "'");
   }
-  if (model->links.empty()) return Status::Error("the model has no link");
+  if (model->links.empty()) return rejected("the model has no link");
   std::map<std::string, const JointDescription*> parent_joint;
   std::set<std::string> joint_names;
   for (const JointDescription& joint : model->joints) {
     if (!joint_names.insert(joint.name).second)
-      return Status::Error("duplicate joint '" + joint.name + "'");
+      return rejected("duplicate joint '" + joint.name + "'");
     if (!link_index.count(joint.child))
-      return Status::Error("joint '" + joint.name + "' has unknown child link '" + joint.child + "'");
+      return rejected("joint '" + joint.name + "' has unknown child link '" + joint.child + "'");
     if (joint.parent != kWorldLink && !link_index.count(joint.parent))
-      return Status::Error("joint '" + joint.name + "' has unknown parent link '" + joint.parent +
-                           "'");
+      return rejected("joint '" + joint.name + "' has unknown parent link '" + joint.parent +
+                      "'");
     if (!parent_joint.emplace(joint.child, &joint).second)
-      return Status::Error("link '" + joint.child + "' is the child of more than one joint");
+      return rejected("link '" + joint.child + "' is the child of more than one joint");
     if (!isFinite(joint.anchor) || !isFinite(joint.axis) || norm(joint.axis) < 1e-9)
-      return Status::Error("joint '" + joint.name + "' has an invalid axis");
+      return rejected("joint '" + joint.name + "' has an invalid axis");
   }
   std::vector<LinkDescription> ordered;
   std::set<std::string> placed;
@@ -86,18 +86,18 @@ Status finish(ModelDescription* model) {
     return true;
   };
   for (const LinkDescription& link : model->links)
-    if (!place(link.name, 0)) return Status::Error("the joints form a loop");
+    if (!place(link.name, 0)) return rejected("the joints form a loop");
   model->links = std::move(ordered);
   if (!link_index.count(model->canonical_link))
-    return Status::Error("unknown canonical link '" + model->canonical_link + "'");
-  return Status::Ok();
+    return rejected("unknown canonical link '" + model->canonical_link + "'");
+  return {};
 }
 
 Status addUrdfCollision(const urdf::Collision& collision, size_t index, LinkDescription* link) {
   CollisionDescription out;
   out.name = collisionName(collision.name, link->name, index);
   out.pose = toPose(collision.origin);
-  if (!collision.geometry) return Status::Error("collision of link '" + link->name + "' has no geometry");
+  if (!collision.geometry) return rejected("collision of link '" + link->name + "' has no geometry");
   switch (collision.geometry->type) {
     case urdf::Geometry::BOX: {
       const auto& box = static_cast<const urdf::Box&>(*collision.geometry);
@@ -117,11 +117,11 @@ Status addUrdfCollision(const urdf::Collision& collision, size_t index, LinkDesc
       break;
     }
     default:
-      return Status::Error("link '" + link->name +
-                           "': only box, cylinder and sphere collisions are supported");
+      return rejected("link '" + link->name +
+                      "': only box, cylinder and sphere collisions are supported");
   }
   link->collisions.push_back(out);
-  return Status::Ok();
+  return {};
 }
 
 Status checkShape(const CollisionDescription& collision, const std::string& link) {
@@ -129,9 +129,9 @@ Status checkShape(const CollisionDescription& collision, const std::string& link
   const bool ok = collision.shape == GeometryShape::Box ? (s.x > 0 && s.y > 0 && s.z > 0)
                   : collision.shape == GeometryShape::Cylinder ? (s.x > 0 && s.z > 0)
                                                                  : s.x > 0;
-  if (ok && isFinite(s) && isFinite(collision.pose)) return Status::Ok();
-  return Status::Error("link '" + link + "': collision '" + collision.name +
-                       "' has a non-positive or non-finite size or pose");
+  if (ok && isFinite(s) && isFinite(collision.pose)) return {};
+  return rejected("link '" + link + "': collision '" + collision.name +
+                  "' has a non-positive or non-finite size or pose");
 }
 
 Pose childPose(const Pose& parent_pose, const urdf::Joint& joint) {
@@ -157,9 +157,9 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* o
     if (collisions.empty() && link.collision) collisions.push_back(link.collision);
     for (size_t i = 0; i < collisions.size(); ++i) {
       Status status = addUrdfCollision(*collisions[i], i, &desc);
-      if (!status.ok) return status;
+      if (!status.ok()) return status;
       status = checkShape(desc.collisions.back(), desc.name);
-      if (!status.ok) return status;
+      if (!status.ok()) return status;
     }
     out->links.push_back(desc);
   }
@@ -174,15 +174,15 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* o
       case urdf::Joint::PRISMATIC: desc.type = JointType::Prismatic; break;
       case urdf::Joint::FIXED: desc.type = JointType::Fixed; break;
       default:
-        return Status::Error("joint '" + joint->name +
-                             "': only revolute, continuous, prismatic and fixed joints are supported");
+        return rejected("joint '" + joint->name +
+                        "': only revolute, continuous, prismatic and fixed joints are supported");
     }
     // The URDF joint frame is the child link frame.
     const Pose child_pose = childPose(pose, *joint);
     desc.anchor = child_pose.position;
     const Vec3 axis{joint->axis.x, joint->axis.y, joint->axis.z};
     if (desc.type != JointType::Fixed) {
-      if (!(norm(axis) > 1e-9)) return Status::Error("joint '" + joint->name + "' has a zero axis");
+      if (!(norm(axis) > 1e-9)) return rejected("joint '" + joint->name + "' has a zero axis");
       desc.axis = unit(rotate(child_pose.orientation, axis));
     }
     if (joint->limits) {
@@ -204,7 +204,7 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* o
     }
     out->joints.push_back(desc);
   }
-  return Status::Ok();
+  return {};
 }
 
 }  // namespace
@@ -217,27 +217,27 @@ Status parseUrdf(const std::string& xml, ModelDescription* out) {
     urdf = urdf::parseURDF(xml);
     parser_errors = errors.text();
   }
-  if (!urdf) return Status::Error("invalid URDF: " + (parser_errors.empty() ? "parse failed" : parser_errors));
+  if (!urdf) return rejected("invalid URDF: " + (parser_errors.empty() ? "parse failed" : parser_errors));
   ModelDescription model;
   std::function<Status(const urdf::Link&, const Pose&)> visit = [&](const urdf::Link& link,
                                                                      const Pose& pose) {
     Status status = addUrdfLink(link, pose, &model);
-    if (!status.ok) return status;
+    if (!status.ok()) return status;
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
       status = visit(*child, childPose(pose, *joint));
-      if (!status.ok) return status;
+      if (!status.ok()) return status;
     }
-    return Status::Ok();
+    return Status();
   };
   Status status = visit(*urdf->getRoot(), Pose());
-  if (!status.ok) return status;
-  if (model.links.empty()) return Status::Error("the URDF has no link besides 'world'");
+  if (!status.ok()) return status;
+  if (model.links.empty()) return rejected("the URDF has no link besides 'world'");
   model.canonical_link = model.links.front().name;
   status = finish(&model);
-  if (!status.ok) return status;
+  if (!status.ok()) return status;
   *out = std::move(model);
-  return Status::Ok();
+  return {};
 }
 
 namespace {
@@ -265,7 +265,7 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
   desc.name = prefix + link.Name();
   ignition::math::Pose3d pose;
   sdf::Errors errors = link.SemanticPose().Resolve(pose, "__model__");
-  if (!errors.empty()) return Status::Error("link '" + desc.name + "': " + joinErrors(errors));
+  if (!errors.empty()) return rejected("link '" + desc.name + "': " + joinErrors(errors));
   desc.pose = compose(model_pose, toPose(pose));
   const ignition::math::Inertiald& inertial = link.Inertial();
   desc.has_inertial = true;
@@ -281,7 +281,7 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
     CollisionDescription c;
     c.name = collision.Name();
     errors = collision.SemanticPose().Resolve(pose, link.Name());
-    if (!errors.empty()) return Status::Error("collision '" + c.name + "': " + joinErrors(errors));
+    if (!errors.empty()) return rejected("collision '" + c.name + "': " + joinErrors(errors));
     c.pose = toPose(pose);
     const sdf::Geometry& geometry = *collision.Geom();
     if (geometry.Type() == sdf::GeometryType::BOX) {
@@ -295,16 +295,16 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
       c.shape = GeometryShape::Sphere;
       c.size = {geometry.SphereShape()->Radius(), 0, 0};
     } else {
-      return Status::Error("link '" + desc.name +
-                           "': only box, cylinder and sphere collisions are supported");
+      return rejected("link '" + desc.name +
+                      "': only box, cylinder and sphere collisions are supported");
     }
     readSdfFriction(collision, &c);
     Status status = checkShape(c, desc.name);
-    if (!status.ok) return status;
+    if (!status.ok()) return status;
     desc.collisions.push_back(c);
   }
   out->links.push_back(desc);
-  return Status::Ok();
+  return {};
 }
 
 Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::string& prefix,
@@ -317,22 +317,22 @@ Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::s
     case sdf::JointType::PRISMATIC: desc.type = JointType::Prismatic; break;
     case sdf::JointType::FIXED: desc.type = JointType::Fixed; break;
     default:
-      return Status::Error("joint '" + desc.name +
-                           "': only revolute, continuous, prismatic and fixed joints are supported");
+      return rejected("joint '" + desc.name +
+                      "': only revolute, continuous, prismatic and fixed joints are supported");
   }
   const std::string& parent = joint.ParentLinkName();
   desc.parent = parent == kWorldLink ? parent : prefix + parent;
   desc.child = prefix + joint.ChildLinkName();
   ignition::math::Pose3d pose;
   sdf::Errors errors = joint.SemanticPose().Resolve(pose, "__model__");
-  if (!errors.empty()) return Status::Error("joint '" + desc.name + "': " + joinErrors(errors));
+  if (!errors.empty()) return rejected("joint '" + desc.name + "': " + joinErrors(errors));
   desc.anchor = transformPoint(model_pose, toPose(pose).position);
   if (const sdf::JointAxis* axis = joint.Axis(0)) {
     ignition::math::Vector3d xyz;
     errors = axis->ResolveXyz(xyz, "__model__");
-    if (!errors.empty()) return Status::Error("joint '" + desc.name + "': " + joinErrors(errors));
+    if (!errors.empty()) return rejected("joint '" + desc.name + "': " + joinErrors(errors));
     const Vec3 model_axis = rotate(model_pose.orientation, {xyz.X(), xyz.Y(), xyz.Z()});
-    if (!(norm(model_axis) > 1e-9)) return Status::Error("joint '" + desc.name + "' has a zero axis");
+    if (!(norm(model_axis) > 1e-9)) return rejected("joint '" + desc.name + "' has a zero axis");
     desc.axis = unit(model_axis);
     // SDF's "no limit" defaults are +-1e16.
     if (desc.type != JointType::Continuous && std::abs(axis->Lower()) < 1e15 &&
@@ -348,10 +348,10 @@ Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::s
     desc.damping = axis->Damping();
     desc.friction = axis->Friction();
   } else if (desc.type != JointType::Fixed) {
-    return Status::Error("joint '" + desc.name + "' has no <axis>");
+    return rejected("joint '" + desc.name + "' has no <axis>");
   }
   out->joints.push_back(desc);
-  return Status::Ok();
+  return {};
 }
 
 // Nested models become links and joints named "nested::name" in one flat model.
@@ -359,22 +359,22 @@ Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::s
                    ModelDescription* out) {
   for (uint64_t i = 0; i < model.LinkCount(); ++i) {
     Status status = addSdfLink(*model.LinkByIndex(i), model_pose, prefix, out);
-    if (!status.ok) return status;
+    if (!status.ok()) return status;
   }
   for (uint64_t i = 0; i < model.JointCount(); ++i) {
     Status status = addSdfJoint(*model.JointByIndex(i), model_pose, prefix, out);
-    if (!status.ok) return status;
+    if (!status.ok()) return status;
   }
   for (uint64_t i = 0; i < model.ModelCount(); ++i) {
     const sdf::Model& nested = *model.ModelByIndex(i);
     ignition::math::Pose3d pose;
     sdf::Errors errors = nested.SemanticPose().Resolve(pose, "__model__");
-    if (!errors.empty()) return Status::Error("model '" + nested.Name() + "': " + joinErrors(errors));
+    if (!errors.empty()) return rejected("model '" + nested.Name() + "': " + joinErrors(errors));
     Status status =
         addSdfModel(nested, compose(model_pose, toPose(pose)), prefix + nested.Name() + "::", out);
-    if (!status.ok) return status;
+    if (!status.ok()) return status;
   }
-  return Status::Ok();
+  return {};
 }
 
 }  // namespace
@@ -382,20 +382,20 @@ Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::s
 Status parseSdf(const std::string& xml, ModelDescription* out) {
   sdf::Root root;
   const sdf::Errors errors = root.LoadSdfString(xml);
-  if (!errors.empty()) return Status::Error("invalid SDF: " + joinErrors(errors));
+  if (!errors.empty()) return rejected("invalid SDF: " + joinErrors(errors));
   const sdf::Model* model = root.Model();
-  if (!model) return Status::Error("invalid SDF: no <model> at the top level");
+  if (!model) return rejected("invalid SDF: no <model> at the top level");
   ModelDescription desc;
   desc.is_static = model->Static();
   Status status = addSdfModel(*model, Pose(), "", &desc);
-  if (!status.ok) return status;
+  if (!status.ok()) return status;
   const auto canonical = model->CanonicalLinkAndRelativeName();
-  if (!canonical.first) return Status::Error("invalid SDF: the model has no link");
+  if (!canonical.first) return rejected("invalid SDF: the model has no link");
   desc.canonical_link = canonical.second;
   status = finish(&desc);
-  if (!status.ok) return status;
+  if (!status.ok()) return status;
   *out = std::move(desc);
-  return Status::Ok();
+  return {};
 }
 
 }  // namespace core

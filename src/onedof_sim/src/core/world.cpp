@@ -18,6 +18,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 
@@ -185,24 +186,46 @@ struct BodyState {
 bool isFinite(const Twist& t) { return core::isFinite(t.linear) && core::isFinite(t.angular); }
 
 Status validateParams(const PhysicsParams& p) {
-  const double numbers[] = {p.step,      p.gravity.x, p.gravity.y, p.gravity.z,
-                            p.sor_pgs_w, p.sor_pgs_rms_error_tol,   p.contact_surface_layer,
-                            p.contact_max_correcting_vel,           p.cfm,
-                            p.erp};
-  for (double n : numbers)
-    if (!std::isfinite(n)) return Status::Error("SetPhysicsProperties: values must be finite");
-  if (p.step <= 0 || std::llround(p.step * 1e9) < 1)
-    return Status::Error("SetPhysicsProperties: time_step must be at least 1 ns");
-  if (p.erp < 0 || p.erp > 1) return Status::Error("SetPhysicsProperties: erp must be in [0, 1]");
-  if (p.cfm < 0 || p.contact_surface_layer < 0 || p.contact_max_correcting_vel < 0 ||
-      p.sor_pgs_rms_error_tol < 0 || p.sor_pgs_w <= 0)
-    return Status::Error(
-        "SetPhysicsProperties: cfm, contact_surface_layer, contact_max_correcting_vel and "
-        "sor_pgs_rms_error_tol must be >= 0, sor_pgs_w > 0");
-  if (p.sor_pgs_iters < 1) return Status::Error("SetPhysicsProperties: sor_pgs_iters must be >= 1");
+  using Field = std::pair<const char*, double>;
+  const Field numbers[] = {{"step", p.step},
+                           {"gravity", p.gravity.x},
+                           {"gravity", p.gravity.y},
+                           {"gravity", p.gravity.z},
+                           {"sor_pgs_w", p.sor_pgs_w},
+                           {"sor_pgs_rms_error_tol", p.sor_pgs_rms_error_tol},
+                           {"contact_surface_layer", p.contact_surface_layer},
+                           {"contact_max_correcting_vel", p.contact_max_correcting_vel},
+                           {"cfm", p.cfm},
+                           {"erp", p.erp}};
+  for (const auto& [field, value] : numbers)
+    if (!std::isfinite(value)) return {StatusCode::NotFinite, field};
+  if (p.step <= 0 || std::llround(p.step * 1e9) < 1) return {StatusCode::InvalidParameter, "step"};
+  if (p.erp < 0 || p.erp > 1) return {StatusCode::InvalidParameter, "erp"};
+  const Field non_negative[] = {{"cfm", p.cfm},
+                                {"contact_surface_layer", p.contact_surface_layer},
+                                {"contact_max_correcting_vel", p.contact_max_correcting_vel},
+                                {"sor_pgs_rms_error_tol", p.sor_pgs_rms_error_tol}};
+  for (const auto& [field, value] : non_negative)
+    if (value < 0) return {StatusCode::InvalidParameter, field};
+  if (p.sor_pgs_w <= 0) return {StatusCode::InvalidParameter, "sor_pgs_w"};
+  if (p.sor_pgs_iters < 1) return {StatusCode::InvalidParameter, "sor_pgs_iters"};
   // ODE's dCollide takes the contact count in 16 bits.
-  if (p.max_contacts > 0xffff) return Status::Error("SetPhysicsProperties: max_contacts must be <= 65535");
-  return Status::Ok();
+  if (p.max_contacts > 0xffff) return {StatusCode::InvalidParameter, "max_contacts"};
+  return {};
+}
+
+// A pose the world can place something at.
+Status checkPose(const Pose& pose) {
+  if (!core::isFinite(pose)) return {StatusCode::NotFinite, "pose"};
+  if (quatNorm(pose.orientation) < 1e-9) return {StatusCode::ZeroQuaternion, "pose"};
+  return {};
+}
+
+// A pose and twist to set a model or link to.
+Status checkState(const Pose& pose, const Twist& twist) {
+  const Status status = checkPose(pose);
+  if (status.ok() && !isFinite(twist)) return {StatusCode::NotFinite, "twist"};
+  return status;
 }
 
 const EngineEntry& findEngine(const std::string& name) {
@@ -233,7 +256,7 @@ struct World::Impl {
       : engine_name(name), engine(findEngine(name).make()) {
     engine->addGroundPlane(kGroundMu, kGroundMu2);
     // A constructor cannot report: invalid parameters fall back to the defaults.
-    applyParams(validateParams(p).ok ? p : PhysicsParams());
+    applyParams(validateParams(p).ok() ? p : PhysicsParams());
   }
 
   ~Impl() {
@@ -412,9 +435,9 @@ struct World::Impl {
       const LinkDescription& d = link.desc;
       const double values[] = {d.mass, d.ixx, d.ixy, d.ixz, d.iyy, d.iyz, d.izz};
       for (double v : values)
-        if (!std::isfinite(v)) return Status::Error("link '" + d.name + "' has a non-finite inertial");
+        if (!std::isfinite(v)) return rejected("link '" + d.name + "' has a non-finite inertial");
       if (link.body < 0 || !d.has_inertial || d.mass == 0) continue;
-      if (d.mass < 0) return Status::Error("link '" + d.name + "' has a negative mass");
+      if (d.mass < 0) return rejected("link '" + d.name + "' has a negative mass");
       const Pose inertial = compose(
           compose(inverse(model->links[reference_link[link.body]].desc.pose), d.pose), d.com);
       const Matrix3 own{{{d.ixx, d.ixy, d.ixz}, {d.ixy, d.iyy, d.iyz}, {d.ixz, d.iyz, d.izz}}};
@@ -428,16 +451,16 @@ struct World::Impl {
     for (size_t body = 0; body < body_count; ++body) {
       const LinkRecord& reference = model->links[reference_link[body]];
       if (!(masses[body] > 0))
-        return Status::Error("link '" + reference.desc.name +
-                             "' moves but has no mass (give it an <inertial>)");
+        return rejected("link '" + reference.desc.name +
+                        "' moves but has no mass (give it an <inertial>)");
       const Vec3 com = (1 / masses[body]) * moments[body];
       const Matrix3 to_com = pointMassTensor(masses[body], com);
       Matrix3 inertia;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) inertia[i][j] = tensors[body][i][j] - to_com[i][j];
       if (!isPositiveDefinite(inertia))
-        return Status::Error("link '" + reference.desc.name +
-                             "' has an inertia that no rigid body can have");
+        return rejected("link '" + reference.desc.name +
+                        "' has an inertia that no rigid body can have");
       BodySpec spec_body;
       spec_body.mass = masses[body];
       spec_body.ixx = inertia[0][0], spec_body.iyy = inertia[1][1], spec_body.izz = inertia[2][2];
@@ -486,7 +509,7 @@ struct World::Impl {
         if (model->joints[j].engine_joint >= 0) model->joints[j].moved_bodies.push_back(link.body);
     }
     model->bodies = spec->bodies;
-    return Status::Ok();
+    return {};
   }
 
   void destroyModel(size_t index) {
@@ -709,12 +732,11 @@ struct World::Impl {
 
   // --- jobs ----------------------------------------------------------------------------------
 
-  // The job window for the contract's rules, or false for a zero duration; `note` gets the
-  // explanation the status message carries.
+  // The job window for the contract's rules, or false for a zero duration (outcome->queued).
   bool jobWindow(int64_t start_ns, int64_t duration_ns, int64_t* start, int64_t* end,
-                 std::string* note) const {
+                 JobOutcome* outcome) const {
     if (duration_ns == 0) {
-      *note = "; duration is 0, so nothing was applied";
+      outcome->queued = false;
       return false;
     }
     *start = std::max(start_ns, time_ns);
@@ -723,13 +745,38 @@ struct World::Impl {
     } else if (duration_ns < step_ns) {
       // [start, start + step) holds exactly one step start, wherever start falls.
       *end = *start + step_ns;
-      *note += "; duration is shorter than the step, so it acts for exactly one step";
+      outcome->widened_to_one_step = true;
     } else {
       *end = saturatingAdd(*start, duration_ns);
     }
     return true;
   }
 };
+
+std::ostream& operator<<(std::ostream& out, StatusCode code) {
+  switch (code) {
+    case StatusCode::Ok: return out << "Ok";
+    case StatusCode::ModelNotFound: return out << "ModelNotFound";
+    case StatusCode::LinkNotFound: return out << "LinkNotFound";
+    case StatusCode::JointNotFound: return out << "JointNotFound";
+    case StatusCode::ReferenceFrameNotFound: return out << "ReferenceFrameNotFound";
+    case StatusCode::ModelExists: return out << "ModelExists";
+    case StatusCode::EmptyModelName: return out << "EmptyModelName";
+    case StatusCode::NotFinite: return out << "NotFinite";
+    case StatusCode::ZeroQuaternion: return out << "ZeroQuaternion";
+    case StatusCode::ModelRejected: return out << "ModelRejected";
+    case StatusCode::JointIsFixed: return out << "JointIsFixed";
+    case StatusCode::LinkAnchored: return out << "LinkAnchored";
+    case StatusCode::LengthMismatch: return out << "LengthMismatch";
+    case StatusCode::InvalidParameter: return out << "InvalidParameter";
+  }
+  return out << "StatusCode(" << static_cast<int>(code) << ")";
+}
+
+std::ostream& operator<<(std::ostream& out, const Status& status) {
+  out << status.code;
+  return status.subject.empty() ? out : out << " '" << status.subject << "'";
+}
 
 std::vector<std::string> World::engineNames() {
   std::vector<std::string> names;
@@ -750,9 +797,8 @@ const PhysicsParams& World::params() const { return impl_->params; }
 
 Status World::setParams(const PhysicsParams& params) {
   Status status = validateParams(params);
-  if (!status.ok) return status;
-  impl_->applyParams(params);
-  return Status::Ok("SetPhysicsProperties: physics parameters set");
+  if (status.ok()) impl_->applyParams(params);
+  return status;
 }
 
 std::vector<std::string> World::takeWarnings() {
@@ -763,39 +809,38 @@ std::vector<std::string> World::takeWarnings() {
 
 Status World::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                     const Pose& pose, const std::string& reference_frame) {
-  if (name.empty()) return Status::Error("SpawnModel: the model name is empty");
-  if (impl_->findModel(name))
-    return Status::Error("SpawnModel: a model named '" + name + "' already exists");
-  if (!isFinite(pose) || quatNorm(pose.orientation) < 1e-9)
-    return Status::Error("SpawnModel: the initial pose is not finite or its quaternion is zero");
+  Status status = checkPose(pose);
+  if (!status.ok()) return status;
+  if (name.empty()) return {StatusCode::EmptyModelName, {}};
+  if (impl_->findModel(name)) return {StatusCode::ModelExists, name};
   Pose frame;
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
-    return Status::Error("SpawnModel: reference frame '" + reference_frame + "' not found");
+    return {StatusCode::ReferenceFrameNotFound, reference_frame};
   ModelDescription desc;
-  Status status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc) : parseSdf(xml, &desc);
-  if (!status.ok) return Status::Error("SpawnModel: " + status.message);
+  status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc) : parseSdf(xml, &desc);
+  if (!status.ok()) return status;
 
   auto model = std::make_unique<ModelRecord>();
   model->name = name;
   model->is_static = desc.is_static;
   ModelSpec spec;
   status = impl_->planModel(desc, model.get(), &spec);
-  if (!status.ok) return Status::Error("SpawnModel: " + status.message);
+  if (!status.ok()) return status;
   model->engine_model = impl_->engine->addModel(spec);
   model->spawn_pose = compose(frame, {pose.position, normalized(pose.orientation)});
   impl_->resetModel(model.get());
   impl_->models.push_back(std::move(model));
-  return Status::Ok("SpawnModel: Successfully spawned entity");
+  return {};
 }
 
 Status World::deleteModel(const std::string& name) {
   for (size_t i = 0; i < impl_->models.size(); ++i)
     if (impl_->models[i]->name == name) {
       impl_->destroyModel(i);
-      return Status::Ok("DeleteModel: successfully deleted model");
+      return {};
     }
-  return Status::Error("DeleteModel: model does not exist");
+  return {StatusCode::ModelNotFound, name};
 }
 
 std::vector<std::string> World::modelNames() const {
@@ -804,11 +849,9 @@ std::vector<std::string> World::modelNames() const {
   return names;
 }
 
-bool World::hasModel(const std::string& name) const { return impl_->findModel(name) != nullptr; }
-
 Status World::modelProperties(const std::string& name, ModelInfo* out) const {
   const ModelRecord* model = impl_->findModel(name);
-  if (!model) return Status::Error("GetModelProperties: model does not exist");
+  if (!model) return {StatusCode::ModelNotFound, name};
   ModelInfo info;
   info.name = model->name;
   info.canonical_link = model->name + "::" + model->links[model->canonical].desc.name;
@@ -820,7 +863,7 @@ Status World::modelProperties(const std::string& name, ModelInfo* out) const {
   for (const JointRecord& joint : model->joints) info.joints.push_back(joint.desc.name);
   info.is_static = model->is_static;
   *out = info;
-  return Status::Ok("GetModelProperties: got properties");
+  return {};
 }
 
 // Gazebo's convention for a state relative to an entity: pose in the entity frame, velocities
@@ -835,29 +878,28 @@ static void makeRelative(const Pose& frame, const Twist& frame_twist, Pose* pose
 Status World::modelState(const std::string& name, const std::string& reference_frame, Pose* pose,
                          Twist* twist) const {
   const ModelRecord* model = impl_->findModel(name);
-  if (!model) return Status::Error("GetModelState: model does not exist");
+  if (!model) return {StatusCode::ModelNotFound, name};
   Pose frame;
   Twist frame_twist;
   if (!impl_->resolveFrame(reference_frame, &frame, &frame_twist))
-    return Status::Error("GetModelState: reference frame '" + reference_frame + "' not found");
+    return {StatusCode::ReferenceFrameNotFound, reference_frame};
   const LinkRecord& root = model->links[model->canonical];
   *pose = impl_->linkWorldPose(*model, root);
   *twist = impl_->linkWorldTwist(*model, root);
   makeRelative(frame, frame_twist, pose, twist);
-  return Status::Ok("GetModelState: got properties");
+  return {};
 }
 
 Status World::setModelState(const std::string& name, const Pose& pose, const Twist& twist,
                             const std::string& reference_frame) {
+  const Status state = checkState(pose, twist);
+  if (!state.ok()) return state;
   ModelRecord* model = impl_->findModel(name);
-  if (!model) return Status::Error("SetModelState: model does not exist");
-  if (!isFinite(pose) || !isFinite(twist.linear) || !isFinite(twist.angular) ||
-      quatNorm(pose.orientation) < 1e-9)
-    return Status::Error("SetModelState: the pose or twist is not finite, or the quaternion is zero");
+  if (!model) return {StatusCode::ModelNotFound, name};
   Pose frame;
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
-    return Status::Error("SetModelState: reference frame '" + reference_frame + "' not found");
+    return {StatusCode::ReferenceFrameNotFound, reference_frame};
   const Pose target = compose(frame, {pose.position, normalized(pose.orientation)});
   // The whole model moves rigidly with its root link.
   const Pose motion =
@@ -873,35 +915,33 @@ Status World::setModelState(const std::string& name, const Pose& pose, const Twi
     const Vec3 v = linear + cross(angular, body_pose.position - target.position);
     model->engine_model->setBodyState(body, body_pose, {v, angular});
   }
-  return Status::Ok("SetModelState: set model state done");
+  return {};
 }
 
 Status World::setModelConfiguration(const std::string& model_name,
                                     const std::vector<std::string>& joints,
                                     const std::vector<double>& positions) {
+  if (joints.size() != positions.size()) return {StatusCode::LengthMismatch, {}};
+  for (size_t i = 0; i < joints.size(); ++i)
+    if (!std::isfinite(positions[i])) return {StatusCode::NotFinite, joints[i]};
   ModelRecord* model = impl_->findModel(model_name);
-  if (!model) return Status::Error("SetModelConfiguration: model does not exist");
-  if (joints.size() != positions.size())
-    return Status::Error("SetModelConfiguration: joint_names and joint_positions differ in length");
+  if (!model) return {StatusCode::ModelNotFound, model_name};
   std::vector<double> q = impl_->currentPositions(*model);
   for (size_t i = 0; i < joints.size(); ++i) {
     auto joint = std::find_if(model->joints.begin(), model->joints.end(),
                               [&](const JointRecord& j) { return j.desc.name == joints[i]; });
-    if (joint == model->joints.end())
-      return Status::Error("SetModelConfiguration: joint '" + joints[i] + "' not found in model");
-    if (!std::isfinite(positions[i]))
-      return Status::Error("SetModelConfiguration: position of '" + joints[i] + "' is not finite");
+    if (joint == model->joints.end()) return {StatusCode::JointNotFound, joints[i]};
     q[joint - model->joints.begin()] = positions[i];
   }
   impl_->placeModel(model, model->frame_pose, impl_->currentLinkPoses(*model), q);
-  return Status::Ok("SetModelConfiguration: success");
+  return {};
 }
 
 Status World::linkProperties(const std::string& scoped_link, LinkInfo* out) const {
   ModelRecord* model;
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
-    return Status::Error("GetLinkProperties: link not found");
+    return {StatusCode::LinkNotFound, scoped_link};
   const LinkDescription& link = model->links[index].desc;
   LinkInfo info;
   info.model = model->name;
@@ -912,7 +952,7 @@ Status World::linkProperties(const std::string& scoped_link, LinkInfo* out) cons
   info.iyy = link.iyy, info.iyz = link.iyz, info.izz = link.izz;
   info.gravity_mode = link.gravity;
   *out = info;
-  return Status::Ok("GetLinkProperties: got properties");
+  return {};
 }
 
 Status World::linkState(const std::string& scoped_link, const std::string& reference_frame,
@@ -920,35 +960,31 @@ Status World::linkState(const std::string& scoped_link, const std::string& refer
   ModelRecord* model;
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
-    return Status::Error(
-        "GetLinkState: link not found, did you forget to scope the link by model name?");
+    return {StatusCode::LinkNotFound, scoped_link};
   Pose frame;
   Twist frame_twist;
   if (!impl_->resolveFrame(reference_frame, &frame, &frame_twist))
-    return Status::Error("GetLinkState: reference frame '" + reference_frame + "' not found");
+    return {StatusCode::ReferenceFrameNotFound, reference_frame};
   *pose = impl_->linkWorldPose(*model, model->links[index]);
   *twist = impl_->linkWorldTwist(*model, model->links[index]);
   makeRelative(frame, frame_twist, pose, twist);
-  return Status::Ok("GetLinkState: got state");
+  return {};
 }
 
 Status World::setLinkState(const std::string& scoped_link, const Pose& pose, const Twist& twist,
                            const std::string& reference_frame) {
+  const Status state = checkState(pose, twist);
+  if (!state.ok()) return state;
   ModelRecord* model;
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
-    return Status::Error("SetLinkState: link not found");
+    return {StatusCode::LinkNotFound, scoped_link};
   const LinkRecord& link = model->links[index];
-  if (link.body < 0)
-    return Status::Error("SetLinkState: link '" + scoped_link +
-                         "' is anchored to the world; move its model with set_model_state");
-  if (!isFinite(pose) || !isFinite(twist.linear) || !isFinite(twist.angular) ||
-      quatNorm(pose.orientation) < 1e-9)
-    return Status::Error("SetLinkState: the pose or twist is not finite, or the quaternion is zero");
+  if (link.body < 0) return {StatusCode::LinkAnchored, scoped_link};
   Pose frame;
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
-    return Status::Error("SetLinkState: reference frame '" + reference_frame + "' not found");
+    return {StatusCode::ReferenceFrameNotFound, reference_frame};
   // As Gazebo: only this link's body moves; its joints pull it back in the next steps.
   const Pose target = compose(frame, {pose.position, normalized(pose.orientation)});
   const Pose body_pose = compose(target, inverse(link.link_in_body));
@@ -957,7 +993,7 @@ Status World::setLinkState(const std::string& scoped_link, const Pose& pose, con
   const Vec3 v = linear + cross(angular, body_pose.position - target.position);
   model->engine_model->setBodyState(link.body, body_pose, {v, angular});
   impl_->updateJointPositions(model);
-  return Status::Ok("SetLinkState: success");
+  return {};
 }
 
 std::vector<std::string> World::linkNames() const {
@@ -971,7 +1007,7 @@ Status World::jointInfo(const std::string& joint_name, JointInfo* out) const {
   ModelRecord* model;
   size_t index;
   if (!impl_->findJoint(joint_name, &model, &index))
-    return Status::Error("GetJointProperties: joint not found");
+    return {StatusCode::JointNotFound, joint_name};
   const JointRecord& joint = model->joints[index];
   JointInfo info;
   info.model = model->name;
@@ -982,35 +1018,34 @@ Status World::jointInfo(const std::string& joint_name, JointInfo* out) const {
   info.position = joint.position;
   info.rate = impl_->jointRate(*model, joint);
   *out = info;
-  return Status::Ok("GetJointProperties: got properties");
+  return {};
 }
 
 Status World::applyJointEffort(const std::string& joint_name, double effort, int64_t start_ns,
-                               int64_t duration_ns) {
+                               int64_t duration_ns, JobOutcome* outcome) {
   ModelRecord* model;
   size_t index;
   if (!impl_->findJoint(joint_name, &model, &index))
-    return Status::Error("ApplyJointEffort: joint not found");
+    return {StatusCode::JointNotFound, joint_name};
   const JointRecord& joint = model->joints[index];
-  if (joint.engine_joint < 0)
-    return Status::Error("ApplyJointEffort: joint '" + joint_name + "' is fixed and takes no effort");
-  if (!std::isfinite(effort)) return Status::Error("ApplyJointEffort: effort is not finite");
+  if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
+  if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
+  JobOutcome done;
   int64_t start = 0, end = 0;
-  std::string note;
-  if (!impl_->jobWindow(start_ns, duration_ns, &start, &end, &note))
-    return Status::Ok("ApplyJointEffort: effort set" + note);
-  const double safe = impl_->safeEffortBound(*model, joint);
-  if (std::abs(effort) > joint.desc.effort_limit) {
-    effort = std::copysign(joint.desc.effort_limit, effort);
-    note += "; clamped to the joint's effort limit " + formatNumber(joint.desc.effort_limit);
+  if (impl_->jobWindow(start_ns, duration_ns, &start, &end, &done)) {
+    const double safe = impl_->safeEffortBound(*model, joint);
+    if (std::abs(effort) > joint.desc.effort_limit) {
+      effort = std::copysign(joint.desc.effort_limit, effort);
+      done.effort_limit = joint.desc.effort_limit;
+    }
+    if (std::abs(effort) > safe) {
+      effort = std::copysign(safe, effort);
+      done.safe_effort = safe;
+    }
+    impl_->joint_jobs.push_back({model, index, effort, start, end});
   }
-  if (std::abs(effort) > safe) {
-    effort = std::copysign(safe, effort);
-    note += "; clamped to " + formatNumber(safe) +
-            ", the most this joint takes without the simulation blowing up";
-  }
-  impl_->joint_jobs.push_back({model, index, effort, start, end});
-  return Status::Ok("ApplyJointEffort: effort set" + note);
+  if (outcome) *outcome = done;
+  return {};
 }
 
 void World::clearJointForces(const std::string& joint_name) {
@@ -1026,38 +1061,38 @@ void World::clearJointForces(const std::string& joint_name) {
 
 Status World::applyBodyWrench(const std::string& scoped_link, const std::string& reference_frame,
                               const Vec3& reference_point, const Vec3& force, const Vec3& torque,
-                              int64_t start_ns, int64_t duration_ns) {
+                              int64_t start_ns, int64_t duration_ns, JobOutcome* outcome) {
+  if (!isFinite(reference_point)) return {StatusCode::NotFinite, "reference_point"};
+  if (!isFinite(force)) return {StatusCode::NotFinite, "force"};
+  if (!isFinite(torque)) return {StatusCode::NotFinite, "torque"};
   ModelRecord* model;
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
-    return Status::Error("ApplyBodyWrench: body does not exist");
+    return {StatusCode::LinkNotFound, scoped_link};
   const int body = model->links[index].body;
-  if (body < 0)
-    return Status::Error("ApplyBodyWrench: body '" + scoped_link + "' is anchored to the world");
+  if (body < 0) return {StatusCode::LinkAnchored, scoped_link};
   Pose frame;
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
-    return Status::Error("ApplyBodyWrench: reference frame '" + reference_frame + "' not found");
-  if (!isFinite(reference_point) || !isFinite(force) || !isFinite(torque))
-    return Status::Error("ApplyBodyWrench: wrench or reference point is not finite");
+    return {StatusCode::ReferenceFrameNotFound, reference_frame};
+  JobOutcome done;
   int64_t start = 0, end = 0;
-  std::string note;
-  if (!impl_->jobWindow(start_ns, duration_ns, &start, &end, &note))
-    return Status::Ok("ApplyBodyWrench: wrench set" + note);
-  // The same safety bound as for joint efforts, on this body alone.
-  const BodySpec& mass = model->bodies[body];
-  const double step = impl_->params.step;
-  const double max_force = mass.mass * kMaxLinearSpeed / (kStepsToSpeedCap * step);
-  const double max_torque = std::min({mass.ixx, mass.iyy, mass.izz}) * maxAngularSpeed(step) /
-                            (kStepsToSpeedCap * step);
-  Vec3 f = force, t = torque;
-  if (norm(f) > max_force) f = (max_force / norm(f)) * f;
-  if (norm(t) > max_torque) t = (max_torque / norm(t)) * t;
-  if (norm(f) < norm(force) || norm(t) < norm(torque))
-    note += "; clamped to |force| " + formatNumber(max_force) + ", |torque| " +
-            formatNumber(max_torque) + ", the most this body takes without the simulation blowing up";
-  impl_->wrench_jobs.push_back({model, index, reference_frame, reference_point, f, t, start, end});
-  return Status::Ok("ApplyBodyWrench: wrench set" + note);
+  if (impl_->jobWindow(start_ns, duration_ns, &start, &end, &done)) {
+    // The same safety bound as for joint efforts, on this body alone.
+    const BodySpec& mass = model->bodies[body];
+    const double step = impl_->params.step;
+    const double max_force = mass.mass * kMaxLinearSpeed / (kStepsToSpeedCap * step);
+    const double max_torque = std::min({mass.ixx, mass.iyy, mass.izz}) * maxAngularSpeed(step) /
+                              (kStepsToSpeedCap * step);
+    Vec3 f = force, t = torque;
+    if (norm(f) > max_force) f = (max_force / norm(f)) * f;
+    if (norm(t) > max_torque) t = (max_torque / norm(t)) * t;
+    if (norm(f) < norm(force) || norm(t) < norm(torque))
+      done.safe_wrench = JobOutcome::WrenchBound{max_force, max_torque};
+    impl_->wrench_jobs.push_back({model, index, reference_frame, reference_point, f, t, start, end});
+  }
+  if (outcome) *outcome = done;
+  return {};
 }
 
 void World::clearBodyWrenches(const std::string& scoped_link) {

@@ -23,29 +23,17 @@ constexpr double kGroundMarkerSize = 10.0;           // m, the plane drawn as a 
 
 // --- conversions between ROS messages and the core's types -------------------------------------
 
-bool isFinite(const geometry_msgs::Point& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
-bool isFinite(const geometry_msgs::Vector3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-bool isFinite(const geometry_msgs::Pose& p) {
-  const auto& q = p.orientation;
-  return isFinite(p.position) && std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) &&
-         std::isfinite(q.z);
-}
-bool isFinite(const geometry_msgs::Twist& t) { return isFinite(t.linear) && isFinite(t.angular); }
-
 Vec3 toCore(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 Vec3 toCore(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
 
 // Normalises the quaternion as Gazebo does; an all-zero one (an unset message field) is identity.
+// A non-finite one stays non-finite, for the world to refuse.
 Pose toCore(const geometry_msgs::Pose& p) {
   Pose pose;
   pose.position = toCore(p.position);
   const auto& q = p.orientation;
   const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  if (norm > 1e-12) pose.orientation = {q.w / norm, q.x / norm, q.y / norm, q.z / norm};
+  if (!(norm <= 1e-12)) pose.orientation = {q.w / norm, q.x / norm, q.y / norm, q.z / norm};
   return pose;
 }
 
@@ -87,26 +75,141 @@ std::string bareName(const std::string& scoped) {
   return pos == std::string::npos ? scoped : scoped.substr(pos + 2);
 }
 
-// Gazebo's status messages start with the service name; the core's messages don't know it.
-std::string prefixed(const std::string& service, const std::string& message) {
-  const std::string prefix = service + ": ";
-  return message.compare(0, prefix.size(), prefix) == 0 ? message : prefix + message;
+// --- status texts: Gazebo's wording (gazebo_ros_api_plugin.cpp) of what the world says ----------
+
+// How one service words the world's codes: its name starts every text; success and non-finite
+// input are worded per service (the latter names the request's fields), every other code alike.
+struct Wording {
+  const char* service;
+  const char* done;
+  const char* not_finite = "values must be finite";
+};
+
+const Wording kGetJointProperties{"GetJointProperties", "got properties"};
+const Wording kApplyJointEffort{"ApplyJointEffort", "effort set", "effort is not finite"};
+const Wording kApplyBodyWrench{"ApplyBodyWrench", "wrench set",
+                               "reference_point and wrench must be finite"};
+const Wording kGetLinkState{"GetLinkState", "got state"};
+const Wording kSetLinkState{"SetLinkState", "success", "pose and twist must be finite"};
+const Wording kGetLinkProperties{"GetLinkProperties", "got properties"};
+const Wording kSpawnModel{"SpawnModel", "Successfully spawned entity",
+                          "initial_pose must be finite"};
+const Wording kDeleteModel{"DeleteModel", "successfully deleted model"};
+const Wording kGetModelState{"GetModelState", "got properties"};
+const Wording kSetModelState{"SetModelState", "set model state done",
+                             "pose and twist must be finite"};
+const Wording kSetModelConfiguration{"SetModelConfiguration", "success",
+                                     "joint_positions must be finite"};
+const Wording kGetModelProperties{"GetModelProperties", "got properties"};
+const Wording kSetPhysicsProperties{"SetPhysicsProperties", "physics properties set"};
+
+// The range World::setParams enforces on a PhysicsParams field, in ODEPhysics' names.
+std::string parameterRange(const std::string& field) {
+  if (field == "step") return "time_step must be at least 1 ns";
+  if (field == "erp") return "erp must be in [0, 1]";
+  if (field == "sor_pgs_iters") return "sor_pgs_iters must be >= 1";
+  if (field == "max_contacts") return "max_contacts must be <= 65535";
+  return "cfm, contact_surface_layer, contact_max_correcting_vel and sor_pgs_rms_error_tol must "
+         "be >= 0, sor_pgs_w > 0";
+}
+
+std::string statusText(const Wording& wording, const Status& status) {
+  const std::string& subject = status.subject;
+  std::string text;
+  switch (status.code) {
+    case StatusCode::Ok: text = wording.done; break;
+    case StatusCode::ModelNotFound: text = "model does not exist"; break;
+    case StatusCode::LinkNotFound:
+      text = "link not found, did you forget to scope the link by model name?";
+      break;
+    case StatusCode::JointNotFound: text = "joint not found"; break;
+    case StatusCode::ReferenceFrameNotFound:
+      text = "reference frame '" + subject + "' not found";
+      break;
+    case StatusCode::ModelExists: text = "a model named '" + subject + "' already exists"; break;
+    case StatusCode::EmptyModelName: text = "the model name is empty"; break;
+    case StatusCode::NotFinite: text = wording.not_finite; break;
+    case StatusCode::ZeroQuaternion: text = "the orientation quaternion is zero"; break;
+    case StatusCode::ModelRejected: text = subject; break;
+    case StatusCode::JointIsFixed:
+      text = "joint '" + subject + "' is fixed and takes no effort";
+      break;
+    case StatusCode::LinkAnchored:
+      text = "link '" + subject + "' is anchored to the world; move its model with set_model_state";
+      break;
+    case StatusCode::LengthMismatch:
+      text = "joint_names and joint_positions differ in length";
+      break;
+    case StatusCode::InvalidParameter: text = parameterRange(subject); break;
+  }
+  return std::string(wording.service) + ": " + text;
+}
+
+// ApplyBodyWrench calls a link a body.
+std::string wrenchText(const Status& status) {
+  switch (status.code) {
+    case StatusCode::LinkNotFound: return "ApplyBodyWrench: body does not exist";
+    case StatusCode::LinkAnchored:
+      return "ApplyBodyWrench: body '" + status.subject + "' is anchored to the world";
+    default: return statusText(kApplyBodyWrench, status);
+  }
+}
+
+// SetModelConfiguration names the missing model and joint, and counts a length mismatch.
+std::string configurationText(const Status& status, const SetModelConfiguration::Request& req) {
+  switch (status.code) {
+    case StatusCode::ModelNotFound:
+      return "SetModelConfiguration: model [" + status.subject + "] does not exist";
+    case StatusCode::JointNotFound:
+      return "SetModelConfiguration: joint '" + status.subject + "' not found in model";
+    case StatusCode::LengthMismatch: {
+      std::ostringstream text;
+      text << "SetModelConfiguration: " << req.joint_names.size() << " joint_names but "
+           << req.joint_positions.size() << " joint_positions";
+      return text.str();
+    }
+    default: return statusText(kSetModelConfiguration, status);
+  }
+}
+
+// What a job became, after the service's "effort set" or "wrench set".
+std::string jobNotes(const JobOutcome& job) {
+  if (!job.queued) return "; duration is 0, so nothing was applied";
+  std::ostringstream notes;
+  if (job.widened_to_one_step)
+    notes << "; duration is shorter than the step, so it acts for exactly one step";
+  if (job.effort_limit) notes << "; clamped to the joint's effort limit " << *job.effort_limit;
+  if (job.safe_effort) {
+    notes << "; clamped to " << *job.safe_effort
+          << ", the most this joint takes without the simulation blowing up";
+  }
+  if (job.safe_wrench) {
+    notes << "; clamped to |force| " << job.safe_wrench->force << ", |torque| "
+          << job.safe_wrench->torque
+          << ", the most this body takes without the simulation blowing up";
+  }
+  return notes.str();
 }
 
 // Bad input: the call succeeds with success False and the reason, and the node says it too.
 template <class Response>
-bool refuse(Response& res, const std::string& message) {
+bool refuse(Response& res, const std::string& text) {
   res.success = false;
-  res.status_message = message;
-  ROS_WARN_STREAM(message);
+  res.status_message = text;
+  ROS_WARN_STREAM(text);
   return true;
 }
 
 template <class Response>
-bool succeed(Response& res, const std::string& message) {
+bool succeed(Response& res, const std::string& text) {
   res.success = true;
-  res.status_message = message;
+  res.status_message = text;
   return true;
+}
+
+template <class Response>
+bool answer(Response& res, const Status& status, const std::string& text) {
+  return status.ok() ? succeed(res, text) : refuse(res, text);
 }
 
 // Whether a throttled output is due at sim time now_ns (frequency <= 0: every step). Time going
@@ -117,12 +220,13 @@ bool isDue(int64_t now_ns, int64_t last_ns, double frequency) {
 }
 
 // Which format model_xml is, from its root element; Gazebo accepts either on both spawn services.
+// Else ModelRejected with the reason, as the world's parsers say it.
 Status detectModelFormat(const std::string& xml, ModelFormat* format) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
     const char* detail = doc.ErrorStr();
-    return Status::Error(std::string("model_xml is not well-formed XML: ") +
-                         (detail ? detail : "parse error"));
+    return {StatusCode::ModelRejected,
+            std::string("model_xml is not well-formed XML: ") + (detail ? detail : "parse error")};
   }
   const tinyxml2::XMLElement* root = doc.RootElement();
   const std::string root_name = root ? root->Name() : "";
@@ -131,10 +235,10 @@ Status detectModelFormat(const std::string& xml, ModelFormat* format) {
   } else if (root_name == "sdf") {
     *format = ModelFormat::Sdf;
   } else {
-    return Status::Error("model_xml has root element <" + root_name +
-                         ">, expected <robot> (URDF) or <sdf> (SDF)");
+    return {StatusCode::ModelRejected, "model_xml has root element <" + root_name +
+                                           ">, expected <robot> (URDF) or <sdf> (SDF)"};
   }
-  return Status::Ok();
+  return {};
 }
 
 uint8_t toJointTypeConstant(JointType type) {
@@ -315,7 +419,7 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       states_publish_frequency_(options.states_publish_frequency),
       spinner_(2) {
   const Status params = world_.setParams(options.physics);
-  if (!params.ok) throw std::invalid_argument(params.message);
+  if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
 
   if (!nh_.hasParam("/use_sim_time")) nh_.setParam("/use_sim_time", true);
 
@@ -409,7 +513,7 @@ void GazeboApi::stepOnce(StepOutput* out) {
     for (const auto& name : world_.modelNames()) {
       Pose pose;
       Twist twist;
-      if (!world_.modelState(name, "", &pose, &twist).ok) continue;
+      if (!world_.modelState(name, "", &pose, &twist).ok()) continue;
       out->model_states.name.push_back(name);
       out->model_states.pose.push_back(toMsg(pose));
       out->model_states.twist.push_back(toMsg(twist));
@@ -420,7 +524,7 @@ void GazeboApi::stepOnce(StepOutput* out) {
     for (const auto& name : world_.linkNames()) {
       Pose pose;
       Twist twist;
-      if (!world_.linkState(name, "", &pose, &twist).ok) continue;
+      if (!world_.linkState(name, "", &pose, &twist).ok()) continue;
       out->link_states.name.push_back(name);
       out->link_states.pose.push_back(toMsg(pose));
       out->link_states.twist.push_back(toMsg(twist));
@@ -496,30 +600,26 @@ bool GazeboApi::getJointProperties(GetJointProperties::Request& req,
     WorldLock lock(*this);
     found = world_.jointInfo(req.joint_name, &joint);
   }
-  if (!found.ok) return refuse(res, "GetJointProperties: joint not found");
-  res.type = toJointTypeConstant(joint.type);
-  if (joint.has_damping) res.damping.push_back(joint.damping);
-  res.position.push_back(joint.position);
-  res.rate.push_back(joint.rate);
-  return succeed(res, "GetJointProperties: got properties");
+  if (found.ok()) {
+    res.type = toJointTypeConstant(joint.type);
+    if (joint.has_damping) res.damping.push_back(joint.damping);
+    res.position.push_back(joint.position);
+    res.rate.push_back(joint.rate);
+  }
+  return answer(res, found, statusText(kGetJointProperties, found));
 }
 
 bool GazeboApi::applyJointEffort(ApplyJointEffort::Request& req,
                                  ApplyJointEffort::Response& res) {
-  JointInfo joint;
-  Status found, applied;
+  JobOutcome job;
+  Status applied;
   {
     WorldLock lock(*this);
-    found = world_.jointInfo(req.joint_name, &joint);
-    if (found.ok) {
-      applied = world_.applyJointEffort(req.joint_name, req.effort, toNs(req.start_time),
-                                        toNs(req.duration));
-    }
+    applied = world_.applyJointEffort(req.joint_name, req.effort, toNs(req.start_time),
+                                      toNs(req.duration), &job);
   }
-  if (!found.ok) return refuse(res, "ApplyJointEffort: joint not found");
-  if (!applied.ok) return refuse(res, prefixed("ApplyJointEffort", applied.message));
-  return succeed(res, applied.message.empty() ? "ApplyJointEffort: effort set"
-                                              : prefixed("ApplyJointEffort", applied.message));
+  const std::string text = statusText(kApplyJointEffort, applied);
+  return answer(res, applied, applied.ok() ? text + jobNotes(job) : text);
 }
 
 bool GazeboApi::clearJointForces(JointRequest::Request& req, JointRequest::Response&) {
@@ -531,21 +631,17 @@ bool GazeboApi::clearJointForces(JointRequest::Request& req, JointRequest::Respo
 // --- links ----------------------------------------------------------------------------------
 
 bool GazeboApi::applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::Response& res) {
-  if (!isFinite(req.reference_point) || !isFinite(req.wrench.force) ||
-      !isFinite(req.wrench.torque)) {
-    return refuse(res, "ApplyBodyWrench: reference_point and wrench must be finite");
-  }
+  JobOutcome job;
   Status applied;
   {
     WorldLock lock(*this);
     applied = world_.applyBodyWrench(req.body_name, req.reference_frame,
                                      toCore(req.reference_point), toCore(req.wrench.force),
                                      toCore(req.wrench.torque), toNs(req.start_time),
-                                     toNs(req.duration));
+                                     toNs(req.duration), &job);
   }
-  if (!applied.ok) return refuse(res, prefixed("ApplyBodyWrench", applied.message));
-  return succeed(res, applied.message.empty() ? "ApplyBodyWrench: wrench set"
-                                              : prefixed("ApplyBodyWrench", applied.message));
+  const std::string text = wrenchText(applied);
+  return answer(res, applied, applied.ok() ? text + jobNotes(job) : text);
 }
 
 bool GazeboApi::clearBodyWrenches(BodyRequest::Request& req, BodyRequest::Response&) {
@@ -555,57 +651,36 @@ bool GazeboApi::clearBodyWrenches(BodyRequest::Request& req, BodyRequest::Respon
 }
 
 bool GazeboApi::getLinkState(GetLinkState::Request& req, GetLinkState::Response& res) {
-  LinkInfo link;
-  Status found, state;
+  Status state;
   Pose pose;
   Twist twist;
   {
     WorldLock lock(*this);
-    found = world_.linkProperties(req.link_name, &link);
-    if (found.ok) state = world_.linkState(req.link_name, req.reference_frame, &pose, &twist);
+    state = world_.linkState(req.link_name, req.reference_frame, &pose, &twist);
   }
-  if (!found.ok) {
-    return refuse(res,
-                  "GetLinkState: link not found, did you forget to scope the link by model name?");
+  if (state.ok()) {
+    res.link_state.link_name = req.link_name;
+    res.link_state.reference_frame = req.reference_frame;
+    res.link_state.pose = toMsg(pose);
+    res.link_state.twist = toMsg(twist);
   }
-  if (!state.ok) return refuse(res, prefixed("GetLinkState", state.message));
-  res.link_state.link_name = req.link_name;
-  res.link_state.reference_frame = req.reference_frame;
-  res.link_state.pose = toMsg(pose);
-  res.link_state.twist = toMsg(twist);
-  return succeed(res, "GetLinkState: got state");
+  return answer(res, state, statusText(kGetLinkState, state));
 }
 
 Status GazeboApi::applyLinkState(const LinkState& state) {
-  if (!isFinite(state.pose) || !isFinite(state.twist)) {
-    return Status::Error("SetLinkState: pose and twist must be finite");
-  }
-  LinkInfo link;
-  Status found, set;
-  {
-    WorldLock lock(*this);
-    found = world_.linkProperties(state.link_name, &link);
-    if (found.ok) {
-      set = world_.setLinkState(state.link_name, toCore(state.pose), toCore(state.twist),
-                                state.reference_frame);
-    }
-  }
-  if (!found.ok) {
-    return Status::Error(
-        "SetLinkState: link not found, did you forget to scope the link by model name?");
-  }
-  if (!set.ok) return Status::Error(prefixed("SetLinkState", set.message));
-  return Status::Ok("SetLinkState: success");
+  WorldLock lock(*this);
+  return world_.setLinkState(state.link_name, toCore(state.pose), toCore(state.twist),
+                             state.reference_frame);
 }
 
 bool GazeboApi::setLinkState(SetLinkState::Request& req, SetLinkState::Response& res) {
   const Status status = applyLinkState(req.link_state);
-  return status.ok ? succeed(res, status.message) : refuse(res, status.message);
+  return answer(res, status, statusText(kSetLinkState, status));
 }
 
 void GazeboApi::setLinkStateTopic(const LinkState::ConstPtr& msg) {
   const Status status = applyLinkState(*msg);
-  if (!status.ok) ROS_WARN_STREAM(status.message);
+  if (!status.ok()) ROS_WARN_STREAM(statusText(kSetLinkState, status));
 }
 
 bool GazeboApi::getLinkProperties(GetLinkProperties::Request& req,
@@ -616,20 +691,18 @@ bool GazeboApi::getLinkProperties(GetLinkProperties::Request& req,
     WorldLock lock(*this);
     found = world_.linkProperties(req.link_name, &link);
   }
-  if (!found.ok) {
-    return refuse(
-        res, "GetLinkProperties: link not found, did you forget to scope the link by model name?");
+  if (found.ok()) {
+    res.com = toMsg(link.com);
+    res.gravity_mode = link.gravity_mode;
+    res.mass = link.mass;
+    res.ixx = link.ixx;
+    res.ixy = link.ixy;
+    res.ixz = link.ixz;
+    res.iyy = link.iyy;
+    res.iyz = link.iyz;
+    res.izz = link.izz;
   }
-  res.com = toMsg(link.com);
-  res.gravity_mode = link.gravity_mode;
-  res.mass = link.mass;
-  res.ixx = link.ixx;
-  res.ixy = link.ixy;
-  res.ixz = link.ixz;
-  res.iyy = link.iyy;
-  res.iyz = link.iyz;
-  res.izz = link.izz;
-  return succeed(res, "GetLinkProperties: got properties");
+  return answer(res, found, statusText(kGetLinkProperties, found));
 }
 
 // --- models ---------------------------------------------------------------------------------
@@ -647,31 +720,27 @@ bool GazeboApi::spawnSdfModel(SpawnModel::Request& req, SpawnModel::Response& re
 bool GazeboApi::spawnModel(ModelFormat requested, SpawnModel::Request& req,
                            SpawnModel::Response& res) {
   ModelFormat format = requested;
-  const Status detected = detectModelFormat(req.model_xml, &format);
-  if (!detected.ok) return refuse(res, prefixed("SpawnModel", detected.message));
-  if (!isFinite(req.initial_pose)) return refuse(res, "SpawnModel: initial_pose must be finite");
-  Status spawned;
-  {
+  Status spawned = detectModelFormat(req.model_xml, &format);
+  if (spawned.ok()) {
     WorldLock lock(*this);
     spawned = world_.spawn(req.model_name, req.model_xml, format, toCore(req.initial_pose),
                            req.reference_frame);
   }
-  if (!spawned.ok) return refuse(res, prefixed("SpawnModel", spawned.message));
-  ROS_INFO_STREAM("spawned model '" << req.model_name << "' ("
-                  << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via "
-                  << (requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model"));
-  return succeed(res, "SpawnModel: Successfully spawned entity");
+  if (spawned.ok()) {
+    ROS_INFO_STREAM("spawned model '" << req.model_name << "' ("
+                    << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via "
+                    << (requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model"));
+  }
+  return answer(res, spawned, statusText(kSpawnModel, spawned));
 }
 
 bool GazeboApi::deleteModel(DeleteModel::Request& req, DeleteModel::Response& res) {
   Status deleted;
   {
     WorldLock lock(*this);
-    deleted = world_.hasModel(req.model_name) ? world_.deleteModel(req.model_name)
-                                              : Status::Error("model does not exist");
+    deleted = world_.deleteModel(req.model_name);
   }
-  if (!deleted.ok) return refuse(res, prefixed("DeleteModel", deleted.message));
-  return succeed(res, "DeleteModel: successfully deleted model");
+  return answer(res, deleted, statusText(kDeleteModel, deleted));
 }
 
 bool GazeboApi::getModelState(GetModelState::Request& req, GetModelState::Response& res) {
@@ -682,67 +751,42 @@ bool GazeboApi::getModelState(GetModelState::Request& req, GetModelState::Respon
   {
     WorldLock lock(*this);
     now_ns = world_.timeNs();
-    state = world_.hasModel(req.model_name)
-                ? world_.modelState(req.model_name, req.relative_entity_name, &pose, &twist)
-                : Status::Error("model does not exist");
+    state = world_.modelState(req.model_name, req.relative_entity_name, &pose, &twist);
   }
-  if (!state.ok) return refuse(res, prefixed("GetModelState", state.message));
-  res.header.stamp.fromNSec(uint64_t(now_ns));
-  res.header.frame_id = req.relative_entity_name;
-  res.pose = toMsg(pose);
-  res.twist = toMsg(twist);
-  return succeed(res, "GetModelState: got properties");
+  if (state.ok()) {
+    res.header.stamp.fromNSec(uint64_t(now_ns));
+    res.header.frame_id = req.relative_entity_name;
+    res.pose = toMsg(pose);
+    res.twist = toMsg(twist);
+  }
+  return answer(res, state, statusText(kGetModelState, state));
 }
 
 Status GazeboApi::applyModelState(const ModelState& state) {
-  if (!isFinite(state.pose) || !isFinite(state.twist)) {
-    return Status::Error("SetModelState: pose and twist must be finite");
-  }
-  Status set;
-  {
-    WorldLock lock(*this);
-    set = world_.hasModel(state.model_name)
-              ? world_.setModelState(state.model_name, toCore(state.pose), toCore(state.twist),
-                                     state.reference_frame)
-              : Status::Error("model does not exist");
-  }
-  if (!set.ok) return Status::Error(prefixed("SetModelState", set.message));
-  return Status::Ok("SetModelState: set model state done");
+  WorldLock lock(*this);
+  return world_.setModelState(state.model_name, toCore(state.pose), toCore(state.twist),
+                              state.reference_frame);
 }
 
 bool GazeboApi::setModelState(SetModelState::Request& req, SetModelState::Response& res) {
   const Status status = applyModelState(req.model_state);
-  return status.ok ? succeed(res, status.message) : refuse(res, status.message);
+  return answer(res, status, statusText(kSetModelState, status));
 }
 
 void GazeboApi::setModelStateTopic(const ModelState::ConstPtr& msg) {
   const Status status = applyModelState(*msg);
-  if (!status.ok) ROS_WARN_STREAM(status.message);
+  if (!status.ok()) ROS_WARN_STREAM(statusText(kSetModelState, status));
 }
 
 // urdf_param_name is ignored, as Gazebo does: the model already knows its joints.
 bool GazeboApi::setModelConfiguration(SetModelConfiguration::Request& req,
                                       SetModelConfiguration::Response& res) {
-  if (req.joint_names.size() != req.joint_positions.size()) {
-    std::ostringstream message;
-    message << "SetModelConfiguration: " << req.joint_names.size() << " joint_names but "
-            << req.joint_positions.size() << " joint_positions";
-    return refuse(res, message.str());
-  }
-  for (double position : req.joint_positions) {
-    if (!std::isfinite(position)) {
-      return refuse(res, "SetModelConfiguration: joint_positions must be finite");
-    }
-  }
   Status set;
   {
     WorldLock lock(*this);
-    set = world_.hasModel(req.model_name)
-              ? world_.setModelConfiguration(req.model_name, req.joint_names, req.joint_positions)
-              : Status::Error("model [" + req.model_name + "] does not exist");
+    set = world_.setModelConfiguration(req.model_name, req.joint_names, req.joint_positions);
   }
-  if (!set.ok) return refuse(res, prefixed("SetModelConfiguration", set.message));
-  return succeed(res, "SetModelConfiguration: success");
+  return answer(res, set, configurationText(set, req));
 }
 
 bool GazeboApi::getModelProperties(GetModelProperties::Request& req,
@@ -751,17 +795,17 @@ bool GazeboApi::getModelProperties(GetModelProperties::Request& req,
   Status found;
   {
     WorldLock lock(*this);
-    found = world_.hasModel(req.model_name) ? world_.modelProperties(req.model_name, &model)
-                                            : Status::Error("model does not exist");
+    found = world_.modelProperties(req.model_name, &model);
   }
-  if (!found.ok) return refuse(res, prefixed("GetModelProperties", found.message));
-  // Bare link names, as Gazebo answers (its srv comment says scoped, its code says bare).
-  res.canonical_body_name = bareName(model.canonical_link);
-  for (const auto& link : model.links) res.body_names.push_back(bareName(link));
-  res.geom_names = model.geoms;
-  res.joint_names = model.joints;
-  res.is_static = model.is_static;
-  return succeed(res, "GetModelProperties: got properties");
+  if (found.ok()) {
+    // Bare link names, as Gazebo answers (its srv comment says scoped, its code says bare).
+    res.canonical_body_name = bareName(model.canonical_link);
+    for (const auto& link : model.links) res.body_names.push_back(bareName(link));
+    res.geom_names = model.geoms;
+    res.joint_names = model.joints;
+    res.is_static = model.is_static;
+  }
+  return answer(res, found, statusText(kGetModelProperties, found));
 }
 
 bool GazeboApi::getWorldProperties(GetWorldProperties::Request&,
@@ -830,10 +874,9 @@ bool GazeboApi::setPhysicsProperties(SetPhysicsProperties::Request& req,
     p.erp = ode.erp;
     p.max_contacts = ode.max_contacts;
     set = world_.setParams(p);
-    if (set.ok) max_update_rate_ = req.max_update_rate;
+    if (set.ok()) max_update_rate_ = req.max_update_rate;
   }
-  if (!set.ok) return refuse(res, prefixed("SetPhysicsProperties", set.message));
-  return succeed(res, "SetPhysicsProperties: physics properties set");
+  return answer(res, set, statusText(kSetPhysicsProperties, set));
 }
 
 bool GazeboApi::pausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
