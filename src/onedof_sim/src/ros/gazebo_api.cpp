@@ -346,6 +346,8 @@ bool readGravity(const ros::NodeHandle& nh, Vec3* gravity, std::string* error) {
 
 // Private start-up parameters (all optional; set them before starting the node, on the command
 // line as _name:=value, or in a launch file):
+//   ~physics (the engine: World::engineNames(), the first by default; gzserver's -e does the same;
+//     World refuses an unknown one, naming the known ones)
 //   ~time_step (s, 0.001)  ~max_update_rate (steps per wall second, 1000; 0 = as fast as possible)
 //   ~paused (false; gzserver's -u / --pause flag does the same)  ~gravity ([0, 0, -9.8], or "0 0 -9.8")
 //   ~quick_step (false: dWorldStep; true: dWorldQuickStep)
@@ -357,7 +359,8 @@ bool readGravity(const ros::NodeHandle& nh, Vec3* gravity, std::string* error) {
 bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& args,
                      NodeOptions* options, std::string* error) {
   PhysicsParams& p = options->physics;
-  if (!readParam(nh, "time_step", &p.step, error) ||
+  if (!readParam(nh, "physics", &options->engine, error) ||
+      !readParam(nh, "time_step", &p.step, error) ||
       !readRate(nh, "max_update_rate", &options->max_update_rate, error) ||
       !readParam(nh, "paused", &options->paused, error) ||
       !readGravity(nh, &p.gravity, error) ||
@@ -379,10 +382,7 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
     if (args[i] == "-u" || args[i] == "--pause") {
       options->paused = true;
     } else if (args[i] == "-e" && i + 1 < args.size()) {
-      if (args[++i] != "ode") {
-        *error = "physics engine '" + args[i] + "' is not supported by this node (it is ODE)";
-        return false;
-      }
+      options->engine = args[++i];
     } else {
       ROS_WARN_STREAM("ignoring command-line argument '" << args[i] << "'");
     }
@@ -414,6 +414,7 @@ GazeboApi::WorldLock::WorldLock(GazeboApi& api) {
 
 GazeboApi::GazeboApi(const NodeOptions& options)
     : private_nh_("~"),
+      world_(options.engine),
       paused_(options.paused),
       max_update_rate_(options.max_update_rate),
       states_publish_frequency_(options.states_publish_frequency),
@@ -843,8 +844,8 @@ bool GazeboApi::getPhysicsProperties(GetPhysicsProperties::Request&,
   ode.cfm = p.cfm;
   ode.erp = p.erp;
   ode.max_contacts = p.max_contacts;
-  // The message has no engine field: the status names the engine, as the pybullet node does.
-  return succeed(res, "GetPhysicsProperties: got properties (engine: ode)");
+  // The message has no engine field: the status names the engine.
+  return succeed(res, "GetPhysicsProperties: got properties (engine: " + world_.engineName() + ")");
 }
 
 bool GazeboApi::setPhysicsProperties(SetPhysicsProperties::Request& req,

@@ -41,6 +41,7 @@ namespace onedof_sim {
 
 // Start-up settings of the node (see readNodeOptions for the parameter names).
 struct NodeOptions {
+  std::string engine = World::engineNames().front();
   PhysicsParams physics;
   double max_update_rate = 1000.0;       // steps per wall second; 0 = as fast as possible
   bool paused = false;

@@ -1,4 +1,5 @@
 // rosrun onedof_sim onedof_sim: the simulator node, named `gazebo` as gzserver + gazebo_ros is.
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -8,6 +9,12 @@
 #include "gazebo_api.h"
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "--list-physics") {
+    // The engine registry, for the tools and tests that run one simulator per engine; before
+    // ros::init, so that it needs no roscore.
+    for (const std::string& name : onedof_sim::World::engineNames()) std::cout << name << "\n";
+    return 0;
+  }
   ros::init(argc, argv, "gazebo");  // removes the ROS remappings (_param:=value) from argv
   // Alive until the end: when the last NodeHandle goes, roscpp shuts down (console output too).
   ros::NodeHandle private_nh("~");
@@ -23,7 +30,8 @@ int main(int argc, char** argv) {
     onedof_sim::GazeboApi api(options);
     api.run();
   } catch (const std::invalid_argument& e) {
-    ROS_FATAL_STREAM("onedof_sim: invalid physics parameters: " << e.what());
+    // An unknown engine (World's constructor) or invalid physics parameters (setParams).
+    ROS_FATAL_STREAM("onedof_sim: " << e.what());
     return 1;
   }
   return 0;
