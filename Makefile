@@ -30,7 +30,7 @@ APT_PACKAGES := \
   ros-core-dev catkin python3-rospy rosbash python3-rostopic python3-rosservice python3-roslaunch \
   python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
   python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs python3-std-msgs python3-tf2-msgs \
-  libode-dev liburdfdom-dev liburdfdom-tools libsdformat-dev libgtest-dev \
+  libode-dev libbullet-dev liburdfdom-dev liburdfdom-tools libsdformat-dev libgtest-dev \
   python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
   catkin-lint xvfb xauth imagemagick procps
@@ -65,7 +65,6 @@ build: $(STAMPS)/build
 $(STAMPS)/build: $(SOURCES) $(WS)/Makefile | deps venv
 	cd $(WS) && env -u PYTHONPATH catkin_make -j2 --build $(BUILD) -DCATKIN_DEVEL_PREFIX=$(WS)/$(DEVEL) \
 	  -DPYTHON_EXECUTABLE=$(SYSTEM_PYTHON) \
-	  -DONEDOF_SIM_VENV_PYTHON=$(VENV_PYTHON) \
 	  -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON
 	cd $(WS) && $(MAKE) -C $(BUILD) -j2 tests
 	@mkdir -p $(STAMPS) && touch $@

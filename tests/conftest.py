@@ -9,17 +9,14 @@ import sys
 
 import pytest
 
+from onedof_sim.engines import engine_names, node_command
 from onedof_sim.private_ros import PrivateRos, wait_until
 
 WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
                              'minimal_robot_description.urdf')
-ENGINES = ('ode', 'bullet')
-# The command that starts each engine's simulator node, as a user types it.
-SIM_COMMANDS = {
-    'ode': ['rosrun', 'onedof_sim', 'onedof_sim'],
-    'bullet': ['rosrun', 'onedof_sim', 'onedof_sim_bullet'],
-}
+# The node lists its engines; pytest parametrizes with them at collection.
+ENGINES = engine_names()
 
 
 @pytest.hookimpl(tryfirst=True, hookwrapper=True)
@@ -61,9 +58,9 @@ def rospy_client(ros):
     rospy.signal_shutdown('test finished')
 
 
-def start_sim(ros, engine='ode', args=(), wait=True):
+def start_sim(ros, engine=ENGINES[0], args=(), wait=True):
     """Starts the simulator node of `engine` and waits until it serves its last service."""
-    proc = ros.start(SIM_COMMANDS[engine] + list(args), name='sim_' + engine)
+    proc = ros.start(node_command(engine) + list(args), name='sim_' + engine)
     if wait:
         wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'),
                    60, what='the %s simulator to serve /gazebo/unpause_physics' % engine)

@@ -20,7 +20,7 @@ import pytest
 
 from api_client import GazeboApi
 from conftest import TUTORIAL_URDF, start_sim
-from onedof_sim import tutorial_physics as physics
+from onedof_sim.tutorial import physics
 from onedof_sim.private_ros import wait_until
 from onedof_sim.transforms import quaternion_multiply
 
@@ -317,7 +317,7 @@ def test_controller_waits_for_the_joint_and_takes_it_once_spawned(ros, engine, s
 
 
 def test_tutorial_plot_command_records_the_controller_in_sim_time(ros, robot, tmp_path):
-    from onedof_sim.plot import read_csv
+    from onedof_sim.tools.plot import read_csv
     robot.command(2.0)
     png, csv_path = str(tmp_path / 'plot.png'), str(tmp_path / 'plot.csv')
     result = ros.run(['rosrun', 'onedof_sim', 'plot', '/jnt_pos/data', '/jnt_trq/data',

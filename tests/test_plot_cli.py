@@ -8,7 +8,7 @@ import threading
 
 import pytest
 
-from onedof_sim.plot import read_csv
+from onedof_sim.tools.plot import read_csv
 from onedof_sim.private_ros import wait_until
 
 PLOT = ['rosrun', 'onedof_sim', 'plot']

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from onedof_sim import tutorial_physics as physics
+from onedof_sim.tutorial import physics
 
 PHASE_DURATION = 5.0
 # Half speed: the suite runs two tests side by side on two cores, and a Python controller that

@@ -1,13 +1,14 @@
-// tutorial_scenario: the tutorial's runs on the ODE core, in-process and deterministic, for the
-// cross-validation of the two engines (python -m onedof_sim.cross_validation drives it and runs
-// the same on the pybullet core). No ROS: what differs between the engines is physics only.
+// tutorial_scenario: the tutorial's runs on the core with one engine, in-process and deterministic,
+// for the cross-validation of the engines (python -m onedof_sim.reference.cross_validation drives
+// it and runs the same on pybullet with its own loaders). No ROS: what differs between the engines
+// is physics only.
 //
-//   tutorial_scenario scenario --urdf F --table F --table-x X --table-phase N --kp KP --kv KV
-//                              --phase-seconds S --commands C1,C2,...
+//   tutorial_scenario scenario --physics NAME --urdf F --table F --table-x X --table-phase N
+//                              --kp KP --kv KV --phase-seconds S --commands C1,C2,...
 //     The tutorial's controller law every 10 ms of sim time (read q, qdot; an effort job of
 //     Kp wrap(c - q) - Kv qdot for 10 ms from now), one phase per command, each S long; the table
 //     spawned at (X, 0, 0) when phase N (0-based) starts. Prints CSV t,q,qdot,torque per tick.
-//   tutorial_scenario release --urdf F --z Z --q Q --effort E --seconds S
+//   tutorial_scenario release --physics NAME --urdf F --z Z --q Q --effort E --seconds S
 //     The robot spawned Z above the origin, joint1 at rest at Q, a constant effort E on it from
 //     the start. Prints CSV t,q,qdot after every step (t = 0 first).
 #include <cmath>
@@ -30,9 +31,9 @@ constexpr const char* kRobot = "one_DOF_robot";
 constexpr const char* kJoint = "joint1";
 
 const char* const kUsage =
-    "usage: tutorial_scenario scenario --urdf F --table F --table-x X --table-phase N --kp KP "
-    "--kv KV --phase-seconds S --commands C1,C2,...\n"
-    "       tutorial_scenario release --urdf F --z Z --q Q --effort E --seconds S";
+    "usage: tutorial_scenario scenario --physics NAME --urdf F --table F --table-x X "
+    "--table-phase N --kp KP --kv KV --phase-seconds S --commands C1,C2,...\n"
+    "       tutorial_scenario release --physics NAME --urdf F --z Z --q Q --effort E --seconds S";
 
 struct UsageError {
   std::string what;
@@ -109,7 +110,7 @@ int scenario(const Options& options) {
       std::llround(options.number("phase-seconds") * 1e9 / kControlPeriodNs);
   if (phase_ticks < 1) throw UsageError{"--phase-seconds must be at least 0.01"};
 
-  onedof_sim::World world;
+  onedof_sim::World world(options.text("physics"));
   check(world.spawn(kRobot, readFile(options.text("urdf")), onedof_sim::ModelFormat::Urdf,
                     at(0, 0)),
         "spawn the robot");
@@ -133,7 +134,7 @@ int scenario(const Options& options) {
 }
 
 int release(const Options& options) {
-  onedof_sim::World world;
+  onedof_sim::World world(options.text("physics"));
   check(world.spawn(kRobot, readFile(options.text("urdf")), onedof_sim::ModelFormat::Urdf,
                     at(0, options.number("z"))),
         "spawn the robot");

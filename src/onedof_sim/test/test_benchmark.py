@@ -4,10 +4,10 @@ import xml.etree.ElementTree as ElementTree
 
 import pytest
 
-from onedof_sim.benchmark import (Row, chain_urdf, collapsed_stack_shares, cpu_model,
-                                  markdown_cell, mean_rtf, missed_periods, one_line, percentile,
-                                  perf_report_shares, period_jitter, power_law_exponent, rate,
-                                  render_table, windowed_rtf)
+from onedof_sim.benchmark.report import (Row, chain_urdf, collapsed_stack_shares, cpu_model,
+                                         markdown_cell, mean_rtf, missed_periods, one_line,
+                                         percentile, perf_report_shares, period_jitter,
+                                         power_law_exponent, rate, render_table, windowed_rtf)
 
 
 def test_percentile_interpolates_between_ranks_as_numpy():

@@ -9,9 +9,9 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Float64, Header
 
-from onedof_sim.plot import (PlotError, SampleBuffer, expand_specs, field_accessor, header_stamp,
-                             make_figure, parse_args, parse_field_path, read_csv,
-                             split_topic_field, write_csv, write_figure)
+from onedof_sim.tools.plot import (PlotError, SampleBuffer, expand_specs, field_accessor,
+                                   header_stamp, make_figure, parse_args, parse_field_path,
+                                   read_csv, split_topic_field, write_csv, write_figure)
 
 
 def test_expand_specs_keeps_plain_specs():

@@ -1,4 +1,5 @@
-"""Unit tests of onedof_sim.spawn_cli: spawn_model's arguments, model path and model XML sources."""
+"""Unit tests of onedof_sim.tools.spawn_cli: spawn_model's arguments, model path and model XML
+sources."""
 import io
 import math
 import os
@@ -6,8 +7,8 @@ import os
 import numpy as np
 import pytest
 
-from onedof_sim import spawn_cli
-from onedof_sim.spawn_cli import SpawnError
+from onedof_sim.tools import spawn_cli
+from onedof_sim.tools.spawn_cli import SpawnError
 from onedof_sim.transforms import quaternion_from_rpy
 
 PACKAGE_MODELS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'models')

@@ -2,7 +2,7 @@ import math
 
 import pytest
 
-from onedof_sim import tutorial_physics as tp
+from onedof_sim.tutorial import physics as tp
 
 
 @pytest.mark.parametrize('command', [0.3, 1.0, 2.0, 2.5, -1.0])

@@ -1,9 +1,12 @@
-"""Cross-validation of the two physics engines, against the closed form and against each other.
+"""Cross-validation of the physics engines, against the closed form and against an independent
+reference.
 
-Both engines run the same experiments in-process, step by step, with no ROS in between, so what
-differs between them is physics and not message timing: the ODE core through the tool
-`tutorial_scenario` (bench/tutorial_scenario.cpp), the pybullet core (BulletWorld) here. Each
-experiment is defined once, below, and its figures are computed by the same code for both.
+Every engine runs the same experiments in-process, step by step, with no ROS in between, so what
+differs between them is physics and not message timing: each of our engines (onedof_sim.engines)
+through our model loader and the tool `tutorial_scenario --physics NAME`
+(bench/tutorial_scenario.cpp), and pybullet through its own loaders
+(onedof_sim.reference.pybullet_reference), the reference our engines are set against. Each
+experiment is defined once, below, and its figures are computed by the same code for every engine.
 
 - release: the robot at rest at an angle with a constant effort on joint1; every step recorded.
   It gives the small-swing period, the energy over 10 s undamped and the static holding effort.
@@ -12,7 +15,7 @@ experiment is defined once, below, and its figures are computed by the same code
   tutorial player's phases and table. It gives the settled angles, the table-contact angle, and
   q(t) to compare between the engines.
 
-    python -m onedof_sim.cross_validation [--markdown docs/cross_validation.md]
+    python -m onedof_sim.reference.cross_validation [--markdown docs/cross_validation.md]
 (under the workspace venv's python, where pybullet lives, with the devel space sourced).
 """
 import argparse
@@ -25,12 +28,11 @@ import sys
 
 import rospkg
 
-from minimal_joint_controller.control_law import pd_torque
-from onedof_sim import tutorial_physics as physics
-from onedof_sim.bullet_world import BulletWorld, ModelFormat, PhysicsParams, Pose, Vec3
-from onedof_sim.tutorial_player import PHASES, TABLE_X
+from onedof_sim.engines import engine_names
+from onedof_sim.reference import pybullet_reference
+from onedof_sim.tutorial import physics
+from onedof_sim.tutorial.player import PHASES, TABLE_X
 
-CONTROL_PERIOD_NS = 10000000  # the controller's 100 Hz
 PHASE_SECONDS = 5.0
 # The robot raised so that link2 hanging straight down clears the ground (its tip would touch it).
 RELEASE_HEIGHT = 0.5
@@ -42,8 +44,11 @@ HOLDING_ANGLES = (1.0, 2.0)
 TABLE_PHASE = next(index for index, phase in enumerate(PHASES) if phase.before is not None)
 # The last part of a phase over which its settled angle is averaged.
 SETTLED_WINDOW = 0.5
-# The aims (issue 5) for the RMS difference of the engines' q(t), per part of the scenario.
+# The aims (issue 5) for the RMS difference of an engine's q(t) from the reference's, per part of
+# the scenario.
 RMS_AIMS = collections.OrderedDict((('before the table', 0.01), ('with the table', 0.02)))
+
+TOOL = ('rosrun', 'onedof_sim', 'tutorial_scenario')
 
 Run = collections.namedtuple('Run', 't q qdot torque')
 # measured and closed_form are in unit.
@@ -60,11 +65,6 @@ def table_sdf_path():
                         'model.sdf')
 
 
-def read_text(path):
-    with open(path) as text:
-        return text.read()
-
-
 # --- the engines --------------------------------------------------------------------------------
 
 def parse_csv(text):
@@ -78,98 +78,59 @@ def parse_csv(text):
     return Run(columns['t'], columns['q'], columns['qdot'], columns.get('torque'))
 
 
-class OdeEngine:
-    """The ODE core, through `rosrun onedof_sim tutorial_scenario`."""
-    name = 'ODE'
+class ToolEngine:
+    """One of our engines through our model loader: `rosrun onedof_sim tutorial_scenario MODE
+    --physics NAME ...`."""
 
-    def __init__(self, command=('rosrun', 'onedof_sim', 'tutorial_scenario')):
-        self.command = list(command)
+    def __init__(self, name):
+        self.name = name
 
-    def _run(self, args):
-        done = subprocess.run(self.command + args, capture_output=True, text=True, timeout=600)
+    def _run(self, mode, args):
+        done = subprocess.run(list(TOOL) + [mode, '--physics', self.name] + args,
+                              capture_output=True, text=True, timeout=600)
         if done.returncode != 0:
-            raise RuntimeError('tutorial_scenario %s failed: %s' % (args[0], done.stderr.strip()))
+            raise RuntimeError('tutorial_scenario %s --physics %s failed: %s'
+                               % (mode, self.name, done.stderr.strip()))
         return parse_csv(done.stdout)
 
     def scenario(self, phase_seconds=PHASE_SECONDS):
-        return self._run([
-            'scenario', '--urdf', robot_urdf_path(), '--table', table_sdf_path(),
+        return self._run('scenario', [
+            '--urdf', robot_urdf_path(), '--table', table_sdf_path(),
             '--table-x', repr(TABLE_X), '--table-phase', str(TABLE_PHASE),
             '--kp', repr(physics.KP), '--kv', repr(physics.KV),
             '--phase-seconds', repr(phase_seconds),
             '--commands', ','.join(repr(phase.command) for phase in PHASES)])
 
     def release(self, q, effort, seconds):
-        return self._run(['release', '--urdf', robot_urdf_path(), '--z', repr(RELEASE_HEIGHT),
-                          '--q', repr(q), '--effort', repr(effort), '--seconds', repr(seconds)])
+        return self._run('release', ['--urdf', robot_urdf_path(), '--z', repr(RELEASE_HEIGHT),
+                                     '--q', repr(q), '--effort', repr(effort),
+                                     '--seconds', repr(seconds)])
 
 
-def _checked(status):
-    if not status.ok:
-        raise RuntimeError(status.message)
+def transposed(rows):
+    return [list(column) for column in zip(*rows)]
 
 
-class BulletEngine:
-    """The pybullet core, in this process, with the default physics parameters or `params`."""
-    name = 'bullet'
+class PybulletReference:
+    """pybullet through its own loaders, in this process; `contact_slop` in m."""
+    name = 'pybullet'
 
-    def __init__(self, params=None):
-        self.params = params
-
-    def _world_with_robot(self, height):
-        world = BulletWorld(self.params)
-        _checked(world.spawn('one_DOF_robot', read_text(robot_urdf_path()), ModelFormat.URDF,
-                             Pose(Vec3(0.0, 0.0, height))))
-        return world
-
-    @staticmethod
-    def _joint1(world):
-        status, info = world.joint_info('joint1')
-        _checked(status)
-        return info
+    def __init__(self, contact_slop=pybullet_reference.CONTACT_SLOP):
+        self.contact_slop = contact_slop
 
     def scenario(self, phase_seconds=PHASE_SECONDS):
-        world = self._world_with_robot(0.0)
-        rows = []
-        try:
-            for phase in PHASES:
-                if phase.before is not None:
-                    _checked(world.spawn('cafe_table', read_text(table_sdf_path()),
-                                         ModelFormat.SDF, Pose(Vec3(TABLE_X, 0.0, 0.0))))
-                for _ in range(round(phase_seconds * 1e9 / CONTROL_PERIOD_NS)):
-                    info = self._joint1(world)
-                    torque = pd_torque(phase.command, info.position, info.rate, physics.KP,
-                                       physics.KV)
-                    _checked(world.apply_joint_effort('joint1', torque, world.time_ns(),
-                                                      CONTROL_PERIOD_NS))
-                    rows.append((round(world.time(), 3), info.position, info.rate, torque))
-                    until = world.time_ns() + CONTROL_PERIOD_NS
-                    while world.time_ns() < until:
-                        world.step()
-        finally:
-            world.close()
-        return Run(*(list(column) for column in zip(*rows)))
+        return Run(*transposed(pybullet_reference.scenario(
+            robot_urdf_path(), table_sdf_path(), TABLE_X, TABLE_PHASE, physics.KP, physics.KV,
+            phase_seconds, [phase.command for phase in PHASES], self.contact_slop)))
 
     def release(self, q, effort, seconds):
-        world = self._world_with_robot(RELEASE_HEIGHT)
-        rows = []
-        try:
-            _checked(world.set_model_configuration('one_DOF_robot', ['joint1'], [q]))
-            if effort:
-                _checked(world.apply_joint_effort('joint1', effort, 0, -1))
-            until = round(seconds * 1e9)
-            while True:
-                info = self._joint1(world)
-                rows.append((round(world.time(), 3), info.position, info.rate))
-                if world.time_ns() >= until:
-                    break
-                world.step()
-        finally:
-            world.close()
-        return Run(*(list(column) for column in zip(*rows)), None)
+        return Run(*transposed(pybullet_reference.release(robot_urdf_path(), RELEASE_HEIGHT, q,
+                                                        effort, seconds)), None)
 
 
-ENGINES = (OdeEngine, BulletEngine)
+def engines():
+    """Our engines in registry order, then the reference."""
+    return [ToolEngine(name) for name in engine_names()] + [PybulletReference()]
 
 
 # --- figures ------------------------------------------------------------------------------------
@@ -272,18 +233,23 @@ def engine_differences(first, second, phase_seconds=PHASE_SECONDS):
 
 
 def collect(phase_seconds=PHASE_SECONDS):
-    """Everything the document shows: {'figures': the closed-form Figures of both engines,
-    'differences': engine_differences of their scenario runs, 'without_slop': the same against
-    bullet with contact_surface_layer 0 (where the difference on the table comes from)}."""
-    runs, figures = {}, []
-    for engine_class in ENGINES:
-        engine = engine_class()
-        runs[engine.name] = engine.scenario(phase_seconds)
-        figures += closed_form_figures(engine, phase_seconds, runs[engine.name])
-    without_slop = BulletEngine(PhysicsParams(contact_surface_layer=0.0)).scenario(phase_seconds)
-    return {'figures': figures,
-            'differences': engine_differences(runs['ODE'], runs['bullet'], phase_seconds),
-            'without_slop': engine_differences(runs['ODE'], without_slop, phase_seconds)}
+    """Everything the document shows: {'figures': the closed-form Figures of every engine and of
+    the reference, 'differences': {engine: engine_differences of its scenario run against the
+    reference's}, 'without_slop': the same against the reference with contact slop 0 (where the
+    difference on the table comes from)}."""
+    reference = PybulletReference()
+    reference_run = reference.scenario(phase_seconds)
+    without_slop_run = PybulletReference(contact_slop=0.0).scenario(phase_seconds)
+    figures = []
+    differences, without_slop = collections.OrderedDict(), collections.OrderedDict()
+    for name in engine_names():
+        engine = ToolEngine(name)
+        run = engine.scenario(phase_seconds)
+        figures += closed_form_figures(engine, phase_seconds, run)
+        differences[name] = engine_differences(run, reference_run, phase_seconds)
+        without_slop[name] = engine_differences(run, without_slop_run, phase_seconds)
+    figures += closed_form_figures(reference, phase_seconds, reference_run)
+    return {'figures': figures, 'differences': differences, 'without_slop': without_slop}
 
 
 # --- the document -------------------------------------------------------------------------------
@@ -305,16 +271,22 @@ def _error(figure):
 
 
 def markdown(figures, differences, without_slop):
+    """The document: `figures` (Figures), `differences` and `without_slop` ({engine: {part of
+    RMS_AIMS: (RMS, max)}}) as collect() returns them."""
+    reference = PybulletReference.name
     lines = [
         '# Cross-validation of the physics engines',
         '',
-        'Generated by `python -m onedof_sim.cross_validation --markdown docs/cross_validation.md`'
-        ' (%s); the tests in `src/onedof_sim/test/test_cross_validation.py` assert these figures.'
+        'Generated by `python -m onedof_sim.reference.cross_validation --markdown '
+        'docs/cross_validation.md` (%s); the tests in '
+        '`src/onedof_sim/test/test_cross_validation.py` assert these figures.'
         % datetime.date.today().isoformat(),
         '',
-        'Both engines run the same experiments in-process, step by step at 1 ms, with no ROS in '
-        'between: the ODE core through `tutorial_scenario`, the pybullet core through '
-        '`BulletWorld`. The closed forms are those of `onedof_sim.tutorial_physics`.',
+        'Every engine runs the same experiments in-process, step by step at 1 ms, with no ROS in '
+        'between: our engines (%s) through our model loader and `tutorial_scenario --physics '
+        'NAME`, and `%s`, the independent reference, through pybullet\'s own URDF and SDF '
+        'loaders (`onedof_sim.reference.pybullet_reference`). The closed forms are those of '
+        '`onedof_sim.tutorial.physics`.' % (', '.join(differences), reference),
         '',
         '- Period: released %g rad from hanging straight down, %g s, mean period between upward '
         'crossings; closed form 2 pi sqrt(I / (m g d)).' % (SWING_AMPLITUDE, SWING_SECONDS),
@@ -337,30 +309,31 @@ def markdown(figures, differences, without_slop):
             _with_unit(_number(figure.closed_form), figure.unit), _error(figure)))
     lines += [
         '',
-        '## ODE against bullet: q(t) over the tutorial scenario',
+        '## Each engine against %s: q(t) over the tutorial scenario' % reference,
         '',
         'Sampled at the controller\'s ticks (every 10 ms of sim time).',
         '',
-        '| part | RMS difference | max difference | aim | met |',
-        '|---|---|---|---|---|',
+        '| engine | part | RMS difference | max difference | aim | met |',
+        '|---|---|---|---|---|---|',
     ]
-    for part, (root_mean_square, worst) in differences.items():
-        lines.append('| %s | %.3g rad | %.3g rad | < %g rad | %s |' % (
-            part, root_mean_square, worst, RMS_AIMS[part],
-            'yes' if root_mean_square < RMS_AIMS[part] else 'no'))
+    for engine, parts in differences.items():
+        for part, (root_mean_square, worst) in parts.items():
+            lines.append('| %s | %s | %.3g rad | %.3g rad | < %g rad | %s |' % (
+                engine, part, root_mean_square, worst, RMS_AIMS[part],
+                'yes' if root_mean_square < RMS_AIMS[part] else 'no'))
     lines += [
         '',
-        'Before the table the engines differ only in how they write the joint down: ODE moves '
-        'link2 as a free body held by a hinge constraint, bullet in joint coordinates '
-        '(Featherstone). Both step semi-implicit Euler at 1 ms and q(t) agrees to the figures '
-        'above. On the table the engines '
-        'differ by how deep they let a contact sink (the depths in the first table): neither '
-        'corrects an overlap smaller than `contact_surface_layer` (%g m by default; ODE\'s '
-        'surface layer, bullet\'s contact slop). ODE keeps the link where the step that met the '
-        'table left it; bullet pushes back only the overlap beyond its slop, so the link settles '
-        'about that deep. With `contact_surface_layer` 0 in bullet, the RMS difference with the '
-        'table becomes %.3g rad (max %.3g rad).'
-        % ((PhysicsParams().contact_surface_layer,) + without_slop['with the table']),
+        'Before the table the engines differ in how they write the joint down: pybullet\'s loader '
+        'builds a multibody in joint coordinates (Featherstone), our engines receive rigid bodies '
+        'and the 1-DOF joints between them (src/core/engine.h). All step at 1 ms. On the table '
+        'they differ by how deep they let a contact sink (the depths in the first table): '
+        'pybullet leaves an overlap up to its contact slop (%g m, as ODE\'s contact surface '
+        'layer) uncorrected, so the link settles about that deep. With the reference\'s contact '
+        'slop 0, the RMS difference with the table becomes %s.'
+        % (pybullet_reference.CONTACT_SLOP, ', '.join(
+            '%.3g rad for %s (max %.3g rad)' % (parts['with the table'][0], engine,
+                                                parts['with the table'][1])
+            for engine, parts in without_slop.items())),
     ]
     return '\n'.join(lines) + '\n'
 

@@ -1,18 +1,21 @@
-// bench_ode_loop: the physics limit of the ODE node, World::step in a tight loop without ROS.
+// bench_engine_loop: the physics limit of the node on one engine, World::step in a tight loop
+// without ROS.
 //
 // What one step here includes is what the node's step includes minus ROS: effort jobs, collision
-// detection, contact joints and the solver (World::step). Missing are the world mutex, /clock and
+// detection, contacts and the engine's step (World::step). Missing are the world mutex, /clock and
 // the pacing. The world is built once and keeps its state between measurement windows, as the
 // node's does, so the two are compared on the same motion.
 //
-//   bench_ode_loop [--quick-step] --urdf NAME FILE X [--sdf NAME FILE X]...
+//   bench_engine_loop [--physics NAME] [--quick-step] --urdf NAME FILE X [--sdf NAME FILE X]...
 // then on stdin, one window per line: "SECONDS MIN_STEPS"; for each it steps for at least both and
 // prints "window STEPS WALL_SECONDS SIM_SECONDS". It prints "ready" once the models are spawned.
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <onedof_sim/world.h>
@@ -20,9 +23,9 @@
 namespace {
 
 int usage(const std::string& why) {
-  std::cerr << "bench_ode_loop: " << why
-            << "\nusage: bench_ode_loop [--quick-step] (--urdf|--sdf NAME FILE X)...; then lines "
-               "SECONDS MIN_STEPS"
+  std::cerr << "bench_engine_loop: " << why
+            << "\nusage: bench_engine_loop [--physics NAME] [--quick-step] "
+               "(--urdf|--sdf NAME FILE X)...; then lines SECONDS MIN_STEPS"
             << std::endl;
   return 2;
 }
@@ -30,12 +33,27 @@ int usage(const std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // --quick-step: dWorldQuickStep (the node's ~quick_step) instead of the default dWorldStep.
-  const bool quick_step = argc > 1 && std::string(argv[1]) == "--quick-step";
+  std::string engine = onedof_sim::World::engineNames().front();
   onedof_sim::PhysicsParams params;
-  params.quick_step = quick_step;
-  onedof_sim::World world(params);
-  for (int i = quick_step ? 2 : 1; i < argc; i += 4) {
+  int i = 1;
+  for (; i < argc; ++i) {
+    const std::string option = argv[i];
+    if (option == "--physics" && i + 1 < argc) {
+      engine = argv[++i];
+    } else if (option == "--quick-step") {
+      // ODE's dWorldQuickStep (the node's ~quick_step) instead of the default dWorldStep.
+      params.quick_step = true;
+    } else {
+      break;
+    }
+  }
+  std::unique_ptr<onedof_sim::World> world;
+  try {
+    world = std::make_unique<onedof_sim::World>(engine, params);
+  } catch (const std::invalid_argument& error) {
+    return usage(error.what());
+  }
+  for (; i < argc; i += 4) {
     const std::string flag = argv[i];
     if ((flag != "--urdf" && flag != "--sdf") || i + 3 >= argc) return usage("bad arguments");
     std::ifstream file(argv[i + 2]);
@@ -46,7 +64,7 @@ int main(int argc, char** argv) {
     pose.position.x = std::atof(argv[i + 3]);
     const auto format = flag == "--urdf" ? onedof_sim::ModelFormat::Urdf
                                          : onedof_sim::ModelFormat::Sdf;
-    const onedof_sim::Status status = world.spawn(argv[i + 1], xml.str(), format, pose);
+    const onedof_sim::Status status = world->spawn(argv[i + 1], xml.str(), format, pose);
     if (!status.ok()) {
       std::ostringstream why;
       why << "spawn " << argv[i + 1] << ": " << status;
@@ -65,11 +83,11 @@ int main(int argc, char** argv) {
     long steps = 0;
     // Reading the clock costs under 1 % of the smallest step.
     do {
-      world.step();
+      world->step();
       ++steps;
     } while (Clock::now() < until || steps < min_steps);
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
-    std::cout << "window " << steps << " " << wall << " " << world.time() << std::endl;
+    std::cout << "window " << steps << " " << wall << " " << world->time() << std::endl;
   }
   return 0;
 }

@@ -15,7 +15,7 @@ import time
 
 import yaml
 
-from onedof_sim import tutorial_physics as physics
+from onedof_sim.tutorial import physics
 from onedof_sim.private_ros import PrivateRos, wait_until
 
 Phase = collections.namedtuple('Phase', 'name command before')
@@ -204,10 +204,10 @@ def summary_markdown(rows, physics_engine):
     return '\n'.join(lines) + '\n'
 
 
-def play(output, physics_engine='ode', phase_duration=5.0, screenshot=True,
+def play(output, physics_engine, phase_duration=5.0, screenshot=True,
          real_time_factor=1.0):
     """Plays the tutorial; returns the per-phase summary rows. Raises with the reason on failure."""
-    from onedof_sim import plot
+    from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
     log_dir = os.path.join(output, 'logs')
     shutil.rmtree(log_dir, ignore_errors=True)

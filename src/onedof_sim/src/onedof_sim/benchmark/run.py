@@ -1,11 +1,13 @@
-"""rosrun onedof_sim benchmark: measures the simulator nodes side by side with their references on
-one private ROS graph, and writes the table (README-table.md), the plots and results.json.
+"""rosrun onedof_sim benchmark: measures the simulator node on every engine side by side with its
+references on one private ROS graph, and writes the table (README-table.md), the plots and
+results.json.
 
 Items (issue 6), short ones first so that a failure shows early:
   6 start-up, 1 throughput + 7 memory, 2 scaling, 3 service latency, 4 control loop, 5 pacing.
 What is compared runs alternately in short windows (never at the same time: two cores), and the
 ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
-built, crashed) gets its rows marked as not measured and the run goes on.
+built, crashed) gets its rows marked as not measured and the run goes on, and a missing profiler
+is said so in the notes.
 """
 import argparse
 import dataclasses
@@ -22,11 +24,15 @@ import xmlrpc.client
 
 import rospkg
 
-from onedof_sim import benchmark as bm
+from onedof_sim.benchmark import report as bm
+from onedof_sim.engines import engine_names, node_command
 from onedof_sim.private_ros import PrivateRos, wait_until
 
-SIM_EXECUTABLES = {'ode': 'onedof_sim', 'bullet': 'onedof_sim_bullet'}
-ENGINE_NAMES = {'ode': 'ODE', 'bullet': 'pybullet'}
+# The engine whose physics library pybullet wraps: its node is also set against bare pybullet.
+PYBULLET_COUNTERPART = 'bullet'
+# The engine with a second solver, which ~quick_step picks (ODE's dWorldQuickStep): the scaling
+# item measures both.
+QUICK_STEP_ENGINE = 'ode'
 STEP = 0.001  # the nodes' default step, s
 TABLE_X = 0.85
 BARE_SERVICE = 'bare'  # node name of the bare service: /bare/get_joint_properties, ...
@@ -55,15 +61,16 @@ class Sizes:
     control_s: float = 60.0
     sweep_rates: tuple = (200, 500, 1000)
     sweep_s: float = 10.0
-    # ODE's pacing is measured during its control_s control run; bullet's (no control run) here.
-    bullet_pacing_s: float = 10.0
+    # The default engine's pacing is measured during its control_s control run; the other
+    # engines' (no control run) over pacing_s.
+    pacing_s: float = 10.0
 
 
 FULL = Sizes()
 QUICK = Sizes(startup_repeats=1, throughput_windows=2, throughput_window_s=0.3, memory_steps=20000,
               chain_links=(1, 10), chain_windows=1, chain_window_s=0.2, chain_min_steps=2,
               latency_batches=1, persistent_calls=20, fresh_calls=5, control_s=2.0,
-              sweep_rates=(200,), sweep_s=1.0, bullet_pacing_s=2.0)
+              sweep_rates=(200,), sweep_s=1.0, pacing_s=2.0)
 
 
 def say(text):
@@ -111,6 +118,10 @@ def descendants(pid):
     return found
 
 
+def node_label(engine):
+    return 'node with _physics:=%s' % engine
+
+
 def microseconds(values):
     return '%.0f / %.0f us' % (bm.percentile(values, 50), bm.percentile(values, 99))
 
@@ -119,57 +130,66 @@ class NotMeasured(Exception):
     """An item could not be measured (a node missing or failing); its rows say why."""
 
 
-def bullet_python():
-    """The interpreter of the pybullet node (its relay's shebang): the bare pybullet loop must
-    run under the same python, and it is the one that has pybullet."""
-    import roslib.packages
-    found = roslib.packages.find_node('onedof_sim', SIM_EXECUTABLES['bullet'])
-    if not found:
-        raise NotMeasured('rosrun onedof_sim %s is not built' % SIM_EXECUTABLES['bullet'])
-    with open(found[0]) as f:
-        shebang = f.readline()
-    return shebang[2:].strip() if shebang.startswith('#!') else sys.executable
+def engine_loop_command(engine, quick_step=False):
+    return (['rosrun', 'onedof_sim', 'bench_engine_loop', '--physics', engine]
+            + (['--quick-step'] if quick_step else []))
 
 
-def bare_loop_command(engine):
-    if engine == 'ode':
-        return ['rosrun', 'onedof_sim', 'bench_ode_loop']
-    return [bullet_python(), '-m', 'onedof_sim.bench_bullet_loop']
+def workspace_venv_bin():
+    """bin/ of the workspace venv (make venv), where pybullet's python and py-spy live: rosrun
+    runs this under the system python, which has neither."""
+    source = rospkg.RosPack().get_path('onedof_sim')  # <workspace>/src/onedof_sim
+    return os.path.join(os.path.dirname(os.path.dirname(source)), '.venv', 'bin')
+
+
+def pybullet_loop_command():
+    for python in (sys.executable, os.path.join(workspace_venv_bin(), 'python')):
+        if os.access(python, os.X_OK) and subprocess.run(
+                [python, '-c', 'import pybullet'], capture_output=True).returncode == 0:
+            return [python, '-m', 'onedof_sim.benchmark.pybullet_loop']
+    raise NotMeasured('no python here imports pybullet (make venv installs it in %s)'
+                      % os.path.dirname(workspace_venv_bin()))
 
 
 class BareLoop:
-    """A physics core stepping without ROS in its own process (bench_ode_loop, or
-    bench_bullet_loop for pybullet), kept alive between windows so that it moves on from where
-    it stopped, as the node does."""
+    """A physics loop stepping without ROS in its own process (bench_engine_loop, or
+    onedof_sim.benchmark.pybullet_loop), kept alive between windows so that it moves on from
+    where it stopped, as the node does. Its stdout carries only the protocol; what the engine
+    says on its own (pybullet's loaders print warnings without line ends) goes to a file."""
 
-    def __init__(self, engine, models, quick_step=False):
-        args = bare_loop_command(engine) + (['--quick-step'] if quick_step else [])
+    def __init__(self, command, models):
+        args = list(command)
         for name, path, fmt, x in models:
             args += ['--' + fmt, name, path, str(x)]
+        self.chatter = tempfile.TemporaryFile(mode='w+')
         self.proc = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.STDOUT, text=True)
-        # Whatever comes before "ready" is the engine's banner (pybullet prints one) or an error.
+                                     stderr=self.chatter, text=True)
         said = []
         for line in self.proc.stdout:
             if line.strip() == 'ready':
                 return
             said.append(line)
         self.close()
-        raise NotMeasured('%s did not start: %s' % (' '.join(args[:3]), ''.join(said)[-300:]))
+        raise NotMeasured('%s did not start: %s' % (' '.join(command), self.said(said)))
+
+    def said(self, stdout_lines):
+        self.chatter.seek(0)
+        return (''.join(stdout_lines) + self.chatter.read())[-300:]
 
     def run(self, seconds, min_steps=1):
         """(steps, wall seconds) of one window."""
         self.proc.stdin.write('%g %d\n' % (seconds, min_steps))
         self.proc.stdin.flush()
-        for line in self.proc.stdout:  # lines without the tag are the engine's own chatter
-            if line.startswith('window '):
-                _, steps, wall, _ = line.split()
-                return int(steps), float(wall)
-        raise NotMeasured('the bare loop exited (%s)' % self.proc.wait())
+        line = self.proc.stdout.readline()
+        if not line.startswith('window '):
+            raise NotMeasured('the bare loop exited (%s): %s' % (self.proc.wait(), self.said([line])))
+        _, steps, wall, _ = line.split()
+        return int(steps), float(wall)
 
     def close(self):
         self.proc.stdin.close()
         self.proc.wait(timeout=60)
+        self.chatter.close()
 
 
 class Bench:
@@ -239,9 +259,9 @@ class Bench:
     def start_sim(self, engine, max_update_rate=1000, paused=False):
         # Always given: a private parameter set with _name:=value (or by a launch file) outlives
         # its node on the parameter server, and the next simulator would inherit it.
-        proc = self.ros.start(['rosrun', 'onedof_sim', SIM_EXECUTABLES[engine],
-                               '_max_update_rate:=%g' % max_update_rate,
-                               '_paused:=%s' % str(paused).lower()], name='sim_' + engine)
+        proc = self.ros.start(node_command(engine) + [
+            '_max_update_rate:=%g' % max_update_rate, '_paused:=%s' % str(paused).lower()],
+            name='sim_' + engine)
         pid = self.wait_for_node(proc, '/gazebo')
         self.ros.wait_for_service('/gazebo/unpause_physics')
         return proc, pid
@@ -289,13 +309,16 @@ class Bench:
 
     # --- profiles, taken where an aim is missed -------------------------------------------------
 
-    def profile(self, pid, seconds, label, python):
-        """Samples a running process for `seconds` (perf for C++, py-spy for Python), keeps the
-        report in the output folder and adds a note saying where the time goes."""
+    def profile(self, pid, seconds, label, python=False):
+        """Samples a running process for `seconds` (perf for the C++ node, py-spy for the Python
+        controller), keeps the report in the output folder and adds a note saying where the time
+        goes."""
         path = os.path.join(self.output, 'profile_%s.txt' % label)
         try:
             summary = (pyspy_profile if python else perf_profile)(pid, seconds, path)
-        except (OSError, subprocess.SubprocessError, NotMeasured) as error:
+        except NotMeasured as error:
+            summary = 'no profile: %s' % error
+        except (OSError, subprocess.SubprocessError) as error:
             summary = 'the profile failed: %s' % error
         self.notes.append('%s: %s (report: %s)' % (label, summary, os.path.basename(path)))
         say('profile %s: %s' % (label, summary))
@@ -327,16 +350,15 @@ class Bench:
         floor_median = bm.percentile(floor, 50)
         against = 'roslaunch of a bare roscpp service node until it answers'
         for engine in self.engines:
-            name = ENGINE_NAMES[engine]
-            if engine in failed:
-                self.not_measured('6', 'start-up, %s' % name, failed[engine][:200])
-                continue
             launch = 'start-up: roslaunch minimal_robot_description.launch physics:=%s ' % engine
-            for key, what in (('clock', launch + 'to the first /clock (%s), median of %d'),
-                              ('robot', launch + 'to get_joint_properties(joint1) answering (%s), '
+            if engine in failed:
+                self.not_measured('6', launch, failed[engine][:200])
+                continue
+            for key, what in (('clock', launch + 'to the first /clock, median of %d'),
+                              ('robot', launch + 'to get_joint_properties(joint1) answering, '
                                                  'median of %d')):
                 value = bm.percentile(results[engine][key], 50)
-                self.add('6', what % (name, len(results[engine][key])), '%.2f s' % value, against,
+                self.add('6', what % len(results[engine][key]), '%.2f s' % value, against,
                          '%.2f s' % floor_median, bm.ratio(value, floor_median))
         self.results['startup'] = dict(floor=floor, **results)
 
@@ -367,10 +389,9 @@ class Bench:
     # --- 1 and 7: throughput and memory ---------------------------------------------------------
 
     def throughput_and_memory(self, engine):
-        name = ENGINE_NAMES[engine]
         sizes = self.sizes
         proc = None
-        bare = None
+        loops = {}
         try:
             proc, pid = self.start_sim(engine, max_update_rate=0, paused=True)
             self.spawn(self.tutorial_models)
@@ -398,45 +419,57 @@ class Bench:
             self.pause(True)
             self.memory(engine, pid, sim_time)
             clock_subscribers = self.subscribers('/clock')
-            bare = BareLoop(engine, self.tutorial_models)
-            bare.run(sizes.throughput_window_s / 4)  # warm-up, not counted
-            windows = {'bare': [], 'node': [], 'throttled': []}
+            loops['bare'] = BareLoop(engine_loop_command(engine), self.tutorial_models)
+            against_pybullet = ('steps/s of the %s, /clock every step, against bare pybullet'
+                                % node_label(engine))
+            if engine == PYBULLET_COUNTERPART:
+                try:
+                    loops['pybullet'] = BareLoop(pybullet_loop_command(), self.tutorial_models)
+                except NotMeasured as error:
+                    self.not_measured('1', against_pybullet, str(error)[:200])
+            for loop in loops.values():
+                loop.run(sizes.throughput_window_s / 4)  # warm-up, not counted
+            windows = {'node': [], 'throttled': []}
+            windows.update((key, []) for key in loops)
             for _ in range(sizes.throughput_windows):
-                windows['bare'].append(bare.run(sizes.throughput_window_s))
+                for key, loop in loops.items():
+                    windows[key].append(loop.run(sizes.throughput_window_s))
                 windows['node'].append(node_window(0.0))
                 windows['throttled'].append(node_window(THROTTLED_CLOCK_HZ))
             self.ros.set_param(CLOCK_FREQUENCY, 0.0)
-            node_rate, bare_rate, throttled_rate = (
-                bm.rate(*zip(*windows[key])) for key in ('node', 'bare', 'throttled'))
-            includes = (' (World::step: effort jobs, collisions, contacts, dWorldStep; no '
-                        'mutex, /clock or pacing)' if engine == 'ode' else
-                        ' (BulletWorld.step under the node\'s python: effort jobs, damping, '
-                        'stepSimulation)')
-            half = node_rate / bare_rate >= 0.5
-            self.add('1', 'steps/s of the %s node, tutorial robot + cafe table, as fast as '
-                     'possible, /clock every step; /clock subscribers: %s' % (
-                         name, ', '.join(clock_subscribers) or 'none'),
-                     '%.0f' % node_rate, 'bare %s loop on the same models%s' % (name, includes),
-                     '%.0f' % bare_rate, node_rate / bare_rate,
-                     '>= 0.5' if engine == 'ode' else None, half if engine == 'ode' else None)
-            self.add('1', 'the same %s node with /gazebo/pub_clock_frequency %g (what /clock '
-                     'every step costs)' % (name, THROTTLED_CLOCK_HZ), '%.0f' % throttled_rate,
-                     'the same bare loop', '%.0f' % bare_rate, throttled_rate / bare_rate)
-            # The pybullet node has no aim, but where it stays under half of its bare loop the
-            # profile says why as well.
-            if not half:
+            rates = {key: bm.rate(*zip(*key_windows)) for key, key_windows in windows.items()}
+            met = rates['node'] / rates['bare'] >= 0.5
+            self.add('1', 'steps/s of the %s, tutorial robot + cafe table, as fast as possible, '
+                     '/clock every step; /clock subscribers: %s' % (
+                         node_label(engine), ', '.join(clock_subscribers) or 'none'),
+                     '%.0f' % rates['node'], 'bare loop on the same models, %s (World::step: '
+                     'effort jobs, collisions, contacts, the engine\'s step; no mutex, /clock or '
+                     'pacing)' % ' '.join(engine_loop_command(engine)[2:]),
+                     '%.0f' % rates['bare'], rates['node'] / rates['bare'], '>= 0.5', met)
+            self.add('1', 'the same %s with /gazebo/pub_clock_frequency %g (what /clock every '
+                     'step costs)' % (node_label(engine), THROTTLED_CLOCK_HZ),
+                     '%.0f' % rates['throttled'], 'the same bare loop', '%.0f' % rates['bare'],
+                     rates['throttled'] / rates['bare'])
+            if 'pybullet' in rates:
+                of_pybullet = rates['node'] / rates['pybullet']
+                met = met and of_pybullet >= 0.3
+                self.add('1', against_pybullet, '%.0f' % rates['node'],
+                         'bare pybullet loop on the same models (pybullet\'s own loadURDF and '
+                         'loadSDF; stepSimulation alone)', '%.0f' % rates['pybullet'],
+                         of_pybullet, '>= 0.3', of_pybullet >= 0.3)
+            if not met:
                 self.pause(False)
-                self.profile(pid, PROFILE_S, '1_%s_node_as_fast_as_possible' % engine,
-                             python=engine != 'ode')
+                self.profile(pid, PROFILE_S, '1_%s_node_as_fast_as_possible' % engine)
                 self.pause(True)
             self.results.setdefault('throughput', {})[engine] = dict(
                 clock_subscribers=clock_subscribers, **windows)
 
         except (NotMeasured, TimeoutError, OSError) as error:
-            self.not_measured('1, 7', 'throughput and memory, %s' % name, str(error)[:200])
+            self.not_measured('1, 7', 'throughput and memory, %s' % node_label(engine),
+                              str(error)[:200])
         finally:
-            if bare:
-                bare.close()
+            for loop in loops.values():
+                loop.close()
             if proc:
                 self.stop(proc)
 
@@ -456,8 +489,8 @@ class Bench:
             samples.append((sim - sim_start, memory_kb(pid)['RssAnon']))
             return sim >= target
 
-        # /clock at 100 Hz: publishing it every step is most of the pybullet node's time (see
-        # item 1), and the steps, not the clock, are what is measured here.
+        # /clock at 100 Hz: publishing it every step costs a node more than its physics (item 1),
+        # and the steps, not the clock, are what is measured here.
         self.ros.set_param(CLOCK_FREQUENCY, MEMORY_CLOCK_FREQUENCY)
         self.pause(False)
         started = time.monotonic()
@@ -470,9 +503,9 @@ class Bench:
         half = sizes.memory_steps * STEP / 2
         at_half = next(anon for steps, anon in samples if steps >= half)
         growth = end['RssAnon'] / start['RssAnon'] - 1
-        self.add('7', 'memory (/proc/PID/status) of the %s node after %d more steps (%.0f s as '
+        self.add('7', 'memory (/proc/PID/status) of the %s after %d more steps (%.0f s as '
                  'fast as possible, /clock at %d Hz); anonymous growth in the second half: '
-                 '%+.1f MiB' % (ENGINE_NAMES[engine], sizes.memory_steps, wall,
+                 '%+.1f MiB' % (node_label(engine), sizes.memory_steps, wall,
                                 MEMORY_CLOCK_FREQUENCY, (end['RssAnon'] - at_half) / 1024),
                  format_memory(end), 'the same node after start (models spawned, 100 steps)',
                  format_memory(start), end['RssAnon'] / start['RssAnon'],
@@ -481,19 +514,20 @@ class Bench:
                                                              anon_by_steps=samples)
 
     def scaling_variants(self):
-        """(key, label, engine, quick_step) of each bare loop of the scaling item."""
+        """(key, label, bare loop command) of each bare loop of the scaling item."""
         variants = []
-        if 'ode' in self.engines:
-            variants += [('ode', 'bare ODE, dWorldStep (the default)', 'ode', False),
-                         ('ode_quick', 'bare ODE, dWorldQuickStep (~quick_step)', 'ode', True)]
-        if 'bullet' in self.engines:
-            variants.append(('bullet', 'bare pybullet', 'bullet', False))
+        for engine in self.engines:
+            commands = [(engine, engine_loop_command(engine))]
+            if engine == QUICK_STEP_ENGINE:
+                commands.append((engine + '_quick', engine_loop_command(engine, quick_step=True)))
+            variants += [(key, 'bare loop, ' + ' '.join(command[2:]), command)
+                         for key, command in commands]
         return variants
 
     def scaling(self):
         sizes = self.sizes
         variants = self.scaling_variants()
-        labels = {key: label for key, label, _, _ in variants}
+        labels = {key: label for key, label, _ in variants}
         rates = {key: {} for key in labels}
         for links in sizes.chain_links:
             path = os.path.join(self.work, 'chain_%d.urdf' % links)
@@ -501,9 +535,9 @@ class Bench:
                 f.write(bm.chain_urdf(links))
             loops = {}
             try:
-                for key, label, engine, quick_step in variants:
+                for key, label, command in variants:
                     try:
-                        loops[key] = BareLoop(engine, [('chain', path, 'urdf', 0.0)], quick_step)
+                        loops[key] = BareLoop(command, [('chain', path, 'urdf', 0.0)])
                     except NotMeasured as error:
                         self.notes.append('2: %s, chain of %d links: %s' % (label, links, error))
                 windows = {key: [] for key in loops}
@@ -544,7 +578,7 @@ class Bench:
     # --- 3: service latency ---------------------------------------------------------------------
 
     def latency(self, engine):
-        name = ENGINE_NAMES[engine]
+        name = node_label(engine)
         sizes = self.sizes
         sim = bare = None
         samples = {}
@@ -583,7 +617,7 @@ class Bench:
                 if proc:
                     self.stop(proc)
         for (client, mode, service), by_target in samples.items():
-            self.add('3', '%s round trip p50 / p99, %s client, %s connection (%s node, %d calls)'
+            self.add('3', '%s round trip p50 / p99, %s client, %s connection (%s, %d calls)'
                      % (service, client, mode, name, len(by_target['sim'])),
                      microseconds(by_target['sim']),
                      'bare roscpp service, same srv type and reply size, alternating batches',
@@ -604,8 +638,7 @@ class Bench:
                                 env=self.ros.env, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL, start_new_session=True)
         try:
-            self.profile(sim_pid, PROFILE_S, '3_%s_node_serving_%s_%s' % (engine, service, mode),
-                         python=engine != 'ode')
+            self.profile(sim_pid, PROFILE_S, '3_%s_node_serving_%s_%s' % (engine, service, mode))
         finally:
             PrivateRos.terminate(load)
 
@@ -643,7 +676,7 @@ class Bench:
     # --- 4 and 5: the control loop and pacing ---------------------------------------------------
 
     def control_and_pacing(self, engine, pacing_s, control=True):
-        name = ENGINE_NAMES[engine]
+        name = node_label(engine)
         sim = None
         try:
             sim, sim_pid = self.start_sim(engine)
@@ -673,7 +706,7 @@ class Bench:
                 % (rate, duration, runs[rate]['missed']))
         at_100 = runs[100]
         self.add('4', 'missed periods of the tutorial controller at 100 Hz, %.0f s of sim time at '
-                 'real-time factor 1 (%s node; from joint_states stamps)' % (sizes.control_s, name),
+                 'real-time factor 1 (%s; from joint_states stamps)' % (sizes.control_s, name),
                  '%d of %d' % (at_100['missed'], at_100['expected']),
                  'its own period (10 ms of sim time)', '—', None, '0 missed', at_100['missed'] == 0)
         self.add('4', 'p99 period jitter of jnt_pos arrivals at 100 Hz, sim time / wall time',
@@ -761,28 +794,30 @@ class Bench:
 
     def pacing_of(self, engine, sim_pid, clock, condition):
         """The real-time factor from (CLOCK_MONOTONIC, sim time) /clock arrivals."""
-        name = ENGINE_NAMES[engine]
+        name = node_label(engine)
         wall, sim = zip(*clock)
         duration = sim[-1] - sim[0]
         windows = bm.windowed_rtf(wall, sim, 1.0)
         mean = bm.mean_rtf(wall, sim)
         worst = max(windows, key=lambda f: abs(f - 1.0)) if windows else mean
         against = 'the wall clock (CLOCK_MONOTONIC at /clock arrival)'
-        self.add('5', 'real-time factor at 1.0, mean over %.0f s of sim time (%s node, %s)'
+        self.add('5', 'real-time factor at 1.0, mean over %.0f s of sim time (%s, %s)'
                  % (duration, name, condition), '%.4f' % mean, against, '1.0', mean,
                  'within 1 %', abs(mean - 1) <= 0.01)
-        self.add('5', 'real-time factor, worst one-second window of %d (%s node)'
+        self.add('5', 'real-time factor, worst one-second window of %d (%s)'
                  % (len(windows), name), '%.4f' % worst, against, '1.0', worst, 'within 1 %',
                  abs(worst - 1) <= 0.01)
-        self.results.setdefault('pacing', {})[name] = dict(mean=mean, windows=windows)
+        self.results.setdefault('pacing', {})[engine] = dict(mean=mean, windows=windows)
         if abs(mean - 1) > 0.01 or abs(worst - 1) > 0.01:
-            self.profile(sim_pid, PROFILE_S, '5_%s_node_paced' % engine, python=engine != 'ode')
-        write_pacing_plot(windows, name, os.path.join(self.output, 'pacing_%s.png' % name))
+            self.profile(sim_pid, PROFILE_S, '5_%s_node_paced' % engine)
+        write_pacing_plot(windows, name, os.path.join(self.output, 'pacing_%s.png' % engine))
 
 
 def perf_profile(pid, seconds, path):
     """On-CPU samples of a process and its threads with perf; the shares by shared object and
     the top symbols."""
+    if not shutil.which('perf'):
+        raise NotMeasured('perf is not installed (Debian package linux-perf)')
     data = path[:-len('.txt')] + '.perf.data'
     recorded = subprocess.run(['perf', 'record', '-F', '1999', '-g', '-p', str(pid), '-o', data,
                                '--', 'sleep', str(seconds)],
@@ -806,13 +841,12 @@ def perf_profile(pid, seconds, path):
 
 
 def pyspy_executable():
-    """py-spy from the workspace venv (requirements.txt), found next to its python."""
-    candidates = [os.path.join(os.path.dirname(bullet_python()), 'py-spy'),
-                  shutil.which('py-spy') or '']
-    for candidate in candidates:
-        if candidate and os.access(candidate, os.X_OK):
-            return candidate
-    raise NotMeasured('py-spy is not installed (make venv installs it)')
+    """py-spy from the workspace venv (requirements.txt) or the PATH."""
+    found = shutil.which('py-spy', path=os.pathsep.join(
+        [workspace_venv_bin(), os.environ.get('PATH', '')]))
+    if not found:
+        raise NotMeasured('py-spy is not installed (make venv installs it)')
+    return found
 
 
 def pyspy_profile(pid, seconds, path):
@@ -901,7 +935,7 @@ def write_latency_plot(samples, name, path):
         p99 = [bm.percentile(samples[k][target], 99) for k in keys]
         positions = [i + offset for i in range(len(keys))]
         axes.bar(positions, p50, width=0.4, color=color,
-                 label='%s p50 (line: p99)' % ('%s node' % name if target == 'sim'
+                 label='%s p50 (line: p99)' % (name if target == 'sim'
                                                else 'bare roscpp service'))
         axes.vlines(positions, p50, p99, color='black')
     axes.set_xticks(range(len(keys)))
@@ -909,7 +943,7 @@ def write_latency_plot(samples, name, path):
                          fontsize=7)
     axes.set_yscale('log')
     axes.set_ylabel('round trip (us)')
-    axes.set_title('Service round trips, %s node against the bare service' % name)
+    axes.set_title('Service round trips, %s against the bare service' % name)
     axes.legend()
     _save(pyplot, figure, path)
 
@@ -923,7 +957,7 @@ def write_pacing_plot(windows, name, path):
         axes.axhline(bound, color='gray', linestyle='--', linewidth=0.8)
     axes.set_xlabel('one-second window (wall time)')
     axes.set_ylabel('real-time factor')
-    axes.set_title('Pacing at real-time factor 1, %s node (dashed: +-1 %%)' % name)
+    axes.set_title('Pacing at real-time factor 1, %s (dashed: +-1 %%)' % name)
     _save(pyplot, figure, path)
 
 
@@ -942,19 +976,6 @@ def write_period_plot(runs, path):
 
 # --- the command -------------------------------------------------------------------------------
 
-def available_engines(requested):
-    """The requested engines whose simulator executable is built."""
-    import roslib.packages
-    found = []
-    for engine in requested:
-        if roslib.packages.find_node('onedof_sim', SIM_EXECUTABLES[engine]):
-            found.append(engine)
-        else:
-            say('%s: rosrun onedof_sim %s is not built; its rows are left out'
-                % (ENGINE_NAMES[engine], SIM_EXECUTABLES[engine]))
-    return found
-
-
 def load_average():
     """The 1-minute load average: the run's figures mean little on a machine busy elsewhere."""
     return float(read_file('/proc/loadavg').split()[0])
@@ -968,16 +989,21 @@ def machine(load_at_start):
 def parse_args(argv):
     parser = argparse.ArgumentParser(
         prog='rosrun onedof_sim benchmark',
-        description='Measures the simulator nodes side by side with bare references on a '
-                    'private ROS graph; writes README-table.md, plots and results.json.')
+        description='Measures the simulator node on each engine side by side with bare '
+                    'references on a private ROS graph; writes README-table.md, plots and '
+                    'results.json.')
     parser.add_argument('--output', default='output/bench', help='output folder')
     parser.add_argument('--quick', action='store_true',
                         help='tiny sizes (seconds instead of minutes): checks that it runs')
-    parser.add_argument('--engines', default='ode,bullet',
-                        help='comma-separated engines among %s' % ', '.join(SIM_EXECUTABLES))
+    parser.add_argument('--engines',
+                        help='comma-separated engines (default: every one the node lists)')
     args = parser.parse_args(argv)
-    args.engines = [e for e in args.engines.split(',') if e]
-    unknown = [e for e in args.engines if e not in SIM_EXECUTABLES]
+    try:
+        known = engine_names()
+    except RuntimeError as error:
+        parser.error(str(error))
+    args.engines = [e for e in args.engines.split(',') if e] if args.engines else list(known)
+    unknown = [e for e in args.engines if e not in known]
     if unknown:
         parser.error('unknown engine(s): %s' % ', '.join(unknown))
     return args
@@ -990,7 +1016,7 @@ def main(argv=None):
     os.makedirs(output, exist_ok=True)
     log_dir = os.path.join(output, 'logs')
     shutil.rmtree(log_dir, ignore_errors=True)
-    engines = available_engines(args.engines)
+    engines = args.engines
     started = time.monotonic()
     load_at_start = load_average()
     date = datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')
@@ -1002,8 +1028,9 @@ def main(argv=None):
                   for e in engines]
         items += [('2 scaling', bench.scaling)]
         items += [('3 latency, ' + e, lambda e=e: bench.latency(e)) for e in engines]
+        # The controller's loop is measured on the default engine, the others' pacing alone.
         items += [('4, 5 control loop and pacing, ' + e, lambda e=e: bench.control_and_pacing(
-            e, sizes.bullet_pacing_s, control=e == 'ode'))
+            e, sizes.pacing_s, control=e == engine_names()[0]))
                   for e in engines]
         try:
             for title, run in items:

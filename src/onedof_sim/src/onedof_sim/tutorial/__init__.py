@@ -1,0 +1,2 @@
+"""The tutorial: its closed-form physics (physics) and the headless player of the main job
+(player)."""
