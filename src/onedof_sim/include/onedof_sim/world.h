@@ -181,6 +181,10 @@ class World {
   // unknown reference frame, XML that makes no model (ModelRejected with the reason).
   Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
                const Pose& pose, const std::string& reference_frame = "");
+  // Folders where SDF's model://NAME URIs are looked up, in this order, as gzserver looks them
+  // up in GAZEBO_MODEL_PATH: an <include>d model, a mesh. Relative folders are taken from the
+  // current directory now. Empty until set.
+  void setModelPath(const std::vector<std::string>& folders);
   Status deleteModel(const std::string& name);
   std::vector<std::string> modelNames() const;  // in spawn order
 

@@ -66,7 +66,11 @@ inline Status rejected(std::string reason) {
 
 // Both fill `out` only on success; else ModelRejected with the reason.
 Status parseUrdf(const std::string& xml, ModelDescription* out);
-Status parseSdf(const std::string& xml, ModelDescription* out);
+// model_path: absolute folders where model://NAME URIs are looked up, in order (an <include>'s
+// model, a mesh file). An SDF may also be gazebo_ros' -database request, a <world> whose one
+// <include> names the model; the include's <pose> is then the model's pose in the spawn frame.
+Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
+                ModelDescription* out);
 
 }  // namespace core
 }  // namespace onedof_sim

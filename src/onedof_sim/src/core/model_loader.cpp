@@ -2,6 +2,7 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <filesystem>
 #include <functional>
 #include <ignition/math/Pose3.hh>
 #include <map>
@@ -9,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "mesh_bounds.h"
 #include "model_description.h"
 #include "pose_math.h"
 
@@ -259,8 +261,65 @@ void readSdfFriction(const sdf::Collision& collision, CollisionDescription* out)
   if (element->HasElement("mu2")) out->mu2 = element->Get<double>("mu2");
 }
 
+std::string joinedPath(const std::vector<std::string>& folders) {
+  std::string text;
+  for (const std::string& folder : folders) text += (text.empty() ? "" : ", ") + folder;
+  return text.empty() ? "(empty)" : text;
+}
+
+// The file a mesh URI names: model://NAME/... in the first folder of the model path that has it,
+// file:// and absolute paths as they are, a relative one from the folder of the SDF file that
+// holds it. Empty when none exists.
+std::string meshFile(const sdf::Mesh& mesh, const std::vector<std::string>& model_path) {
+  namespace fs = std::filesystem;
+  const std::string uri = mesh.Uri();
+  const std::string model_scheme = "model://", file_scheme = "file://";
+  std::vector<fs::path> candidates;
+  if (uri.rfind(model_scheme, 0) == 0) {
+    for (const std::string& folder : model_path)
+      candidates.push_back(fs::path(folder) / uri.substr(model_scheme.size()));
+  } else if (uri.rfind(file_scheme, 0) == 0) {
+    candidates.push_back(uri.substr(file_scheme.size()));
+  } else if (uri.find("://") == std::string::npos) {
+    if (fs::path(uri).is_absolute())
+      candidates.push_back(uri);
+    else if (!mesh.FilePath().empty())
+      candidates.push_back(fs::path(mesh.FilePath()).parent_path() / uri);
+  }
+  for (const fs::path& candidate : candidates) {
+    std::error_code ignored;
+    if (fs::is_regular_file(candidate, ignored)) return candidate.string();
+  }
+  return "";
+}
+
+// A mesh collision becomes the box that bounds its vertices (scaled), centred where they are.
+Status meshCollisionBox(const sdf::Mesh& mesh, const std::vector<std::string>& model_path,
+                        const std::string& link, CollisionDescription* c) {
+  const std::string where = "link '" + link + "': collision '" + c->name + "' is the mesh '" +
+                            mesh.Uri() + "'";
+  const std::string path = meshFile(mesh, model_path);
+  if (path.empty())
+    return rejected(where + ", which is not found (model:// URIs are looked up in " +
+                    joinedPath(model_path) + ")");
+  MeshBounds bounds;
+  std::string error;
+  if (!readMeshBounds(path, &bounds, &error))
+    return rejected(where + ": " + error + "; use a box, cylinder or sphere collision instead");
+  const ignition::math::Vector3d& scale = mesh.Scale();
+  const Vec3 s{std::abs(scale.X()), std::abs(scale.Y()), std::abs(scale.Z())};
+  const Vec3 centre{scale.X() * (bounds.min.x + bounds.max.x) / 2,
+                    scale.Y() * (bounds.min.y + bounds.max.y) / 2,
+                    scale.Z() * (bounds.min.z + bounds.max.z) / 2};
+  c->shape = GeometryShape::Box;
+  c->size = {s.x * (bounds.max.x - bounds.min.x), s.y * (bounds.max.y - bounds.min.y),
+             s.z * (bounds.max.z - bounds.min.z)};
+  c->pose = compose(c->pose, {centre, Quat()});
+  return {};
+}
+
 Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::string& prefix,
-                  ModelDescription* out) {
+                  const std::vector<std::string>& model_path, ModelDescription* out) {
   LinkDescription desc;
   desc.name = prefix + link.Name();
   ignition::math::Pose3d pose;
@@ -294,9 +353,12 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
     } else if (geometry.Type() == sdf::GeometryType::SPHERE) {
       c.shape = GeometryShape::Sphere;
       c.size = {geometry.SphereShape()->Radius(), 0, 0};
+    } else if (geometry.Type() == sdf::GeometryType::MESH) {
+      Status status = meshCollisionBox(*geometry.MeshShape(), model_path, desc.name, &c);
+      if (!status.ok()) return status;
     } else {
       return rejected("link '" + desc.name +
-                      "': only box, cylinder and sphere collisions are supported");
+                      "': only box, cylinder, sphere and STL/OBJ mesh collisions are supported");
     }
     readSdfFriction(collision, &c);
     Status status = checkShape(c, desc.name);
@@ -356,9 +418,9 @@ Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::s
 
 // Nested models become links and joints named "nested::name" in one flat model.
 Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::string& prefix,
-                   ModelDescription* out) {
+                   const std::vector<std::string>& model_path, ModelDescription* out) {
   for (uint64_t i = 0; i < model.LinkCount(); ++i) {
-    Status status = addSdfLink(*model.LinkByIndex(i), model_pose, prefix, out);
+    Status status = addSdfLink(*model.LinkByIndex(i), model_pose, prefix, model_path, out);
     if (!status.ok()) return status;
   }
   for (uint64_t i = 0; i < model.JointCount(); ++i) {
@@ -371,23 +433,52 @@ Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::s
     sdf::Errors errors = nested.SemanticPose().Resolve(pose, "__model__");
     if (!errors.empty()) return rejected("model '" + nested.Name() + "': " + joinErrors(errors));
     Status status =
-        addSdfModel(nested, compose(model_pose, toPose(pose)), prefix + nested.Name() + "::", out);
+        addSdfModel(nested, compose(model_pose, toPose(pose)), prefix + nested.Name() + "::",
+                    model_path, out);
     if (!status.ok()) return status;
   }
   return {};
 }
 
+// libsdformat looks model://NAME up as FOLDER/NAME in each folder given; a miss is only recorded
+// here, so that the refusal can name the folders searched.
+sdf::ParserConfig modelPathConfig(const std::vector<std::string>& model_path,
+                                  std::vector<std::string>* missing) {
+  sdf::ParserConfig config;
+  for (const std::string& folder : model_path) config.AddURIPath("model://", folder);
+  config.SetFindCallback([missing](const std::string& uri) {
+    missing->push_back(uri);
+    return std::string();
+  });
+  return config;
+}
+
 }  // namespace
 
-Status parseSdf(const std::string& xml, ModelDescription* out) {
+Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
+                ModelDescription* out) {
   sdf::Root root;
-  const sdf::Errors errors = root.LoadSdfString(xml);
+  std::vector<std::string> missing;
+  const sdf::Errors errors = root.LoadSdfString(xml, modelPathConfig(model_path, &missing));
+  if (!missing.empty())
+    return rejected(missing.front() + " is not in the model path (" + joinedPath(model_path) +
+                    ")");
   if (!errors.empty()) return rejected("invalid SDF: " + joinErrors(errors));
+  // What gazebo_ros' spawn_model sends for -database: <world><include><uri>model://NAME, which
+  // libsdformat has turned into the world's one model; its <pose> is the include's.
+  const sdf::World* world = root.WorldCount() == 1 ? root.WorldByIndex(0) : nullptr;
   const sdf::Model* model = root.Model();
-  if (!model) return rejected("invalid SDF: no <model> at the top level");
+  Pose include_pose;
+  if (!model && world && world->ModelCount() == 1) {
+    model = world->ModelByIndex(0);
+    include_pose = toPose(model->RawPose());
+  }
+  if (!model)
+    return rejected("invalid SDF: no <model> at the top level, nor one <world> with one "
+                    "<include> or <model>");
   ModelDescription desc;
   desc.is_static = model->Static();
-  Status status = addSdfModel(*model, Pose(), "", &desc);
+  Status status = addSdfModel(*model, include_pose, "", model_path, &desc);
   if (!status.ok()) return status;
   const auto canonical = model->CanonicalLinkAndRelativeName();
   if (!canonical.first) return rejected("invalid SDF: the model has no link");

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <ostream>
@@ -251,6 +252,7 @@ struct World::Impl {
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
   bool engine_struggled = false;  // warned already, until a step passes without a solver message
+  std::vector<std::string> model_path;  // absolute
 
   Impl(const std::string& name, const PhysicsParams& p)
       : engine_name(name), engine(findEngine(name).make()) {
@@ -818,7 +820,8 @@ Status World::spawn(const std::string& name, const std::string& xml, ModelFormat
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
     return {StatusCode::ReferenceFrameNotFound, reference_frame};
   ModelDescription desc;
-  status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc) : parseSdf(xml, &desc);
+  status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc)
+                                       : parseSdf(xml, impl_->model_path, &desc);
   if (!status.ok()) return status;
 
   auto model = std::make_unique<ModelRecord>();
@@ -832,6 +835,14 @@ Status World::spawn(const std::string& name, const std::string& xml, ModelFormat
   impl_->resetModel(model.get());
   impl_->models.push_back(std::move(model));
   return {};
+}
+
+void World::setModelPath(const std::vector<std::string>& folders) {
+  // libsdformat would try a relative folder against its own install first.
+  impl_->model_path.clear();
+  for (const std::string& folder : folders)
+    if (!folder.empty())
+      impl_->model_path.push_back(std::filesystem::absolute(folder).lexically_normal().string());
 }
 
 Status World::deleteModel(const std::string& name) {

@@ -421,6 +421,7 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       spinner_(2) {
   const Status params = world_.setParams(options.physics);
   if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
+  world_.setModelPath(options.model_path);
 
   if (!nh_.hasParam("/use_sim_time")) nh_.setParam("/use_sim_time", true);
 

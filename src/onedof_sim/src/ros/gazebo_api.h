@@ -46,6 +46,7 @@ struct NodeOptions {
   double max_update_rate = 1000.0;       // steps per wall second; 0 = as fast as possible
   bool paused = false;
   double states_publish_frequency = 0;   // Hz of sim time for model/link_states; 0 = every step
+  std::vector<std::string> model_path;   // where SDF's model:// URIs resolve (World::setModelPath)
 };
 
 // Reads the private start-up parameters and gzserver's command-line flags (args without the

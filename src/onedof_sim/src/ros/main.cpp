@@ -1,12 +1,29 @@
 // rosrun onedof_sim onedof_sim: the simulator node, named `gazebo` as gzserver + gazebo_ros is.
+#include <cstdlib>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <ros/package.h>
 #include <ros/ros.h>
 
 #include "gazebo_api.h"
+
+namespace {
+
+// Where model://NAME resolves: this package's models/ first (as spawn_model -database searches),
+// so the tutorial always gets the models the simulator was built for, then GAZEBO_MODEL_PATH.
+std::vector<std::string> modelPath() {
+  std::vector<std::string> folders{ros::package::getPath("onedof_sim") + "/models"};
+  const char* env = std::getenv("GAZEBO_MODEL_PATH");
+  std::istringstream entries(env ? env : "");
+  for (std::string folder; std::getline(entries, folder, ':');) folders.push_back(folder);
+  return folders;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::string(argv[1]) == "--list-physics") {
@@ -26,6 +43,7 @@ int main(int argc, char** argv) {
     ROS_FATAL_STREAM("onedof_sim: " << error);
     return 1;
   }
+  options.model_path = modelPath();
   try {
     onedof_sim::GazeboApi api(options);
     api.run();

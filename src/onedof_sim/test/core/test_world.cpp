@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -611,6 +613,126 @@ TEST_P(Models, CafeTableIsStaticAndHoldsABox) {
   ASSERT_TRUE(world.modelState("cafe_table", "", &table_pose, &twist).ok());
   EXPECT_NEAR(table_pose.position.x, 1.0, 1e-12);
   EXPECT_NEAR(table_pose.position.z, 0.0, 1e-12);
+}
+
+// What gazebo_ros' spawn_model sends for -database NAME (its MODEL_DATABASE_TEMPLATE); Gazebo's
+// spawn service adds <name> and, from initial_pose, <pose> to the include, which `extra` stands for.
+std::string databaseRequestSdf(const std::string& name, const std::string& extra = "") {
+  return "<sdf version=\"1.4\"><world name=\"default\"><include><uri>model://" + name +
+         "</uri>" + extra + "</include></world></sdf>";
+}
+
+TEST_P(Models, DatabaseIncludeResolvesThroughTheModelPath) {
+  World world(GetParam());
+  const Status unresolved =
+      world.spawn("cafe_table", databaseRequestSdf("cafe_table"), ModelFormat::Sdf, at(0.85, 0, 0));
+  EXPECT_EQ(unresolved.code, StatusCode::ModelRejected) << unresolved;
+  EXPECT_NE(unresolved.subject.find("model://cafe_table is not in the model path"),
+            std::string::npos) << unresolved;
+
+  world.setModelPath({"/nonexistent", ONEDOF_SOURCE_DIR "/src/onedof_sim/models"});
+  const Status table =
+      world.spawn("cafe_table", databaseRequestSdf("cafe_table"), ModelFormat::Sdf, at(0.85, 0, 0));
+  ASSERT_TRUE(table.ok()) << table;
+  ModelInfo info;
+  ASSERT_TRUE(world.modelProperties("cafe_table", &info).ok());
+  EXPECT_TRUE(info.is_static);
+  EXPECT_EQ(info.geoms, (std::vector<std::string>{"surface", "column", "base"}));
+  const std::vector<CollisionShape> shapes = world.collisionShapes();
+  ASSERT_EQ(shapes.size(), 4u);
+  EXPECT_NEAR(shapes[1].pose.position.x, 0.85, 1e-12);
+  EXPECT_NEAR(shapes[1].pose.position.z + shapes[1].size.z / 2, 0.775, 1e-12) << "table top";
+
+  const Status missing = world.spawn("chair", databaseRequestSdf("chair"), ModelFormat::Sdf, Pose());
+  EXPECT_EQ(missing.code, StatusCode::ModelRejected) << missing;
+  EXPECT_NE(missing.subject.find("(/nonexistent, /"), std::string::npos)
+      << "names the folders searched: " << missing;
+}
+
+// A model folder NAME/ (model.config, model.sdf, meshes/) in a fresh temporary folder.
+class ModelFolder {
+ public:
+  ModelFolder() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "onedof_models_XXXXXX").string();
+    root_ = mkdtemp(pattern.data());
+  }
+  ~ModelFolder() { std::filesystem::remove_all(root_); }
+  const std::string& root() const { return root_; }
+  void write(const std::string& relative, const std::string& text) const {
+    const std::filesystem::path path = std::filesystem::path(root_) / relative;
+    std::filesystem::create_directories(path.parent_path());
+    std::ofstream(path) << text;
+  }
+  void addModel(const std::string& name, const std::string& link_content) const {
+    write(name + "/model.config", "<?xml version=\"1.0\"?><model><name>" + name +
+                                      "</name><sdf version=\"1.6\">model.sdf</sdf></model>");
+    write(name + "/model.sdf", "<?xml version=\"1.0\"?><sdf version=\"1.6\"><model name=\"" +
+                                   name + "\"><static>true</static><link name=\"link\">" +
+                                   link_content + "</link></model></sdf>");
+  }
+
+ private:
+  std::string root_;
+};
+
+std::string meshGeometry(const std::string& uri, const std::string& scale = "1 1 1") {
+  return "<geometry><mesh><uri>" + uri + "</uri><scale>" + scale + "</scale></mesh></geometry>";
+}
+
+TEST_P(Models, MeshCollisionsBecomeTheirBoundingBoxAndVisualsAreIgnored) {
+  ModelFolder folder;
+  // A block spanning x 0..0.2, y 0..0.4, z 0..0.1 (two of its vertices suffice for the bounds).
+  folder.write("block/meshes/block.stl",
+               "solid block\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.2 0.4 0.1\n"
+               "vertex 0 0.4 0\nendloop\nendfacet\nendsolid block\n");
+  folder.addModel("block", "<collision name=\"hull\">" +
+                               meshGeometry("model://block/meshes/block.stl", "2 1 1") +
+                               "</collision><visual name=\"look\">" +
+                               meshGeometry("model://block/meshes/block.dae") + "</visual>");
+  World world(GetParam());
+  world.setModelPath({folder.root()});
+  // The include's pose (what Gazebo's spawn service writes there) is composed under initial_pose.
+  const Status block = world.spawn(
+      "block", databaseRequestSdf("block", "<name>block</name><pose>0 0 0.5 0 0 0</pose>"),
+      ModelFormat::Sdf, at(1, 0, 0));
+  ASSERT_TRUE(block.ok()) << block;
+  const std::vector<CollisionShape> shapes = world.collisionShapes();
+  ASSERT_EQ(shapes.size(), 2u);
+  EXPECT_EQ(shapes[1].shape, GeometryShape::Box);
+  EXPECT_NEAR(shapes[1].size.x, 0.4, 1e-6);
+  EXPECT_NEAR(shapes[1].size.y, 0.4, 1e-6);
+  EXPECT_NEAR(shapes[1].size.z, 0.1, 1e-6);
+  EXPECT_NEAR(shapes[1].pose.position.x, 1.2, 1e-6);
+  EXPECT_NEAR(shapes[1].pose.position.y, 0.2, 1e-6);
+  EXPECT_NEAR(shapes[1].pose.position.z, 0.55, 1e-6);
+
+  folder.write("obj_block/meshes/block.obj", "# a block\nv -0.1 -0.1 0\nv 0.1 0.1 0.3\nf 1 2 1\n");
+  folder.addModel("obj_block", "<collision name=\"hull\">" +
+                                   meshGeometry("model://obj_block/meshes/block.obj") +
+                                   "</collision>");
+  ASSERT_TRUE(world.spawn("obj_block", databaseRequestSdf("obj_block"), ModelFormat::Sdf, Pose()).ok());
+  EXPECT_NEAR(world.collisionShapes().back().size.z, 0.3, 1e-6);
+  EXPECT_NEAR(world.collisionShapes().back().pose.position.z, 0.15, 1e-6);
+}
+
+TEST_P(Models, UnreadableMeshCollisionIsRefusedNamingLinkAndMesh) {
+  ModelFolder folder;
+  folder.write("dae_table/meshes/table.dae", "<COLLADA/>");
+  folder.addModel("dae_table", "<collision name=\"top\">" +
+                                   meshGeometry("model://dae_table/meshes/table.dae") +
+                                   "</collision>");
+  folder.addModel("lost_mesh", "<collision name=\"top\">" +
+                                   meshGeometry("model://lost_mesh/meshes/gone.stl") +
+                                   "</collision>");
+  World world(GetParam());
+  world.setModelPath({folder.root()});
+  for (const std::string name : {"dae_table", "lost_mesh"}) {
+    const Status status = world.spawn(name, databaseRequestSdf(name), ModelFormat::Sdf, Pose());
+    EXPECT_EQ(status.code, StatusCode::ModelRejected) << status;
+    EXPECT_NE(status.subject.find("link 'link'"), std::string::npos) << status;
+    EXPECT_NE(status.subject.find("model://" + name + "/meshes/"), std::string::npos) << status;
+  }
+  EXPECT_TRUE(world.modelNames().empty());
 }
 
 // An SDF pendulum: a base welded to `world` at z 1, an arm hanging from a revolute joint about y
