@@ -1,17 +1,23 @@
-"""End-to-end tests of `rosrun onedof_sim plot` (the rqt_plot stand-in), headless.
+"""End-to-end tests of `rosrun onedof_sim plot` and of `rqt_plot` (the same plotter under rqt_plot's
+name, on PATH after sourcing devel/setup.bash), headless and in a live window on a private Xvfb.
 
 The test process publishes known values; the plotter records them into a PNG and a CSV, which must
-hold exactly what was published. Errors (a silent topic, an unknown topic or field) must end the
-plotter with a non-zero status and a message naming the culprit.
+hold exactly what was published. A command published once must be drawn held (a horizontal line up
+to now, then a step to the next command), checked in the pixels. Errors (a silent topic, an unknown
+topic or field) must end the plotter with a non-zero status and a message naming the culprit.
 """
+import os
+import subprocess
 import threading
 
 import pytest
 
 from onedof_sim.tools.plot import read_csv
 from onedof_sim.private_ros import wait_until
+from onedof_sim.tutorial.player import free_display
 
 PLOT = ['rosrun', 'onedof_sim', 'plot']
+RQT_PLOT_COMMANDS = [PLOT, ['rqt_plot'], ['rosrun', 'rqt_plot', 'rqt_plot']]
 PNG_MAGIC = b'\x89PNG\r\n\x1a\n'
 
 
@@ -72,9 +78,10 @@ def index_of_value(value):
     return k
 
 
-def test_records_what_was_published_into_png_and_csv(ros, publisher, tmp_path):
+@pytest.mark.parametrize('command', RQT_PLOT_COMMANDS, ids=' '.join)
+def test_records_what_was_published_into_png_and_csv(ros, publisher, tmp_path, command):
     png, csv_path = str(tmp_path / 'plot.png'), str(tmp_path / 'plot.csv')
-    result = ros.run(PLOT + ['/test_value/data', '/test_joint_states/position[1]:velocity[0]',
+    result = ros.run(command + ['/test_value/data', '/test_joint_states/position[1]:velocity[0]',
                              '--duration', '2', '--png', png, '--csv', csv_path], timeout=60)
     assert result.returncode == 0, result.stdout + result.stderr
 
@@ -136,3 +143,118 @@ def test_fails_clearly_on_an_unknown_or_unplottable_field(ros, publisher, tmp_pa
     assert result.returncode != 0
     assert spec in result.stderr and expected in result.stderr
     assert not (tmp_path / 'p.png').exists()
+
+
+def test_rqt_plot_is_on_path_and_says_what_it_is(ros):
+    result = ros.run(['rqt_plot', '-h'])
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith('usage: rqt_plot')
+    assert "plotter (rosrun onedof_sim plot) standing in for rqt_plot" in \
+        ' '.join(result.stdout.split())
+
+
+# ---- a command published once is drawn held: the pixels of the figure ----
+
+# matplotlib's first line colour (C0, #1f77b4) and how far an antialiased pixel of it may stray.
+LINE_RGB = (31, 119, 180)
+# A horizontal run of the line at least this long (px) is a held value; the legend's sample of the
+# line is about 40 px.
+HELD_RUN = 150
+
+
+def held_lines(png):
+    """{row: (first, last) column} of the rows of `png` where the line colour runs for HELD_RUN
+    pixels or more (short interruptions by grid lines allowed)."""
+    import matplotlib.image
+    import numpy
+    rgb = (matplotlib.image.imread(str(png))[..., :3] * 255).round()
+    is_line = (numpy.abs(rgb - numpy.array(LINE_RGB)) < 40).all(axis=2)
+    rows = {}
+    for row in numpy.flatnonzero(is_line.sum(axis=1) >= HELD_RUN):
+        columns = numpy.flatnonzero(is_line[row])
+        rows[int(row)] = (int(columns[0]), int(columns[-1]))
+    return rows
+
+
+def a_step_up(png):
+    """(lower, upper) held lines if `png` shows one held value, then a higher one from where the
+    first ends on to the right (a step, not a ramp or lone points); None otherwise."""
+    rows = held_lines(png)
+    if not rows:
+        return None
+    lower, upper = rows[max(rows)], rows[min(rows)]  # image rows grow downwards
+    if max(rows) - min(rows) < 50:  # one level only
+        return None
+    jump_close = abs(upper[0] - lower[1]) <= 3
+    return (lower, upper) if jump_close and lower[0] < upper[0] - HELD_RUN else None
+
+
+class CommandPublisher:
+    """Publishes /pos_cmd (std_msgs/Float64) latched, once per call, as `rostopic pub` does."""
+
+    def __init__(self, rospy):
+        from std_msgs.msg import Float64
+        self.rospy, self.Float64 = rospy, Float64
+        self.publisher = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+
+    def publish(self, value):
+        self.publisher.publish(self.Float64(value))
+
+    def wait_for_subscriber(self, proc, ros):
+        wait_until(lambda: proc.poll() is not None or self.publisher.get_num_connections(), 60,
+                   what='the plotter to subscribe to /pos_cmd')
+        assert proc.poll() is None, ros.log_text(proc)
+
+    def wait_ros_time(self, seconds):
+        end = self.rospy.get_time() + seconds
+        wait_until(lambda: self.rospy.get_time() >= end, seconds * 10 + 10,
+                   what='%g s of ROS time' % seconds)
+
+
+def test_headless_draws_a_command_published_once_as_held_values(ros, rospy_client, tmp_path):
+    png, csv_path = tmp_path / 'cmd.png', tmp_path / 'cmd.csv'
+    command = CommandPublisher(rospy_client)
+    command.publish(1.0)
+    proc = ros.start(['rqt_plot', '/pos_cmd', '--duration', '4', '--png', str(png),
+                      '--csv', str(csv_path)], name='rqt_plot')
+    command.wait_for_subscriber(proc, ros)
+    command.wait_ros_time(1.5)
+    command.publish(2.0)
+    assert proc.wait(timeout=60) == 0, ros.log_text(proc)
+
+    # The CSV holds what was published: each value once.
+    assert read_csv(str(csv_path))['/pos_cmd/data'][1] == [1.0, 2.0]
+    step = a_step_up(png)
+    assert step, 'no held 1.0 then 2.0 in the figure; held lines by row: %s' % held_lines(png)
+    (_, lower_end), (_, upper_end) = step
+    # 2.0 came about 1.5 s into 4 s: it is held for the longer part of the figure, to its end.
+    assert upper_end - lower_end > lower_end - step[0][0]
+
+
+def test_live_window_draws_a_command_published_once_as_a_step(ros, rospy_client, tmp_path):
+    display = ':%d' % free_display()
+    xvfb = ros.start(['Xvfb', display, '-screen', '0', '1000x700x24', '-nolisten', 'tcp'],
+                     name='xvfb')
+    wait_until(lambda: xvfb.poll() is not None or
+               os.path.exists('/tmp/.X11-unix/X' + display[1:]), 20, what='Xvfb')
+    assert xvfb.poll() is None, ros.log_text(xvfb)
+    command = CommandPublisher(rospy_client)
+    command.publish(1.0)
+    proc = ros.start(['rqt_plot', '/pos_cmd/data'], name='rqt_plot', env={'DISPLAY': display})
+    command.wait_for_subscriber(proc, ros)
+    command.wait_ros_time(1.5)
+    command.publish(2.0)
+    shot = tmp_path / 'window.png'
+
+    def window_shows_the_step():
+        assert proc.poll() is None, ros.log_text(proc)
+        grab = subprocess.run(['import', '-display', display, '-window', 'root', str(shot)],
+                              capture_output=True)
+        if grab.returncode != 0:
+            return None
+        step = a_step_up(shot)
+        # Held "up to now": 2.0 has been held longer than 1.0 was, on the live time axis.
+        return step and step[1][1] - step[1][0] > step[0][1] - step[0][0]
+
+    wait_until(window_shows_the_step, 60, interval=0.5,
+               what='the live window to show 1.0 held, then 2.0 held up to now')

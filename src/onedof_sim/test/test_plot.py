@@ -10,8 +10,9 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Float64, Header
 
 from onedof_sim.tools.plot import (PlotError, SampleBuffer, expand_specs, field_accessor,
-                                   header_stamp, make_figure, parse_args, parse_field_path,
-                                   read_csv, split_topic_field, write_csv, write_figure)
+                                   header_stamp, held_window, make_figure, parse_args,
+                                   parse_field_path, plottable_paths, read_csv,
+                                   split_topic_field, step_path, write_csv, write_figure)
 
 
 def test_expand_specs_keeps_plain_specs():
@@ -108,6 +109,23 @@ def test_unplottable_paths_are_refused_with_a_reason(msg_class, path, pattern):
         field_accessor(msg_class, path)
 
 
+def test_a_message_stands_for_its_numeric_fields_as_in_rqt_plot():
+    assert plottable_paths(Float64, '') == ['data']
+    assert plottable_paths(PoseStamped, 'pose/position') == [
+        'pose/position/x', 'pose/position/y', 'pose/position/z']
+    # Arrays and strings are left out; a time is a number of seconds.
+    assert plottable_paths(JointState, 'header') == ['header/seq', 'header/stamp']
+    assert plottable_paths(Clock, '') == ['clock']
+    assert plottable_paths(JointState, 'position[0]') == ['position[0]']
+
+
+def test_a_message_without_numeric_fields_is_refused():
+    with pytest.raises(PlotError, match='no numeric field to plot; its fields: header, name'):
+        plottable_paths(JointState, '')
+    with pytest.raises(PlotError, match="has no field 'positions'"):
+        plottable_paths(JointState, 'positions[0]')
+
+
 def test_accessor_raises_index_error_on_a_message_without_that_element():
     with pytest.raises(IndexError):
         field_accessor(JointState, 'position[2]')(JointState(position=[1.0]))
@@ -163,12 +181,46 @@ def test_csv_keeps_samples_that_share_a_time(tmp_path):
     assert read_csv(str(tmp_path / 's.csv')) == series
 
 
-def test_figure_has_one_line_per_label_with_the_data(tmp_path):
+def test_a_value_published_once_is_held_up_to_now():
+    assert step_path([2.0], [1.0], until=7.5) == ([2.0, 7.5], [1.0, 1.0])
+
+
+def test_two_commands_are_a_step_not_a_ramp():
+    xs, ys = step_path([1.0, 4.0], [1.0, 2.0], until=6.0)
+    assert list(zip(xs, ys)) == [(1.0, 1.0), (4.0, 1.0), (4.0, 2.0), (6.0, 2.0)]
+    # Between two samples the drawn line is flat: no vertex lies between the old and new value
+    # away from the jump's time.
+    assert all(y in (1.0, 2.0) for y in ys)
+    assert all(x == 4.0 for x, y, y_next in zip(xs, ys, ys[1:]) if y != y_next)
+
+
+def test_step_path_without_until_or_samples():
+    assert step_path([0.0, 1.0], [5.0, 6.0]) == ([0.0, 1.0, 1.0], [5.0, 5.0, 6.0])
+    assert step_path([], [], until=3.0) == ([], [])
+    # `until` before the last sample (a header stamp from the future) draws nothing extra.
+    assert step_path([0.0, 2.0], [5.0, 6.0], until=1.0) == ([0.0, 2.0, 2.0], [5.0, 5.0, 6.0])
+
+
+def test_held_window_leads_with_the_value_held_at_its_start():
+    times, values = [0.0, 1.0, 5.0, 9.0], [10.0, 11.0, 12.0, 13.0]
+    assert held_window(times, values, 3.0, 9.0) == ([3.0, 5.0], [11.0, 12.0])
+    # A sample right at the start needs no held value before it.
+    assert held_window(times, values, 5.0, 9.0) == ([5.0], [12.0])
+    # Nothing inside: the held value alone, so the window still shows the command.
+    assert held_window(times, values, 6.0, 8.0) == ([6.0], [12.0])
+    assert held_window(times, values, -5.0, -1.0) == ([], [])
+    assert held_window(times, values, -math.inf, math.inf) == (times, values)
+
+
+def test_figure_has_one_line_per_label_with_the_data_held(tmp_path):
     series = {'/a/data': ([0.0, 1.0, 2.0], [1.0, 4.0, 9.0]), '/b/data': ([0.5], [-1.0])}
-    figure = make_figure(series, title='phase 1', ylabel='rad')
+    figure = make_figure(series, title='phase 1', ylabel='rad', until=3.0)
     ax = figure.axes[0]
     assert [line.get_label() for line in ax.lines] == ['/a/data', '/b/data']
-    assert list(ax.lines[0].get_ydata()) == [1.0, 4.0, 9.0]
+    assert list(ax.lines[0].get_xdata()) == [0.0, 1.0, 1.0, 2.0, 2.0, 3.0]
+    assert list(ax.lines[0].get_ydata()) == [1.0, 1.0, 4.0, 4.0, 9.0, 9.0]
+    assert list(ax.lines[1].get_xdata()) == [0.5, 3.0]
+    assert list(ax.lines[1].get_ydata()) == [-1.0, -1.0]
     assert ax.get_title() == 'phase 1' and ax.get_xlabel() == 'ROS time since the first sample [s]'
 
     png = tmp_path / 'plot.png'
@@ -188,6 +240,21 @@ def test_argument_errors(argv, message, capsys):
         parse_args(argv)
     assert exit_info.value.code == 2
     assert message in capsys.readouterr().err
+
+
+def test_rqt_plot_help_says_what_stands_in(capsys):
+    with pytest.raises(SystemExit) as exit_info:
+        parse_args(['-h'], prog='rqt_plot')
+    assert exit_info.value.code == 0
+    text = ' '.join(capsys.readouterr().out.split())
+    assert text.startswith('usage: rqt_plot')
+    assert "This workspace's plotter (rosrun onedof_sim plot) standing in for rqt_plot" in text
+
+
+def test_rqt_plot_options():
+    args, headless = parse_args(['-P', '-e', '/pos_cmd'], prog='rqt_plot')
+    assert args.start_paused and args.start_empty and args.fields == ['/pos_cmd']
+    assert not headless
 
 
 def test_headless_arguments():

@@ -2,7 +2,12 @@
 
 Field specs use rqt_plot's syntax: `/topic/field/sub`, `field[i]` for an array element
 (`/joint_states/position[0]`), `/topic/a:b` for several fields of one topic, and several specs in one
-argument separated by commas. The topic part is the longest published topic that prefixes the spec.
+argument separated by commas; a spec naming a message (`/pos_cmd`) plots its numeric fields. The
+topic part is the longest published topic that prefixes the spec. `rqt_plot` (src/rqt_plot) is this
+command line under rqt_plot's name.
+
+Samples are drawn as held values (step_path): a value holds until the next sample, the last one
+until now (live) or the end of the recording, so a command published once is a horizontal line.
 
 The pure part (parsing, field resolution, the bounded sample buffer, CSV and figure writing) is
 usable on its own: write_figure() and write_csv() take {label: (times, values)} and a path.
@@ -110,22 +115,15 @@ def _fields_of(msg_class):
     return ', '.join(msg_class.__slots__) or '(none)'
 
 
-def field_accessor(msg_class, path, message_class=roslib.message.get_message_class):
-    """A function msg -> float reading the field `path` of messages of `msg_class`.
-
-    The path is checked against the message definition first: a PlotError names an unknown field
-    and the valid ones, a missing or extra index, or a field that is not a number. Reading an array
-    element that a message does not have raises IndexError.
-    """
+def _walk_fields(msg_class, path, message_class):
+    """The read steps [(name, index)] of `path` in messages of `msg_class`, and what it names:
+    (steps, class, type), class None for a number. PlotError names an unknown field and the valid
+    ones, a missing or extra index, a string."""
     steps = []
     current = msg_class
     current_type = msg_class._type
     parts = parse_field_path(path)
-    if not parts:
-        raise PlotError('%s is a message: pick one of its fields: %s'
-                        % (current_type, _fields_of(current)))
     for depth, (name, index) in enumerate(parts):
-        last = depth == len(parts) - 1
         if current is None:
             raise PlotError("'%s' has no field '%s': it is a %s" % (
                 '/'.join(p for p, _ in parts[:depth]), name, current_type))
@@ -151,11 +149,42 @@ def field_accessor(msg_class, path, message_class=roslib.message.get_message_cla
             current_type = slot_type
             if current is None:
                 raise PlotError("cannot load message type %s (field '%s')" % (slot_type, name))
-            if last:
-                raise PlotError("field '%s' is a %s: pick one of its fields: %s"
-                                % (name, slot_type, _fields_of(current)))
-    if current_type not in NUMERIC_TYPES and current_type not in TIME_TYPES:
-        raise PlotError("'%s' is a %s, not a number" % (path, current_type))
+    return steps, current, current_type
+
+
+def _is_plottable(current_type):
+    return current_type in NUMERIC_TYPES or current_type in TIME_TYPES
+
+
+def plottable_paths(msg_class, path, message_class=roslib.message.get_message_class):
+    """The field paths that `path` stands for, as in rqt_plot: itself when it names a number, the
+    message's numeric (non-array) fields when it names a message (`rqt_plot /pos_cmd` plots
+    /pos_cmd/data). PlotError when it names nothing plottable."""
+    _, current, current_type = _walk_fields(msg_class, path, message_class)
+    if current is None or current_type in TIME_TYPES:
+        return [path]
+    fields = [name for name, slot_type in zip(current.__slots__, current._slot_types)
+              if _is_plottable(slot_type)]
+    if not fields:
+        raise PlotError('%s has no numeric field to plot; its fields: %s'
+                        % (current_type, _fields_of(current)))
+    return ['%s/%s' % (path, name) if path else name for name in fields]
+
+
+def field_accessor(msg_class, path, message_class=roslib.message.get_message_class):
+    """A function msg -> float reading the field `path` of messages of `msg_class`.
+
+    The path is checked against the message definition first: a PlotError names an unknown field
+    and the valid ones, a missing or extra index, or a field that is not a number. Reading an array
+    element that a message does not have raises IndexError.
+    """
+    steps, current, current_type = _walk_fields(msg_class, path, message_class)
+    if current is not None and current_type not in TIME_TYPES:
+        if not steps:
+            raise PlotError('%s is a message: pick one of its fields: %s'
+                            % (current_type, _fields_of(current)))
+        raise PlotError("field '%s' is a %s: pick one of its fields: %s"
+                        % (steps[-1][0], current_type, _fields_of(current)))
 
     def read(msg):
         value = msg
@@ -201,6 +230,11 @@ class SampleBuffer:
         with self._lock:
             return len(self._samples[label])
 
+    def since_origin(self, t):
+        """Time `t` on the series' time axis (0 at the earliest sample); None before any sample."""
+        with self._lock:
+            return None if self._origin is None else t - self._origin
+
     def series(self):
         """{label: (times, values)}, times relative to the earliest sample ever appended."""
         with self._lock:
@@ -245,8 +279,35 @@ def read_csv(path):
     return series
 
 
-def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None):
-    lines = {label: ax.plot(times, values, label=label)[0]
+def held_window(times, values, start, end):
+    """The samples in [start, end), led by the value held at `start` (the last sample before it,
+    moved to `start`): a command sent before the window still shows across it."""
+    before = [i for i, t in enumerate(times) if t < start]
+    inside = [i for i, t in enumerate(times) if start <= t < end]
+    held = [before[-1]] if before and (not inside or times[inside[0]] > start) else []
+    return ([start] * len(held) + [times[i] for i in inside],
+            [values[i] for i in held + inside])
+
+
+def step_path(times, values, until=None):
+    """The vertices that draw samples as held values: each value holds as a horizontal line until
+    the next sample (then a vertical jump), the last one until `until` when that is later. A
+    command published once is a line, not a point; two commands are a step, not a ramp."""
+    xs, ys = [], []
+    for i, (t, value) in enumerate(zip(times, values)):
+        if i:
+            xs.append(t)
+            ys.append(values[i - 1])
+        xs.append(t)
+        ys.append(value)
+    if xs and until is not None and until > xs[-1]:
+        xs.append(until)
+        ys.append(ys[-1])
+    return xs, ys
+
+
+def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None, until=None):
+    lines = {label: ax.plot(*step_path(times, values, until), label=label)[0]
              for label, (times, values) in series.items()}
     ax.set_xlabel(xlabel)
     if ylabel:
@@ -259,21 +320,22 @@ def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None):
     return lines
 
 
-def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=(10, 6)):
-    """A matplotlib Figure of {label: (times, values)}, one line per label, independent of pyplot
-    (so saving it works on any backend, headless included)."""
+def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=(10, 6), until=None):
+    """A matplotlib Figure of {label: (times, values)}, one line per label, each sample held until
+    the next and the last until `until` (see step_path); independent of pyplot (so saving it works
+    on any backend, headless included)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     figure = Figure(figsize=size)
     FigureCanvasAgg(figure)
-    _draw_series(figure.add_subplot(1, 1, 1), series, title, xlabel, ylabel)
+    _draw_series(figure.add_subplot(1, 1, 1), series, title, xlabel, ylabel, until)
     figure.tight_layout()
     return figure
 
 
-def write_figure(series, path, title=None, xlabel=TIME_LABEL, ylabel=None):
+def write_figure(series, path, title=None, xlabel=TIME_LABEL, ylabel=None, until=None):
     """Writes the figure of {label: (times, values)} to `path` (format from its extension)."""
-    make_figure(series, title, xlabel, ylabel).savefig(path, dpi=100)
+    make_figure(series, title, xlabel, ylabel, until=until).savefig(path, dpi=100)
 
 
 # ---- ROS side: find the topics, subscribe, record or show ----
@@ -282,11 +344,11 @@ class TopicRecorder:
     """Subscribes to the topics of the given resolved specs and buffers their fields' values."""
 
     def __init__(self, specs, buffer_length=DEFAULT_BUFFER_LENGTH, timeout=10.0):
-        self.specs = specs
-        self.buffer = SampleBuffer(specs, buffer_length)
         self.message_counts = collections.Counter()
         self.first_reception = None  # ROS time (s) at which the first message arrived
-        self._fields = self._resolve(specs, timeout)  # topic -> [(label, read, msg_class)]
+        # topic -> [(label, read, msg_class)]; one label per plotted field, in the order given.
+        self._fields, self.labels = self._resolve(specs, timeout)
+        self.buffer = SampleBuffer(self.labels, buffer_length)
         self._missing_index = set()
         self._subscribers = []
 
@@ -307,17 +369,22 @@ class TopicRecorder:
                     ', '.join(unmatched), timeout, ', '.join(sorted(types)) or 'none'))
             time.sleep(0.1)
         fields = collections.defaultdict(list)
+        labels = []
         for spec, (topic, path) in splits.items():
             msg_class = roslib.message.get_message_class(types[topic])
             if msg_class is None:
                 raise PlotError('%s: cannot load message type %s of %s'
                                 % (spec, types[topic], topic))
             try:
-                read = field_accessor(msg_class, path)
+                # A spec naming a message stands for its numeric fields, as in rqt_plot.
+                for field in plottable_paths(msg_class, path):
+                    label = topic.rstrip('/') + '/' + field
+                    if label not in labels:
+                        labels.append(label)
+                        fields[topic].append((label, field_accessor(msg_class, field), msg_class))
             except PlotError as error:
                 raise PlotError('%s: %s' % (spec, error)) from None
-            fields[topic].append((spec, read, msg_class))
-        return fields
+        return fields, labels
 
     def start(self):
         import rospy
@@ -363,9 +430,9 @@ class TopicRecorder:
 
 
 def record(recorder, duration, timeout):
-    """Records `duration` seconds of ROS time from the first message received. PlotError when
-    nothing arrives within `timeout` wall seconds, when ROS time stands still that long, or when
-    a topic sent nothing."""
+    """Records `duration` seconds of ROS time from the first message received; returns the ROS
+    time at which it stopped. PlotError when nothing arrives within `timeout` wall seconds, when
+    ROS time stands still that long, or when a topic sent nothing."""
     import rospy
     recorder.start()
     try:
@@ -389,26 +456,38 @@ def record(recorder, duration, timeout):
     finally:
         recorder.stop()
     recorder.check_received('%g s of ROS time' % duration)
+    return now
 
 
-def show_live(recorder, refresh_hz=10.0):
-    """A window redrawn at `refresh_hz` until it is closed."""
+def show_live(recorder, title, start_paused=False, refresh_hz=10.0):
+    """A window redrawn at `refresh_hz` until it is closed; every value holds until the next and
+    the last until now. Space or p pauses and resumes the drawing (recording goes on)."""
     import matplotlib.pyplot as plt
+    import rospy
     from matplotlib.animation import FuncAnimation
     if plt.get_backend().lower() in ('agg', 'pdf', 'ps', 'svg', 'cairo', 'template'):
         raise PlotError('matplotlib has no interactive backend here (%s): record headless with '
                         '--duration S --png F --csv F' % plt.get_backend())
     figure, ax = plt.subplots(figsize=(10, 6))
-    figure.canvas.manager.set_window_title('onedof_sim plot')
-    lines = _draw_series(ax, {label: ([], []) for label in recorder.specs})
+    figure.canvas.manager.set_window_title(title)
+    lines = _draw_series(ax, {label: ([], []) for label in recorder.labels})
+    paused = [start_paused]
+
+    def on_key(event):
+        if event.key in (' ', 'p'):
+            paused[0] = not paused[0]
 
     def update(_frame):
+        if paused[0]:
+            return []
+        now = recorder.buffer.since_origin(rospy.get_rostime().to_sec())
         for label, (times, values) in recorder.buffer.series().items():
-            lines[label].set_data(times, values)
+            lines[label].set_data(*step_path(times, values, until=now))
         ax.relim()
         ax.autoscale_view()
         return list(lines.values())
 
+    figure.canvas.mpl_connect('key_press_event', on_key)
     recorder.start()
     animation = FuncAnimation(figure, update, interval=1000.0 / refresh_hz,
                               cache_frame_data=False)
@@ -417,15 +496,30 @@ def show_live(recorder, refresh_hz=10.0):
     recorder.stop()
 
 
-def parse_args(argv):
+def parse_args(argv, prog='rosrun onedof_sim plot'):
+    if prog == 'rqt_plot':
+        description = ("This workspace's plotter (rosrun onedof_sim plot) standing in for "
+                       "rqt_plot, which is not packaged here: rqt_plot's command line, a "
+                       "matplotlib window instead of rqt's. ")
+    else:
+        description = 'Plots numeric fields of ROS topics against ROS time, in place of rqt_plot. '
     parser = argparse.ArgumentParser(
-        prog='rosrun onedof_sim plot',
-        description="Plots numeric fields of ROS topics against ROS time, in place of rqt_plot. "
-                    "Without --png/--csv it opens a live window; with them it records "
-                    "--duration seconds of ROS time headless and writes the files.",
-        epilog='example: rosrun onedof_sim plot /jnt_pos/data /jnt_trq/data /jnt_vel/data')
+        prog=prog,
+        description=description +
+        "Every value is drawn held until the next one (a command published once is a "
+        "horizontal line up to now). Without --png/--csv it opens a live window (space or p "
+        "pauses it); with them it records --duration seconds of ROS time headless and writes "
+        "the files.",
+        epilog='example: %s /jnt_pos/data /jnt_trq/data /jnt_vel/data /pos_cmd' % prog)
     parser.add_argument('fields', nargs='+', metavar='TOPIC/FIELD',
-                        help="rqt_plot syntax: /topic/field, /topic/array[i], /topic/a:b")
+                        help="rqt_plot syntax: /topic/field, /topic/array[i], /topic/a:b "
+                             "(fields a and b of /topic), a,b (two specs); /topic alone plots "
+                             "all its numeric fields")
+    parser.add_argument('-P', '--pause', action='store_true', dest='start_paused',
+                        help='start the live window paused (as rqt_plot -P)')
+    parser.add_argument('-e', '--empty', action='store_true', dest='start_empty',
+                        help='as rqt_plot -e: start without restoring topics of a previous '
+                             'session (this plotter never restores them)')
     parser.add_argument('--duration', type=float, metavar='S',
                         help='record S seconds of ROS time from the first message received '
                              '(required with --png/--csv)')
@@ -448,35 +542,39 @@ def parse_args(argv):
     return args, headless
 
 
-def main(argv=None):
+def main(argv=None, prog='rosrun onedof_sim plot'):
+    """The command line of `rosrun onedof_sim plot` and, with prog='rqt_plot', of rqt_plot."""
     import rospy
     argv = rospy.myargv(sys.argv if argv is None else argv)[1:]
-    args, headless = parse_args(argv)
+    args, headless = parse_args(argv, prog)
+    name = prog.split()[-1]
     if headless:
         import matplotlib
         matplotlib.use('Agg')
     elif not (os.environ.get('DISPLAY') or os.environ.get('WAYLAND_DISPLAY')):
-        sys.stderr.write('plot: no display: record headless with --duration S --png F --csv F\n')
+        sys.stderr.write('%s: no display: record headless with --duration S --png F --csv F\n'
+                         % name)
         return 2
-    rospy.init_node('plot', anonymous=True, disable_signals=True)
+    rospy.init_node(name, anonymous=True, disable_signals=True)
     try:
         specs = [rospy.resolve_name(spec) for spec in expand_specs(args.fields)]
         recorder = TopicRecorder(specs, args.buffer, args.timeout)
         if not headless:
-            show_live(recorder)
+            show_live(recorder, args.title or prog, args.start_paused)
             return 0
-        record(recorder, args.duration, args.timeout)
+        end = record(recorder, args.duration, args.timeout)
         series = recorder.buffer.series()
         if args.png:
-            write_figure(series, args.png, title=args.title)
+            write_figure(series, args.png, title=args.title,
+                         until=recorder.buffer.since_origin(end))
         if args.csv:
             write_csv(series, args.csv)
-        print('plot: %s samples of %s over %g s of ROS time -> %s' % (
-            sum(len(t) for t, _ in series.values()), ', '.join(specs), args.duration,
-            ', '.join(f for f in (args.png, args.csv) if f)))
+        print('%s: %s samples of %s over %g s of ROS time -> %s' % (
+            name, sum(len(t) for t, _ in series.values()), ', '.join(recorder.labels),
+            args.duration, ', '.join(f for f in (args.png, args.csv) if f)))
         return 0
     except PlotError as error:
-        sys.stderr.write('plot: error: %s\n' % error)
+        sys.stderr.write('%s: error: %s\n' % (name, error))
         return 1
     except KeyboardInterrupt:
         return 130

@@ -15,6 +15,7 @@ import time
 
 import yaml
 
+from onedof_sim.tools.plot import held_window
 from onedof_sim.tutorial import physics
 from onedof_sim.private_ros import PrivateRos, wait_until
 
@@ -58,10 +59,15 @@ class Recorder:
         return [(t, v) for t, v in self.samples[topic] if start <= t < end]
 
     def series(self, start=-math.inf, end=math.inf, origin=0.0):
-        """{topic: (times since origin, values)} of the samples in [start, end)."""
-        return {topic: ([t - origin for t, _ in samples], [v for _, v in samples])
-                for topic, samples in ((topic, self.between(topic, start, end))
-                                       for topic in RECORDED_TOPICS)}
+        """{topic: (times since origin, values)} of the samples in [start, end), each topic led
+        by its value held at `start` (pos_cmd is published once per phase, before some)."""
+        series = {}
+        for topic in RECORDED_TOPICS:
+            samples = list(self.samples[topic])  # one snapshot: the callbacks keep appending
+            times, values = held_window([t for t, _ in samples], [v for _, v in samples],
+                                        start, end)
+            series[topic] = ([t - origin for t in times], values)
+        return series
 
 
 def free_display():
@@ -276,7 +282,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
                 recorder.series(start, end, origin=start),
                 os.path.join(output, 'phase%d_%s.png' % (len(rows), phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
-                xlabel='sim time since the command (s)')
+                xlabel='sim time since the command (s)', until=end - start)
         if rviz:
             say('rviz screenshot of the final pose, table display on')
             rviz.screenshot(os.path.join(output, 'rviz_final.png'))
@@ -284,7 +290,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
         plot.write_figure(recorder.series(origin=t0), os.path.join(output, 'tutorial.png'),
                           title='The whole tutorial (%s)' % physics_engine,
-                          xlabel='sim time (s)')
+                          xlabel='sim time (s)', until=rospy.get_time() - t0)
         rospy.signal_shutdown('tutorial finished')
     summary = summary_markdown(rows, physics_engine)
     with open(os.path.join(output, 'summary.md'), 'w') as f:
