@@ -257,7 +257,10 @@ uint8_t toJointTypeConstant(JointType type) {
 visualization_msgs::Marker toMarker(const CollisionShape& shape, int id) {
   visualization_msgs::Marker marker;
   marker.header.frame_id = "world";
-  marker.ns = shape.model + "::" + shape.link;
+  // One namespace per model: one checkbox per model in rviz's MarkerArray display, so our rviz
+  // view shows the world (the table) and leaves the robot, which its RobotModel already draws,
+  // off until asked for.
+  marker.ns = shape.model;
   marker.id = id;
   marker.action = visualization_msgs::Marker::ADD;
   marker.pose = toMsg(shape.pose);

@@ -79,8 +79,9 @@ def free_display():
 
 
 class RvizView:
-    """rviz on the robot with the simulated world's collision markers switched on, on the user's
-    display or on a private Xvfb, and a screenshot of it once the picture stops changing."""
+    """rviz with the committed view (the robot, and the simulated world's other models as collision
+    markers), on the user's display or on a private Xvfb, and a screenshot of it once the picture
+    stops changing."""
 
     def __init__(self, ros, work_dir):
         self.ros = ros
@@ -105,9 +106,6 @@ class RvizView:
                                 capture_output=True, text=True, check=True).stdout.strip()
         with open(os.path.join(source, 'rviz', 'minimal_robot.rviz')) as f:
             config = yaml.safe_load(f)
-        for display in config['Visualization Manager']['Displays']:
-            if display['Class'] == 'rviz/MarkerArray':
-                display['Enabled'] = display['Value'] = True
         # rviz renders in software here: a few frames a second leave the CPU to the controller.
         config['Visualization Manager']['Global Options']['Frame Rate'] = 5
         with open(self.config, 'w') as f:
@@ -284,7 +282,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
                 xlabel='sim time since the command (s)', until=end - start)
         if rviz:
-            say('rviz screenshot of the final pose, table display on')
+            say('rviz screenshot of the final pose (the table from the collision markers)')
             rviz.screenshot(os.path.join(output, 'rviz_final.png'))
         t0 = recorder.samples['jnt_pos'][0][0]
         plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
