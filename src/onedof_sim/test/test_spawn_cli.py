@@ -45,7 +45,7 @@ def test_every_option():
     assert args.joints == [('joint1', -1.5), ('joint2', 2.0)]
     assert args.unpause and args.bond and args.wait == 'ground'
     assert spawn_cli.spawn_service_name(args) == '/sim/spawn_urdf_model'
-    assert spawn_cli.service_name(args, 'delete_model') == '/sim/delete_model'
+    assert spawn_cli.service_name(args.gazebo_namespace, 'delete_model') == '/sim/delete_model'
 
 
 def test_stdin_source():

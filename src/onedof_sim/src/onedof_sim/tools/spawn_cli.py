@@ -1,7 +1,8 @@
-"""The command line of `rosrun onedof_sim spawn_model`: gazebo_ros' spawn_model arguments, the model
-path that `-database` searches, and the model XML each source yields.
+"""The command line of `rosrun onedof_sim spawn_model` (and `rosrun gazebo_ros spawn_model`):
+gazebo_ros' spawn_model arguments, the model path that `-database` searches, and the model XML each
+source yields.
 
-Free of rospy so it can be unit-tested; scripts/spawn_model makes the ROS calls. Every problem a
+Free of rospy so it can be unit-tested; onedof_sim.tools.spawn_model makes the ROS calls. Every problem a
 user can cause is raised as SpawnError with a message meant for them.
 """
 import argparse
@@ -24,8 +25,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser():
     parser = _Parser(
         prog='spawn_model',
-        description='Spawn a model into the onedof_sim simulator through its Gazebo ROS API '
-                    '(the arguments of gazebo_ros spawn_model).')
+        description="Spawn a model into onedof_sim, this workspace's simulator standing in for "
+                    'Gazebo, through its Gazebo ROS API (the arguments of gazebo_ros spawn_model).')
     fmt = parser.add_mutually_exclusive_group(required=True)
     fmt.add_argument('-urdf', action='store_true', help='the model XML is URDF')
     fmt.add_argument('-sdf', action='store_true', help='the model XML is SDF')
@@ -170,10 +171,11 @@ def load_local_model_xml(args, folders, stdin):
     return None
 
 
-def service_name(args, service):
-    """Name of a simulator service in -gazebo_namespace."""
-    return '%s/%s' % (args.gazebo_namespace.rstrip('/'), service)
+def service_name(gazebo_namespace, service):
+    """Name of a simulator service in gazebo_namespace (-gazebo_namespace)."""
+    return '%s/%s' % (gazebo_namespace.rstrip('/'), service)
 
 
 def spawn_service_name(args):
-    return service_name(args, 'spawn_urdf_model' if args.urdf else 'spawn_sdf_model')
+    return service_name(args.gazebo_namespace,
+                        'spawn_urdf_model' if args.urdf else 'spawn_sdf_model')

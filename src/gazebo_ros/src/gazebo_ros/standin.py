@@ -1,0 +1,105 @@
+"""gzserver, gzclient and gazebo as this workspace runs them: onedof_sim, this workspace's simulator,
+stands in for Gazebo's server (with gzserver's arguments, passed through), and rviz showing the
+simulated world stands in for Gazebo's GUI.
+
+Each program says so in one line when it starts, and in -h.
+"""
+import os
+import signal
+import subprocess
+import sys
+
+import rospkg
+
+SERVER = ['rosrun', 'onedof_sim', 'onedof_sim']
+GUI_INSTEAD = ("no Gazebo GUI in this workspace; instead rviz shows the simulated world "
+               "(/gazebo/collision_markers; the robot too: roslaunch minimal_robot_description "
+               "display.launch)")
+SERVER_HELP = """usage: {prog} [-u|--pause] [-e ENGINE] [WORLD_FILE] [_param:=value ...]
+
+onedof_sim, this workspace's simulator, standing in for Gazebo's gzserver: the node `gazebo`
+serving Gazebo's ROS API under /gazebo/ (rosrun onedof_sim onedof_sim with these arguments).
+
+  -u, --pause   start paused
+  -e ENGINE     physics engine, one of: rosrun onedof_sim onedof_sim --list-physics
+  WORLD_FILE    only the empty world exists here: accepted and ignored with a warning
+                (spawn models with rosrun gazebo_ros spawn_model); so is any other gzserver flag
+  _name:=value  the node's parameters (src/onedof_sim/README.md), e.g. _max_update_rate:=0
+"""
+
+
+def _rviz_command():
+    config = os.path.join(rospkg.RosPack().get_path('gazebo_ros'), 'rviz', 'world.rviz')
+    return ['rosrun', 'rviz', 'rviz', '-d', config]
+
+
+def _has_display():
+    return bool(os.environ.get('DISPLAY'))
+
+
+def _wants_help(argv):
+    return any(arg in ('-h', '--help') for arg in argv)
+
+
+def _say(prog, text):
+    print('%s: %s' % (prog, text), flush=True)
+
+
+def _server_line(argv):
+    return ("onedof_sim, this workspace's simulator, standing in for Gazebo's gzserver: %s"
+            % ' '.join(SERVER + argv))
+
+
+def gzserver_main(argv):
+    if _wants_help(argv):
+        print(SERVER_HELP.format(prog='gzserver'), end='')
+        return 0
+    _say('gzserver', _server_line(argv))
+    os.execvp(SERVER[0], SERVER + argv)
+
+
+def gzclient_main(argv):
+    if _wants_help(argv):
+        print('usage: gzclient\n\n%s.\nStarts it when there is a display ($DISPLAY), else says so '
+              'and exits 0.' % GUI_INSTEAD[0].upper() + GUI_INSTEAD[1:])
+        return 0
+    if not _has_display():
+        _say('gzclient', GUI_INSTEAD + ': not started, there is no display ($DISPLAY is unset)')
+        return 0
+    _say('gzclient', GUI_INSTEAD + ': starting it')
+    command = _rviz_command()
+    os.execvp(command[0], command)
+
+
+def gazebo_main(argv):
+    if _wants_help(argv):
+        print(SERVER_HELP.format(prog='gazebo'), end='')
+        print('\nAnd the GUI: %s, started when there is a display ($DISPLAY).' % GUI_INSTEAD)
+        return 0
+    if not _has_display():
+        _say('gazebo', _server_line(argv) + '; ' + GUI_INSTEAD +
+             ': not started, there is no display ($DISPLAY is unset)')
+        os.execvp(SERVER[0], SERVER + argv)
+    _say('gazebo', _server_line(argv) + '; ' + GUI_INSTEAD + ': starting it')
+    server = subprocess.Popen(SERVER + argv)
+    gui = subprocess.Popen(_rviz_command())
+
+    # Stopping `gazebo` (Ctrl-C, roslaunch's SIGINT then SIGTERM) stops both; closing rviz leaves
+    # the simulator running, as the server is what the other nodes need.
+    def forward(signum, frame):
+        for process in (server, gui):
+            if process.poll() is None:
+                process.send_signal(signum)
+
+    signal.signal(signal.SIGINT, forward)
+    signal.signal(signal.SIGTERM, forward)
+    code = server.wait()
+    if gui.poll() is None:
+        gui.terminate()
+        gui.wait()
+    return code
+
+
+def run(main):
+    """Entry point of the scripts: main(argv without the program name) as the exit code."""
+    sys.exit(main(sys.argv[1:]))
