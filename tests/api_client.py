@@ -31,6 +31,9 @@ SERVICE_TYPES = {
     'get_link_properties': 'GetLinkProperties', 'get_physics_properties': 'GetPhysicsProperties',
     'set_physics_properties': 'SetPhysicsProperties', 'pause_physics': 'Empty',
     'unpause_physics': 'Empty', 'reset_simulation': 'Empty', 'reset_world': 'Empty',
+    'set_joint_properties': 'SetJointProperties', 'set_link_properties': 'SetLinkProperties',
+    'get_light_properties': 'GetLightProperties', 'set_light_properties': 'SetLightProperties',
+    'delete_light': 'DeleteLight',
 }
 
 # A free box (SDF), 0.2 m cube of 1 kg, for the model and link state services.
@@ -75,7 +78,7 @@ FOREVER_NS = -10 ** 9  # any negative duration: until cleared
 
 
 class GazeboApi:
-    """Service proxies of /gazebo/*, created on first use."""
+    """Service proxies of /gazebo/* with the gazebo_msgs types, created on first use."""
 
     def __init__(self, rospy, namespace='/gazebo'):
         self._rospy = rospy
@@ -86,10 +89,10 @@ class GazeboApi:
         if name not in SERVICE_TYPES:
             raise AttributeError(name)
         if name not in self._proxies:
-            import onedof_sim.srv
+            import gazebo_msgs.srv
             import std_srvs.srv
             type_name = SERVICE_TYPES[name]
-            module = std_srvs.srv if type_name == 'Empty' else onedof_sim.srv
+            module = std_srvs.srv if type_name == 'Empty' else gazebo_msgs.srv
             service = self._namespace + '/' + name
             self._rospy.wait_for_service(service, timeout=60)
             # Persistent: one connection, so that a call costs well under a millisecond.

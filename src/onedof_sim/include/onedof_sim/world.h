@@ -212,6 +212,10 @@ class World {
 
   // --- joints (name bare or scoped "model::joint"; the first model that has it wins) ---------
   Status jointInfo(const std::string& joint, JointInfo* out) const;
+  // Viscous damping (N m s/rad or N s/m) from now on, as <dynamics damping> would have given it;
+  // World applies it as an effort, so it acts alike on every engine. Refuses a fixed joint
+  // (JointIsFixed), a non-finite (NotFinite) or negative (InvalidParameter "damping") value.
+  Status setJointDamping(const std::string& joint, double damping);
 
   // Effort jobs: start and duration in nanoseconds of sim time. A start before now means now.
   // duration < 0: until cleared; == 0: nothing is queued; 0 < duration < step: exactly one step.

@@ -1032,6 +1032,20 @@ Status World::jointInfo(const std::string& joint_name, JointInfo* out) const {
   return {};
 }
 
+Status World::setJointDamping(const std::string& joint_name, double damping) {
+  ModelRecord* model;
+  size_t index;
+  if (!impl_->findJoint(joint_name, &model, &index))
+    return {StatusCode::JointNotFound, joint_name};
+  JointRecord& joint = model->joints[index];
+  if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
+  if (!std::isfinite(damping)) return {StatusCode::NotFinite, "damping"};
+  if (damping < 0) return {StatusCode::InvalidParameter, "damping"};
+  joint.desc.damping = damping;
+  joint.desc.has_damping = true;
+  return {};
+}
+
 Status World::applyJointEffort(const std::string& joint_name, double effort, int64_t start_ns,
                                int64_t duration_ns, JobOutcome* outcome) {
   ModelRecord* model;

@@ -1,16 +1,18 @@
 #include "gazebo_api.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include <rosgraph_msgs/Clock.h>
 #include <tinyxml2.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include <onedof_sim/LinkStates.h>
-#include <onedof_sim/ModelStates.h>
+#include <gazebo_msgs/LinkStates.h>
+#include <gazebo_msgs/ModelStates.h>
 
 namespace onedof_sim {
 namespace {
@@ -77,31 +79,58 @@ std::string bareName(const std::string& scoped) {
 
 // --- status texts: Gazebo's wording (gazebo_ros_api_plugin.cpp) of what the world says ----------
 
-// How one service words the world's codes: its name starts every text; success and non-finite
-// input are worded per service (the latter names the request's fields), every other code alike.
+// How one service words the world's codes, in Gazebo's texts where Gazebo refuses the same input:
+// success, and the lookups it words per service, are full texts; every other refusal is ours
+// (Gazebo would accept that input and misbehave), starts with the service's name and, for
+// non-finite input, names the request's fields.
 struct Wording {
   const char* service;
   const char* done;
   const char* not_finite = "values must be finite";
+  const char* not_found = nullptr;        // a model, link or joint; else the common text
+  const char* frame_not_found = nullptr;  // else ours, which names the frame
 };
 
-const Wording kGetJointProperties{"GetJointProperties", "got properties"};
-const Wording kApplyJointEffort{"ApplyJointEffort", "effort set", "effort is not finite"};
-const Wording kApplyBodyWrench{"ApplyBodyWrench", "wrench set",
-                               "reference_point and wrench must be finite"};
-const Wording kGetLinkState{"GetLinkState", "got state"};
-const Wording kSetLinkState{"SetLinkState", "success", "pose and twist must be finite"};
-const Wording kGetLinkProperties{"GetLinkProperties", "got properties"};
-const Wording kSpawnModel{"SpawnModel", "Successfully spawned entity",
-                          "initial_pose must be finite"};
-const Wording kDeleteModel{"DeleteModel", "successfully deleted model"};
-const Wording kGetModelState{"GetModelState", "got properties"};
-const Wording kSetModelState{"SetModelState", "set model state done",
-                             "pose and twist must be finite"};
-const Wording kSetModelConfiguration{"SetModelConfiguration", "success",
+const Wording kGetJointProperties{"GetJointProperties", "GetJointProperties: got properties"};
+const Wording kSetJointProperties{"SetJointProperties", "SetJointProperties: properties set"};
+const Wording kApplyJointEffort{"ApplyJointEffort", "ApplyJointEffort: effort set",
+                                "effort is not finite"};
+// Gazebo answers "" on success: ours says what became of the job.
+const Wording kApplyBodyWrench{"ApplyBodyWrench", "ApplyBodyWrench: wrench set",
+                               "reference_point and wrench must be finite",
+                               "ApplyBodyWrench: body does not exist",
+                               "ApplyBodyWrench: reference_frame not found"};
+const Wording kGetLinkState{
+    "GetLinkState", "GetLinkState: got state", "values must be finite", nullptr,
+    "GetLinkState: reference reference_frame not found, did you forget to scope the link by "
+    "model name?"};
+const Wording kSetLinkState{"SetLinkState", "SetLinkState: success",
+                            "pose and twist must be finite", "SetLinkState: link does not exist",
+                            "SetLinkState: failed"};
+const Wording kGetLinkProperties{"GetLinkProperties", "GetLinkProperties: got properties"};
+const Wording kSetLinkProperties{"SetLinkProperties", "SetLinkProperties: properties set"};
+const Wording kSpawnModel{
+    "SpawnModel", "SpawnModel: Successfully spawned entity", "initial_pose must be finite",
+    nullptr,
+    "SpawnModel: reference reference_frame not found, did you forget to scope the link by model "
+    "name?"};
+const Wording kDeleteModel{"DeleteModel", "DeleteModel: successfully deleted model"};
+const Wording kGetModelState{
+    "GetModelState", "GetModelState: got properties", "values must be finite", nullptr,
+    "GetModelState: reference relative_entity_name not found, did you forget to scope the body "
+    "by model name?"};
+const Wording kSetModelState{"SetModelState", "SetModelState: set model state done",
+                             "pose and twist must be finite", nullptr,
+                             "SetModelState: specified reference frame entity does not exist"};
+const Wording kSetModelConfiguration{"SetModelConfiguration", "SetModelConfiguration: success",
                                      "joint_positions must be finite"};
-const Wording kGetModelProperties{"GetModelProperties", "got properties"};
-const Wording kSetPhysicsProperties{"SetPhysicsProperties", "physics properties set"};
+const Wording kGetModelProperties{"GetModelProperties", "GetModelProperties: got properties"};
+const Wording kSetPhysicsProperties{"SetPhysicsProperties", "physics engine updated"};
+
+// Gazebo's answer to model_xml that is neither URDF nor SDF (not even XML); the node logs why.
+const char* const kNotUrdfOrSdf =
+    "GazeboRosApiPlugin SpawnModel Failure: input model_xml not SDF or URDF, or cannot be "
+    "converted to Gazebo compatible format.";
 
 // The range World::setParams enforces on a PhysicsParams field, in ODEPhysics' names.
 std::string parameterRange(const std::string& field) {
@@ -109,6 +138,7 @@ std::string parameterRange(const std::string& field) {
   if (field == "erp") return "erp must be in [0, 1]";
   if (field == "sor_pgs_iters") return "sor_pgs_iters must be >= 1";
   if (field == "max_contacts") return "max_contacts must be <= 65535";
+  if (field == "damping") return "damping must be >= 0";
   return "cfm, contact_surface_layer, contact_max_correcting_vel and sor_pgs_rms_error_tol must "
          "be >= 0, sor_pgs_w > 0";
 }
@@ -117,16 +147,24 @@ std::string statusText(const Wording& wording, const Status& status) {
   const std::string& subject = status.subject;
   std::string text;
   switch (status.code) {
-    case StatusCode::Ok: text = wording.done; break;
-    case StatusCode::ModelNotFound: text = "model does not exist"; break;
+    case StatusCode::Ok: return wording.done;
+    case StatusCode::ModelNotFound:
+      if (wording.not_found) return wording.not_found;
+      text = "model does not exist";
+      break;
     case StatusCode::LinkNotFound:
+      if (wording.not_found) return wording.not_found;
       text = "link not found, did you forget to scope the link by model name?";
       break;
-    case StatusCode::JointNotFound: text = "joint not found"; break;
+    case StatusCode::JointNotFound:
+      if (wording.not_found) return wording.not_found;
+      text = "joint not found";
+      break;
     case StatusCode::ReferenceFrameNotFound:
+      if (wording.frame_not_found) return wording.frame_not_found;
       text = "reference frame '" + subject + "' not found";
       break;
-    case StatusCode::ModelExists: text = "a model named '" + subject + "' already exists"; break;
+    case StatusCode::ModelExists: text = "Failure - entity already exists."; break;
     case StatusCode::EmptyModelName: text = "the model name is empty"; break;
     case StatusCode::NotFinite: text = wording.not_finite; break;
     case StatusCode::ZeroQuaternion: text = "the orientation quaternion is zero"; break;
@@ -138,7 +176,7 @@ std::string statusText(const Wording& wording, const Status& status) {
       text = "link '" + subject + "' is anchored to the world; move its model with set_model_state";
       break;
     case StatusCode::LengthMismatch:
-      text = "joint_names and joint_positions differ in length";
+      text = "joint name and position list have different lengths";
       break;
     case StatusCode::InvalidParameter: text = parameterRange(subject); break;
   }
@@ -147,29 +185,16 @@ std::string statusText(const Wording& wording, const Status& status) {
 
 // ApplyBodyWrench calls a link a body.
 std::string wrenchText(const Status& status) {
-  switch (status.code) {
-    case StatusCode::LinkNotFound: return "ApplyBodyWrench: body does not exist";
-    case StatusCode::LinkAnchored:
-      return "ApplyBodyWrench: body '" + status.subject + "' is anchored to the world";
-    default: return statusText(kApplyBodyWrench, status);
-  }
+  if (status.code == StatusCode::LinkAnchored)
+    return "ApplyBodyWrench: body '" + status.subject + "' is anchored to the world";
+  return statusText(kApplyBodyWrench, status);
 }
 
-// SetModelConfiguration names the missing model and joint, and counts a length mismatch.
-std::string configurationText(const Status& status, const SetModelConfiguration::Request& req) {
-  switch (status.code) {
-    case StatusCode::ModelNotFound:
-      return "SetModelConfiguration: model [" + status.subject + "] does not exist";
-    case StatusCode::JointNotFound:
-      return "SetModelConfiguration: joint '" + status.subject + "' not found in model";
-    case StatusCode::LengthMismatch: {
-      std::ostringstream text;
-      text << "SetModelConfiguration: " << req.joint_names.size() << " joint_names but "
-           << req.joint_positions.size() << " joint_positions";
-      return text.str();
-    }
-    default: return statusText(kSetModelConfiguration, status);
-  }
+// Gazebo sets the joints it finds and ignores the others; we refuse, naming the joint.
+std::string configurationText(const Status& status) {
+  if (status.code == StatusCode::JointNotFound)
+    return "SetModelConfiguration: joint '" + status.subject + "' not found in model";
+  return statusText(kSetModelConfiguration, status);
 }
 
 // What a job became, after the service's "effort set" or "wrench set".
@@ -244,14 +269,14 @@ Status detectModelFormat(const std::string& xml, ModelFormat* format) {
 uint8_t toJointTypeConstant(JointType type) {
   switch (type) {
     case JointType::Prismatic:
-      return GetJointProperties::Response::PRISMATIC;
+      return gazebo_msgs::GetJointProperties::Response::PRISMATIC;
     case JointType::Fixed:
-      return GetJointProperties::Response::FIXED;
+      return gazebo_msgs::GetJointProperties::Response::FIXED;
     case JointType::Revolute:
     case JointType::Continuous:
       break;
   }
-  return GetJointProperties::Response::REVOLUTE;
+  return gazebo_msgs::GetJointProperties::Response::REVOLUTE;
 }
 
 visualization_msgs::Marker toMarker(const CollisionShape& shape, int id) {
@@ -403,8 +428,8 @@ struct GazeboApi::StepOutput {
   bool has_model_states = false;
   bool has_link_states = false;
   bool has_markers = false;
-  ModelStates model_states;
-  LinkStates link_states;
+  gazebo_msgs::ModelStates model_states;
+  gazebo_msgs::LinkStates link_states;
   std::vector<CollisionShape> shapes;
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
 };
@@ -429,8 +454,8 @@ GazeboApi::GazeboApi(const NodeOptions& options)
   if (!nh_.hasParam("/use_sim_time")) nh_.setParam("/use_sim_time", true);
 
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100);
-  model_states_pub_ = private_nh_.advertise<ModelStates>("model_states", 1);
-  link_states_pub_ = private_nh_.advertise<LinkStates>("link_states", 1);
+  model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
+  link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
 
   auto& n = private_nh_;
@@ -451,6 +476,11 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       n.advertiseService("get_model_properties", &GazeboApi::getModelProperties, this),
       n.advertiseService("get_world_properties", &GazeboApi::getWorldProperties, this),
       n.advertiseService("get_link_properties", &GazeboApi::getLinkProperties, this),
+      n.advertiseService("set_link_properties", &GazeboApi::setLinkProperties, this),
+      n.advertiseService("set_joint_properties", &GazeboApi::setJointProperties, this),
+      n.advertiseService("get_light_properties", &GazeboApi::getLightProperties, this),
+      n.advertiseService("set_light_properties", &GazeboApi::setLightProperties, this),
+      n.advertiseService("delete_light", &GazeboApi::deleteLight, this),
       n.advertiseService("get_physics_properties", &GazeboApi::getPhysicsProperties, this),
       n.advertiseService("set_physics_properties", &GazeboApi::setPhysicsProperties, this),
       n.advertiseService("pause_physics", &GazeboApi::pausePhysics, this),
@@ -597,8 +627,8 @@ void GazeboApi::pace(double max_update_rate, bool resumed) {
 
 // --- joints ---------------------------------------------------------------------------------
 
-bool GazeboApi::getJointProperties(GetJointProperties::Request& req,
-                                   GetJointProperties::Response& res) {
+bool GazeboApi::getJointProperties(gazebo_msgs::GetJointProperties::Request& req,
+                                   gazebo_msgs::GetJointProperties::Response& res) {
   JointInfo joint;
   Status found;
   {
@@ -614,8 +644,8 @@ bool GazeboApi::getJointProperties(GetJointProperties::Request& req,
   return answer(res, found, statusText(kGetJointProperties, found));
 }
 
-bool GazeboApi::applyJointEffort(ApplyJointEffort::Request& req,
-                                 ApplyJointEffort::Response& res) {
+bool GazeboApi::applyJointEffort(gazebo_msgs::ApplyJointEffort::Request& req,
+                                 gazebo_msgs::ApplyJointEffort::Response& res) {
   JobOutcome job;
   Status applied;
   {
@@ -627,7 +657,51 @@ bool GazeboApi::applyJointEffort(ApplyJointEffort::Request& req,
   return answer(res, applied, applied.ok() ? text + jobNotes(job) : text);
 }
 
-bool GazeboApi::clearJointForces(JointRequest::Request& req, JointRequest::Response&) {
+// Damping is served: World applies it as an effort, alike on every engine. The other fields are
+// joint limits and ODE joint parameters, which the engines set when the model is spawned: a
+// request that sets one is refused, naming it, and changes nothing.
+bool GazeboApi::setJointProperties(gazebo_msgs::SetJointProperties::Request& req,
+                                   gazebo_msgs::SetJointProperties::Response& res) {
+  const auto& config = req.ode_joint_config;
+  const std::pair<const char*, const std::vector<double>*> set_at_spawn[] = {
+      {"hiStop", &config.hiStop},     {"loStop", &config.loStop},
+      {"erp", &config.erp},           {"cfm", &config.cfm},
+      {"stop_erp", &config.stop_erp}, {"stop_cfm", &config.stop_cfm},
+      {"fudge_factor", &config.fudge_factor}, {"fmax", &config.fmax},
+      {"vel", &config.vel}};
+  JointInfo joint;
+  Status status;
+  {
+    WorldLock lock(*this);
+    status = world_.jointInfo(req.joint_name, &joint);
+  }
+  if (!status.ok()) return refuse(res, statusText(kSetJointProperties, status));
+  for (const auto& field : set_at_spawn) {
+    if (!field.second->empty()) {
+      return refuse(res, std::string("SetJointProperties: ") + field.first +
+                             " cannot be changed: the engines set joint limits and ODE joint "
+                             "parameters when the model is spawned (damping can be changed)");
+    }
+  }
+  if (config.damping.size() > 1) {
+    std::ostringstream text;
+    text << "SetJointProperties: damping has " << config.damping.size()
+         << " values but joint '" << req.joint_name << "' has one axis";
+    return refuse(res, text.str());
+  }
+  if (config.damping.empty()) return succeed(res, kSetJointProperties.done);
+  {
+    WorldLock lock(*this);
+    status = world_.setJointDamping(req.joint_name, config.damping[0]);
+  }
+  if (status.code == StatusCode::JointIsFixed) {
+    return refuse(res, "SetJointProperties: joint '" + status.subject + "' is fixed and has no "
+                       "damping");
+  }
+  return answer(res, status, statusText(kSetJointProperties, status));
+}
+
+bool GazeboApi::clearJointForces(gazebo_msgs::JointRequest::Request& req, gazebo_msgs::JointRequest::Response&) {
   WorldLock lock(*this);
   world_.clearJointForces(req.joint_name);
   return true;
@@ -635,7 +709,7 @@ bool GazeboApi::clearJointForces(JointRequest::Request& req, JointRequest::Respo
 
 // --- links ----------------------------------------------------------------------------------
 
-bool GazeboApi::applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::Response& res) {
+bool GazeboApi::applyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& req, gazebo_msgs::ApplyBodyWrench::Response& res) {
   JobOutcome job;
   Status applied;
   {
@@ -649,13 +723,13 @@ bool GazeboApi::applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::
   return answer(res, applied, applied.ok() ? text + jobNotes(job) : text);
 }
 
-bool GazeboApi::clearBodyWrenches(BodyRequest::Request& req, BodyRequest::Response&) {
+bool GazeboApi::clearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gazebo_msgs::BodyRequest::Response&) {
   WorldLock lock(*this);
   world_.clearBodyWrenches(req.body_name);
   return true;
 }
 
-bool GazeboApi::getLinkState(GetLinkState::Request& req, GetLinkState::Response& res) {
+bool GazeboApi::getLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_msgs::GetLinkState::Response& res) {
   Status state;
   Pose pose;
   Twist twist;
@@ -672,24 +746,24 @@ bool GazeboApi::getLinkState(GetLinkState::Request& req, GetLinkState::Response&
   return answer(res, state, statusText(kGetLinkState, state));
 }
 
-Status GazeboApi::applyLinkState(const LinkState& state) {
+Status GazeboApi::applyLinkState(const gazebo_msgs::LinkState& state) {
   WorldLock lock(*this);
   return world_.setLinkState(state.link_name, toCore(state.pose), toCore(state.twist),
                              state.reference_frame);
 }
 
-bool GazeboApi::setLinkState(SetLinkState::Request& req, SetLinkState::Response& res) {
+bool GazeboApi::setLinkState(gazebo_msgs::SetLinkState::Request& req, gazebo_msgs::SetLinkState::Response& res) {
   const Status status = applyLinkState(req.link_state);
   return answer(res, status, statusText(kSetLinkState, status));
 }
 
-void GazeboApi::setLinkStateTopic(const LinkState::ConstPtr& msg) {
+void GazeboApi::setLinkStateTopic(const gazebo_msgs::LinkState::ConstPtr& msg) {
   const Status status = applyLinkState(*msg);
   if (!status.ok()) ROS_WARN_STREAM(statusText(kSetLinkState, status));
 }
 
-bool GazeboApi::getLinkProperties(GetLinkProperties::Request& req,
-                                  GetLinkProperties::Response& res) {
+bool GazeboApi::getLinkProperties(gazebo_msgs::GetLinkProperties::Request& req,
+                                  gazebo_msgs::GetLinkProperties::Response& res) {
   LinkInfo link;
   Status found;
   {
@@ -710,23 +784,84 @@ bool GazeboApi::getLinkProperties(GetLinkProperties::Request& req,
   return answer(res, found, statusText(kGetLinkProperties, found));
 }
 
+// The engines fix a body's mass, inertia and gravity mode when the model is spawned, and World
+// welds links joined by fixed joints into one body with their masses lumped, so changing them
+// would need the seam to rebuild bodies: a change is refused, naming the fields; the values the
+// link has (a get/set round trip) succeed.
+bool GazeboApi::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& req,
+                                  gazebo_msgs::SetLinkProperties::Response& res) {
+  LinkInfo link;
+  Status found;
+  {
+    WorldLock lock(*this);
+    found = world_.linkProperties(req.link_name, &link);
+  }
+  if (!found.ok()) return refuse(res, statusText(kSetLinkProperties, found));
+  const auto differs = [](double requested, double current) {
+    return !(std::abs(requested - current) <= 1e-12 * std::max(1.0, std::abs(current)));
+  };
+  std::vector<std::string> changed;
+  if (differs(req.mass, link.mass)) changed.push_back("mass");
+  const std::pair<const char*, std::pair<double, double>> moments[] = {
+      {"ixx", {req.ixx, link.ixx}}, {"ixy", {req.ixy, link.ixy}}, {"ixz", {req.ixz, link.ixz}},
+      {"iyy", {req.iyy, link.iyy}}, {"iyz", {req.iyz, link.iyz}}, {"izz", {req.izz, link.izz}}};
+  for (const auto& moment : moments)
+    if (differs(moment.second.first, moment.second.second)) changed.push_back(moment.first);
+  const auto& com = req.com.position;
+  if (differs(com.x, link.com.position.x) || differs(com.y, link.com.position.y) ||
+      differs(com.z, link.com.position.z)) {
+    changed.push_back("com");
+  }
+  if (req.gravity_mode != link.gravity_mode) changed.push_back("gravity_mode");
+  if (changed.empty()) return succeed(res, kSetLinkProperties.done);
+  std::string fields;
+  for (const auto& name : changed) fields += (fields.empty() ? "" : ", ") + name;
+  return refuse(res, "SetLinkProperties: cannot change " + fields + " of link '" + req.link_name +
+                         "': the engines fix mass, inertia and gravity mode when the model is "
+                         "spawned; spawn it again with the new <inertial>");
+}
+
+// --- lights ---------------------------------------------------------------------------------
+
+// There is no renderer, so the world has no lights: every name is one that does not exist, and
+// the answer is Gazebo's for that case.
+bool GazeboApi::getLightProperties(gazebo_msgs::GetLightProperties::Request& req,
+                                   gazebo_msgs::GetLightProperties::Response& res) {
+  return refuse(res, "getLightProperties: Requested light " + req.light_name + " not found!");
+}
+
+bool GazeboApi::setLightProperties(gazebo_msgs::SetLightProperties::Request& req,
+                                   gazebo_msgs::SetLightProperties::Response& res) {
+  return refuse(res, "setLightProperties: Requested light " + req.light_name + " not found!");
+}
+
+bool GazeboApi::deleteLight(gazebo_msgs::DeleteLight::Request& req,
+                            gazebo_msgs::DeleteLight::Response& res) {
+  return refuse(res, "DeleteLight: Requested light " + req.light_name + " not found!");
+}
+
 // --- models ---------------------------------------------------------------------------------
 
-bool GazeboApi::spawnUrdfModel(SpawnModel::Request& req, SpawnModel::Response& res) {
+bool GazeboApi::spawnUrdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res) {
   return spawnModel(ModelFormat::Urdf, req, res);
 }
 
-bool GazeboApi::spawnSdfModel(SpawnModel::Request& req, SpawnModel::Response& res) {
+bool GazeboApi::spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res) {
   return spawnModel(ModelFormat::Sdf, req, res);
 }
 
 // Gazebo's spawn services both take URDF or SDF (it converts URDF to SDF); so do we, by the
 // root element. `requested` only names the service in log lines.
-bool GazeboApi::spawnModel(ModelFormat requested, SpawnModel::Request& req,
-                           SpawnModel::Response& res) {
+bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req,
+                           gazebo_msgs::SpawnModel::Response& res) {
   ModelFormat format = requested;
-  Status spawned = detectModelFormat(req.model_xml, &format);
-  if (spawned.ok()) {
+  const Status detected = detectModelFormat(req.model_xml, &format);
+  if (!detected.ok()) {
+    ROS_WARN_STREAM("SpawnModel: " << detected.subject);
+    return refuse(res, kNotUrdfOrSdf);
+  }
+  Status spawned;
+  {
     WorldLock lock(*this);
     spawned = world_.spawn(req.model_name, req.model_xml, format, toCore(req.initial_pose),
                            req.reference_frame);
@@ -739,7 +874,7 @@ bool GazeboApi::spawnModel(ModelFormat requested, SpawnModel::Request& req,
   return answer(res, spawned, statusText(kSpawnModel, spawned));
 }
 
-bool GazeboApi::deleteModel(DeleteModel::Request& req, DeleteModel::Response& res) {
+bool GazeboApi::deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res) {
   Status deleted;
   {
     WorldLock lock(*this);
@@ -748,7 +883,7 @@ bool GazeboApi::deleteModel(DeleteModel::Request& req, DeleteModel::Response& re
   return answer(res, deleted, statusText(kDeleteModel, deleted));
 }
 
-bool GazeboApi::getModelState(GetModelState::Request& req, GetModelState::Response& res) {
+bool GazeboApi::getModelState(gazebo_msgs::GetModelState::Request& req, gazebo_msgs::GetModelState::Response& res) {
   Status state;
   Pose pose;
   Twist twist;
@@ -767,35 +902,35 @@ bool GazeboApi::getModelState(GetModelState::Request& req, GetModelState::Respon
   return answer(res, state, statusText(kGetModelState, state));
 }
 
-Status GazeboApi::applyModelState(const ModelState& state) {
+Status GazeboApi::applyModelState(const gazebo_msgs::ModelState& state) {
   WorldLock lock(*this);
   return world_.setModelState(state.model_name, toCore(state.pose), toCore(state.twist),
                               state.reference_frame);
 }
 
-bool GazeboApi::setModelState(SetModelState::Request& req, SetModelState::Response& res) {
+bool GazeboApi::setModelState(gazebo_msgs::SetModelState::Request& req, gazebo_msgs::SetModelState::Response& res) {
   const Status status = applyModelState(req.model_state);
   return answer(res, status, statusText(kSetModelState, status));
 }
 
-void GazeboApi::setModelStateTopic(const ModelState::ConstPtr& msg) {
+void GazeboApi::setModelStateTopic(const gazebo_msgs::ModelState::ConstPtr& msg) {
   const Status status = applyModelState(*msg);
   if (!status.ok()) ROS_WARN_STREAM(statusText(kSetModelState, status));
 }
 
 // urdf_param_name is ignored, as Gazebo does: the model already knows its joints.
-bool GazeboApi::setModelConfiguration(SetModelConfiguration::Request& req,
-                                      SetModelConfiguration::Response& res) {
+bool GazeboApi::setModelConfiguration(gazebo_msgs::SetModelConfiguration::Request& req,
+                                      gazebo_msgs::SetModelConfiguration::Response& res) {
   Status set;
   {
     WorldLock lock(*this);
     set = world_.setModelConfiguration(req.model_name, req.joint_names, req.joint_positions);
   }
-  return answer(res, set, configurationText(set, req));
+  return answer(res, set, configurationText(set));
 }
 
-bool GazeboApi::getModelProperties(GetModelProperties::Request& req,
-                                   GetModelProperties::Response& res) {
+bool GazeboApi::getModelProperties(gazebo_msgs::GetModelProperties::Request& req,
+                                   gazebo_msgs::GetModelProperties::Response& res) {
   ModelInfo model;
   Status found;
   {
@@ -813,8 +948,8 @@ bool GazeboApi::getModelProperties(GetModelProperties::Request& req,
   return answer(res, found, statusText(kGetModelProperties, found));
 }
 
-bool GazeboApi::getWorldProperties(GetWorldProperties::Request&,
-                                   GetWorldProperties::Response& res) {
+bool GazeboApi::getWorldProperties(gazebo_msgs::GetWorldProperties::Request&,
+                                   gazebo_msgs::GetWorldProperties::Response& res) {
   {
     WorldLock lock(*this);
     res.sim_time = world_.time();
@@ -826,8 +961,8 @@ bool GazeboApi::getWorldProperties(GetWorldProperties::Request&,
 
 // --- physics --------------------------------------------------------------------------------
 
-bool GazeboApi::getPhysicsProperties(GetPhysicsProperties::Request&,
-                                     GetPhysicsProperties::Response& res) {
+bool GazeboApi::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&,
+                                     gazebo_msgs::GetPhysicsProperties::Response& res) {
   PhysicsParams p;
   {
     WorldLock lock(*this);
@@ -852,8 +987,8 @@ bool GazeboApi::getPhysicsProperties(GetPhysicsProperties::Request&,
   return succeed(res, "GetPhysicsProperties: got properties (engine: " + world_.engineName() + ")");
 }
 
-bool GazeboApi::setPhysicsProperties(SetPhysicsProperties::Request& req,
-                                     SetPhysicsProperties::Response& res) {
+bool GazeboApi::setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& req,
+                                     gazebo_msgs::SetPhysicsProperties::Response& res) {
   if (!std::isfinite(req.max_update_rate) || req.max_update_rate < 0) {
     std::ostringstream message;
     message << "SetPhysicsProperties: max_update_rate must be finite and >= 0 (0 = as fast as "

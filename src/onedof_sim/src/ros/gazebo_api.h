@@ -16,25 +16,30 @@
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 
-#include <onedof_sim/ApplyBodyWrench.h>
-#include <onedof_sim/ApplyJointEffort.h>
-#include <onedof_sim/BodyRequest.h>
-#include <onedof_sim/DeleteModel.h>
-#include <onedof_sim/GetJointProperties.h>
-#include <onedof_sim/GetLinkProperties.h>
-#include <onedof_sim/GetLinkState.h>
-#include <onedof_sim/GetModelProperties.h>
-#include <onedof_sim/GetModelState.h>
-#include <onedof_sim/GetPhysicsProperties.h>
-#include <onedof_sim/GetWorldProperties.h>
-#include <onedof_sim/JointRequest.h>
-#include <onedof_sim/LinkState.h>
-#include <onedof_sim/ModelState.h>
-#include <onedof_sim/SetLinkState.h>
-#include <onedof_sim/SetModelConfiguration.h>
-#include <onedof_sim/SetModelState.h>
-#include <onedof_sim/SetPhysicsProperties.h>
-#include <onedof_sim/SpawnModel.h>
+#include <gazebo_msgs/ApplyBodyWrench.h>
+#include <gazebo_msgs/ApplyJointEffort.h>
+#include <gazebo_msgs/BodyRequest.h>
+#include <gazebo_msgs/DeleteLight.h>
+#include <gazebo_msgs/DeleteModel.h>
+#include <gazebo_msgs/GetJointProperties.h>
+#include <gazebo_msgs/GetLightProperties.h>
+#include <gazebo_msgs/GetLinkProperties.h>
+#include <gazebo_msgs/GetLinkState.h>
+#include <gazebo_msgs/GetModelProperties.h>
+#include <gazebo_msgs/GetModelState.h>
+#include <gazebo_msgs/GetPhysicsProperties.h>
+#include <gazebo_msgs/GetWorldProperties.h>
+#include <gazebo_msgs/JointRequest.h>
+#include <gazebo_msgs/LinkState.h>
+#include <gazebo_msgs/ModelState.h>
+#include <gazebo_msgs/SetJointProperties.h>
+#include <gazebo_msgs/SetLightProperties.h>
+#include <gazebo_msgs/SetLinkProperties.h>
+#include <gazebo_msgs/SetLinkState.h>
+#include <gazebo_msgs/SetModelConfiguration.h>
+#include <gazebo_msgs/SetModelState.h>
+#include <gazebo_msgs/SetPhysicsProperties.h>
+#include <gazebo_msgs/SpawnModel.h>
 #include <onedof_sim/world.h>
 
 namespace onedof_sim {
@@ -79,38 +84,47 @@ class GazeboApi {
   void pace(double max_update_rate, bool resumed);
 
   // Services (all under /gazebo/).
-  bool getJointProperties(GetJointProperties::Request& req, GetJointProperties::Response& res);
-  bool applyJointEffort(ApplyJointEffort::Request& req, ApplyJointEffort::Response& res);
-  bool clearJointForces(JointRequest::Request& req, JointRequest::Response& res);
-  bool applyBodyWrench(ApplyBodyWrench::Request& req, ApplyBodyWrench::Response& res);
-  bool clearBodyWrenches(BodyRequest::Request& req, BodyRequest::Response& res);
-  bool spawnUrdfModel(SpawnModel::Request& req, SpawnModel::Response& res);
-  bool spawnSdfModel(SpawnModel::Request& req, SpawnModel::Response& res);
-  bool spawnModel(ModelFormat requested, SpawnModel::Request& req, SpawnModel::Response& res);
-  bool deleteModel(DeleteModel::Request& req, DeleteModel::Response& res);
-  bool getModelState(GetModelState::Request& req, GetModelState::Response& res);
-  bool setModelState(SetModelState::Request& req, SetModelState::Response& res);
-  bool getLinkState(GetLinkState::Request& req, GetLinkState::Response& res);
-  bool setLinkState(SetLinkState::Request& req, SetLinkState::Response& res);
-  bool setModelConfiguration(SetModelConfiguration::Request& req,
-                             SetModelConfiguration::Response& res);
-  bool getModelProperties(GetModelProperties::Request& req, GetModelProperties::Response& res);
-  bool getWorldProperties(GetWorldProperties::Request& req, GetWorldProperties::Response& res);
-  bool getLinkProperties(GetLinkProperties::Request& req, GetLinkProperties::Response& res);
-  bool getPhysicsProperties(GetPhysicsProperties::Request& req,
-                            GetPhysicsProperties::Response& res);
-  bool setPhysicsProperties(SetPhysicsProperties::Request& req,
-                            SetPhysicsProperties::Response& res);
+  bool getJointProperties(gazebo_msgs::GetJointProperties::Request& req, gazebo_msgs::GetJointProperties::Response& res);
+  bool applyJointEffort(gazebo_msgs::ApplyJointEffort::Request& req, gazebo_msgs::ApplyJointEffort::Response& res);
+  bool setJointProperties(gazebo_msgs::SetJointProperties::Request& req,
+                          gazebo_msgs::SetJointProperties::Response& res);
+  bool clearJointForces(gazebo_msgs::JointRequest::Request& req, gazebo_msgs::JointRequest::Response& res);
+  bool applyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& req, gazebo_msgs::ApplyBodyWrench::Response& res);
+  bool clearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gazebo_msgs::BodyRequest::Response& res);
+  bool spawnUrdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
+  bool spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
+  bool spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
+  bool deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res);
+  bool getModelState(gazebo_msgs::GetModelState::Request& req, gazebo_msgs::GetModelState::Response& res);
+  bool setModelState(gazebo_msgs::SetModelState::Request& req, gazebo_msgs::SetModelState::Response& res);
+  bool getLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_msgs::GetLinkState::Response& res);
+  bool setLinkState(gazebo_msgs::SetLinkState::Request& req, gazebo_msgs::SetLinkState::Response& res);
+  bool setModelConfiguration(gazebo_msgs::SetModelConfiguration::Request& req,
+                             gazebo_msgs::SetModelConfiguration::Response& res);
+  bool getModelProperties(gazebo_msgs::GetModelProperties::Request& req, gazebo_msgs::GetModelProperties::Response& res);
+  bool getWorldProperties(gazebo_msgs::GetWorldProperties::Request& req, gazebo_msgs::GetWorldProperties::Response& res);
+  bool getLinkProperties(gazebo_msgs::GetLinkProperties::Request& req, gazebo_msgs::GetLinkProperties::Response& res);
+  bool setLinkProperties(gazebo_msgs::SetLinkProperties::Request& req,
+                         gazebo_msgs::SetLinkProperties::Response& res);
+  bool getLightProperties(gazebo_msgs::GetLightProperties::Request& req,
+                          gazebo_msgs::GetLightProperties::Response& res);
+  bool setLightProperties(gazebo_msgs::SetLightProperties::Request& req,
+                          gazebo_msgs::SetLightProperties::Response& res);
+  bool deleteLight(gazebo_msgs::DeleteLight::Request& req, gazebo_msgs::DeleteLight::Response& res);
+  bool getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request& req,
+                            gazebo_msgs::GetPhysicsProperties::Response& res);
+  bool setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& req,
+                            gazebo_msgs::SetPhysicsProperties::Response& res);
   bool pausePhysics(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool unpausePhysics(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool resetSimulation(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool resetWorld(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
 
   // Topics /gazebo/set_model_state and /gazebo/set_link_state: the services without a reply.
-  void setModelStateTopic(const ModelState::ConstPtr& msg);
-  void setLinkStateTopic(const LinkState::ConstPtr& msg);
-  Status applyModelState(const ModelState& state);
-  Status applyLinkState(const LinkState& state);
+  void setModelStateTopic(const gazebo_msgs::ModelState::ConstPtr& msg);
+  void setLinkStateTopic(const gazebo_msgs::LinkState::ConstPtr& msg);
+  Status applyModelState(const gazebo_msgs::ModelState& state);
+  Status applyLinkState(const gazebo_msgs::LinkState& state);
 
   ros::NodeHandle nh_;
   ros::NodeHandle private_nh_;
