@@ -588,10 +588,8 @@ TEST_P(Models, SevenJointArmLoadsAndMoves) {
   EXPECT_TRUE(warnings.empty()) << warnings.front();
 }
 
-TEST_P(Models, CafeTableIsStaticAndHoldsABox) {
-  World world(GetParam());
-  const Status table = world.spawn("cafe_table", cafeTableSdf(), ModelFormat::Sdf, at(1, 0, 0));
-  ASSERT_TRUE(table.ok()) << table;
+// The static cafe table alone in the world, at x: its geoms and boxes after the ground plane.
+void expectCafeTableAt(const World& world, double x) {
   ModelInfo info;
   ASSERT_TRUE(world.modelProperties("cafe_table", &info).ok());
   EXPECT_TRUE(info.is_static);
@@ -599,9 +597,16 @@ TEST_P(Models, CafeTableIsStaticAndHoldsABox) {
   const std::vector<CollisionShape> shapes = world.collisionShapes();
   ASSERT_EQ(shapes.size(), 4u);
   EXPECT_EQ(shapes[0].shape, GeometryShape::Plane);
-  EXPECT_NEAR(shapes[1].pose.position.x, 1.0, 1e-12);
+  EXPECT_NEAR(shapes[1].pose.position.x, x, 1e-12);
   EXPECT_NEAR(shapes[1].pose.position.z, 0.755, 1e-12);
   EXPECT_NEAR(shapes[3].size.x, 0.56, 1e-12);
+}
+
+TEST_P(Models, CafeTableIsStaticAndHoldsABox) {
+  World world(GetParam());
+  const Status table = world.spawn("cafe_table", cafeTableSdf(), ModelFormat::Sdf, at(1, 0, 0));
+  ASSERT_TRUE(table.ok()) << table;
+  expectCafeTableAt(world, 1.0);
   const double side = 0.1;
   ASSERT_TRUE(world.spawn("box", boxUrdf(side), ModelFormat::Urdf, at(1.1, 0.1, 1.2)).ok());
   steps(&world, 2000);
@@ -634,14 +639,7 @@ TEST_P(Models, DatabaseIncludeResolvesThroughTheModelPath) {
   const Status table =
       world.spawn("cafe_table", databaseRequestSdf("cafe_table"), ModelFormat::Sdf, at(0.85, 0, 0));
   ASSERT_TRUE(table.ok()) << table;
-  ModelInfo info;
-  ASSERT_TRUE(world.modelProperties("cafe_table", &info).ok());
-  EXPECT_TRUE(info.is_static);
-  EXPECT_EQ(info.geoms, (std::vector<std::string>{"surface", "column", "base"}));
-  const std::vector<CollisionShape> shapes = world.collisionShapes();
-  ASSERT_EQ(shapes.size(), 4u);
-  EXPECT_NEAR(shapes[1].pose.position.x, 0.85, 1e-12);
-  EXPECT_NEAR(shapes[1].pose.position.z + shapes[1].size.z / 2, 0.775, 1e-12) << "table top";
+  expectCafeTableAt(world, 0.85);
 
   const Status missing = world.spawn("chair", databaseRequestSdf("chair"), ModelFormat::Sdf, Pose());
   EXPECT_EQ(missing.code, StatusCode::ModelRejected) << missing;
