@@ -494,7 +494,7 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
   };
   spinner_.start();
-  ROS_INFO("onedof_sim: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s)",
+  ROS_INFO("onedof_sim, standing in for Gazebo: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s)",
            private_nh_.getNamespace().c_str(), options.physics.step, max_update_rate_,
            paused_ ? ", paused" : "");
 }

@@ -22,7 +22,7 @@ from onedof_sim.private_ros import PrivateRos, wait_until
 Phase = collections.namedtuple('Phase', 'name command before')
 
 TABLE_X = 0.85
-SPAWN_TABLE = ['rosrun', 'onedof_sim', 'spawn_model', '-database', 'cafe_table', '-sdf',
+SPAWN_TABLE = ['rosrun', 'gazebo_ros', 'spawn_model', '-database', 'cafe_table', '-sdf',
                '-model', 'cafe_table', '-x', str(TABLE_X)]
 PHASES = (
     Phase('command_1.0', 1.0, None),
