@@ -370,7 +370,24 @@ bool readGravity(const ros::NodeHandle& nh, Vec3* gravity, std::string* error) {
   return true;
 }
 
+// The master's parameter server, by the parameter's global name with no remapping applied.
+bool masterHasParam(const std::string& name) {
+  XmlRpc::XmlRpcValue request, response, has;
+  request[0] = ros::this_node::getName();
+  request[1] = name;
+  return ros::master::execute("hasParam", request, response, has, false) && bool(has);
+}
+
+void masterSetParam(const std::string& name, bool value) {
+  XmlRpc::XmlRpcValue request, response, unused;
+  request[0] = ros::this_node::getName();
+  request[1] = name;
+  request[2] = value;
+  ros::master::execute("setParam", request, response, unused, false);
+}
+
 }  // namespace
+
 
 // Private start-up parameters (all optional; set them before starting the node, on the command
 // line as _name:=value, or in a launch file):
@@ -451,7 +468,8 @@ GazeboApi::GazeboApi(const NodeOptions& options)
   if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
   world_.setModelPath(options.model_path);
 
-  if (!nh_.hasParam("/use_sim_time")) nh_.setParam("/use_sim_time", true);
+  // Through the master, not the node handle: this node remaps /use_sim_time for itself (main.cpp).
+  if (!masterHasParam(kUseSimTime)) masterSetParam(kUseSimTime, true);
 
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100);
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);

@@ -44,6 +44,9 @@
 
 namespace onedof_sim {
 
+// The parameter that puts ROS nodes on simulated time (/clock).
+constexpr const char* kUseSimTime = "/use_sim_time";
+
 // Start-up settings of the node (see readNodeOptions for the parameter names).
 struct NodeOptions {
   std::string engine = World::engineNames().front();

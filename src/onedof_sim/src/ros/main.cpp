@@ -32,10 +32,22 @@ int main(int argc, char** argv) {
     for (const std::string& name : onedof_sim::World::engineNames()) std::cout << name << "\n";
     return 0;
   }
-  ros::init(argc, argv, "gazebo");  // removes the ROS remappings (_param:=value) from argv
+  // The node is the clock, so it must not run on its own /clock: roscpp subscribes every node to
+  // /clock when /use_sim_time is set at start-up, and then delivers each step's clock back to
+  // this process, waking a thread per step (3 to 5 times the cost of the step itself, measured).
+  // roscpp 1.15 has no init option against it (NoSimTime came later), but it reads the parameter
+  // through name remapping, so remapping that one name for this node keeps it on wall time.
+  // The node sets the real /use_sim_time for the others (GazeboApi).
+  std::vector<char*> args_with_own_time(argv, argv + argc);
+  std::string own_time_remap = std::string(onedof_sim::kUseSimTime) + ":=" +
+                               onedof_sim::kUseSimTime + "_is_for_the_clock_subscribers";
+  args_with_own_time.push_back(&own_time_remap[0]);
+  int ros_argc = static_cast<int>(args_with_own_time.size());
+  ros::init(ros_argc, args_with_own_time.data(), "gazebo");  // removes the ROS remappings from it
   // Alive until the end: when the last NodeHandle goes, roscpp shuts down (console output too).
   ros::NodeHandle private_nh("~");
-  const std::vector<std::string> args(argv + 1, argv + argc);
+  const std::vector<std::string> args(args_with_own_time.begin() + 1,
+                                      args_with_own_time.begin() + ros_argc);
 
   onedof_sim::NodeOptions options;
   std::string error;
