@@ -11,12 +11,32 @@ import subprocess
 import tempfile
 import time
 import xmlrpc.client
+from xml.parsers.expat import ExpatError
 
 
 def free_port():
     with socket.socket() as sock:
         sock.bind(('127.0.0.1', 0))
         return sock.getsockname()[1]
+
+
+class PortTaken(Exception):
+    """The port chosen for the roscore answers for another program, or the roscore could not bind it."""
+
+
+def is_descendant(pid, ancestor):
+    """Whether process pid is ancestor or below it (Linux /proc)."""
+    while pid > 1:
+        if pid == ancestor:
+            return True
+        try:
+            with open('/proc/%d/stat' % pid) as f:
+                # The parent pid is the second field after the command name, which is in
+                # parentheses and may itself hold spaces.
+                pid = int(f.read().rsplit(')', 1)[1].split()[1])
+        except (OSError, ValueError, IndexError):
+            return False
+    return False
 
 
 def wait_until(condition, timeout, interval=0.05, what='condition'):
@@ -53,7 +73,11 @@ class PrivateRos:
     def __exit__(self, *exc):
         self.stop()
 
-    def start_master(self, attempts=3):
+    def start_master(self, attempts=5):
+        """Starts the roscore. A free port chosen now may be taken by another process before
+        roscore binds it, so only an answer from our own rosmaster counts; any other answer, or
+        roscore exiting, means another port."""
+        failures = []
         for _ in range(attempts):
             self.port = free_port()
             self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_HOSTNAME='127.0.0.1',
@@ -61,24 +85,31 @@ class PrivateRos:
             self.env.pop('ROS_IP', None)
             self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
             try:
-                wait_until(self._master_answers, 20, what='roscore on port %d' % self.port)
+                wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)
                 break
-            except TimeoutError:
+            except (PortTaken, TimeoutError) as failure:
+                failures.append(str(failure))
                 self.terminate(self.roscore)
+                self.processes.remove(self.roscore)
         else:
-            raise RuntimeError('roscore did not start; logs in %s' % self.log_dir)
+            raise RuntimeError('roscore did not start on %d ports (%s); logs in %s'
+                               % (attempts, '; '.join(failures), self.log_dir))
         if self._use_sim_time is not None:
             self.set_param('/use_sim_time', self._use_sim_time)
 
-    def _master_answers(self):
+    def _our_master_answers(self):
         if self.roscore.poll() is not None:
-            raise RuntimeError('roscore exited with %s; see %s' % (self.roscore.returncode,
-                                                                    self.log_path('roscore')))
+            raise PortTaken('roscore on port %d exited with %s' % (self.port,
+                                                                   self.roscore.returncode))
         try:
-            code, _, _ = self.master().getPid('/private_ros')
-            return code == 1
+            code, _, pid = self.master().getPid('/private_ros')
         except OSError:
-            return False
+            return False  # nothing listens on the port yet
+        except (xmlrpc.client.Error, ExpatError) as answer:
+            raise PortTaken('port %d answers for another program: %s' % (self.port, answer))
+        if code != 1 or not is_descendant(pid, self.roscore.pid):
+            raise PortTaken('port %d answers for another ROS master (pid %s)' % (self.port, pid))
+        return True
 
     def master(self):
         return xmlrpc.client.ServerProxy(self.master_uri)

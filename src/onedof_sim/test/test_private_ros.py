@@ -1,0 +1,66 @@
+"""The private roscore never takes someone else's port for its own (issue 12, finding 1): the port
+it chose can be taken between choosing and binding it."""
+import os
+import threading
+import xmlrpc.server
+
+import pytest
+
+from onedof_sim import private_ros
+from onedof_sim.private_ros import PrivateRos, free_port, is_descendant
+
+
+def ports_taken_first(monkeypatch, taken):
+    """free_port answers the ports in `taken` first, then free ones."""
+    queue = list(taken)
+    monkeypatch.setattr(private_ros, 'free_port', lambda: queue.pop(0) if queue else free_port())
+
+
+def test_is_descendant_follows_the_parent_chain():
+    assert is_descendant(os.getpid(), os.getppid())
+    assert is_descendant(os.getpid(), os.getpid())
+    assert not is_descendant(os.getppid(), os.getpid())
+
+
+def test_a_port_answered_by_another_xmlrpc_server_is_left_for_another(monkeypatch, tmp_path):
+    server = xmlrpc.server.SimpleXMLRPCServer(('127.0.0.1', 0), logRequests=False)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    ports_taken_first(monkeypatch, [server.server_address[1]])
+    graph = PrivateRos(log_dir=str(tmp_path))
+    try:
+        graph.start_master()
+        assert graph.port != server.server_address[1]
+        code, _, pid = graph.master().getPid('/test')
+        assert code == 1 and is_descendant(pid, graph.roscore.pid)
+    finally:
+        graph.stop()
+        server.shutdown()
+
+
+def test_a_port_answered_by_another_roscore_is_left_for_another(monkeypatch, tmp_path):
+    with PrivateRos(log_dir=str(tmp_path / 'other')) as other:
+        ports_taken_first(monkeypatch, [other.port])
+        graph = PrivateRos(log_dir=str(tmp_path / 'ours'))
+        try:
+            graph.start_master()
+            assert graph.port != other.port
+            _, _, pid = graph.master().getPid('/test')
+            assert is_descendant(pid, graph.roscore.pid)
+            assert not is_descendant(pid, other.roscore.pid)
+        finally:
+            graph.stop()
+
+
+def test_it_says_what_happened_when_no_port_works(monkeypatch, tmp_path):
+    server = xmlrpc.server.SimpleXMLRPCServer(('127.0.0.1', 0), logRequests=False)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    port = server.server_address[1]
+    monkeypatch.setattr(private_ros, 'free_port', lambda: port)
+    graph = PrivateRos(log_dir=str(tmp_path))
+    try:
+        with pytest.raises(RuntimeError, match='answers for another program'):
+            graph.start_master(attempts=2)
+        assert not graph.processes
+    finally:
+        graph.stop()
+        server.shutdown()
