@@ -33,7 +33,7 @@ APT_PACKAGES := \
   libode-dev libbullet-dev liburdfdom-dev liburdfdom-tools libsdformat-dev libgtest-dev \
   python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
-  catkin-lint xvfb xauth imagemagick procps python3-tk
+  catkin-lint xvfb xauth imagemagick procps python3-tk linux-perf
 
 # Rebuild when any source file changes (generated and cached files excluded).
 SOURCES := $(shell find $(WS)/src -type f -not -name '*.pyc' -not -path '*/__pycache__/*' 2>/dev/null)
