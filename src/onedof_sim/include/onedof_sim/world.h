@@ -52,7 +52,7 @@ enum class StatusCode {
   JointIsFixed,            // subject: the joint name asked for; it takes no effort
   LinkAnchored,            // subject: the link name asked for; it has no body to move or push
   LengthMismatch,          // joint names and positions differ in count
-  InvalidParameter,        // subject: the PhysicsParams field out of its range (see setParams)
+  InvalidParameter,        // subject: the field out of its range (see setParams, setLinkProperties)
 };
 
 struct Status {
@@ -209,6 +209,14 @@ class World {
   Status setLinkState(const std::string& scoped_link, const Pose& pose, const Twist& twist,
                       const std::string& reference_frame);
   std::vector<std::string> linkNames() const;  // all links of all models, scoped
+  // The link's mass, centre of mass (com: the inertial frame in the link frame), inertia (in the
+  // inertial frame) and gravity mode from now on, as its <inertial> would have given them; the
+  // links keep their poses and velocities. A link welded to others changes their lumped body.
+  // Refuses, leaving the world unchanged: a non-finite number (NotFinite "mass", "com" or
+  // "inertia"), a zero com orientation (ZeroQuaternion), and (InvalidParameter) a negative mass
+  // or a moving body left without mass ("mass"), an inertia no rigid body has ("inertia"), a
+  // gravity mode that differs from the other links welded into its body ("gravity_mode").
+  Status setLinkProperties(const std::string& scoped_link, const LinkInfo& properties);
 
   // --- joints (name bare or scoped "model::joint"; the first model that has it wins) ---------
   Status jointInfo(const std::string& joint, JointInfo* out) const;

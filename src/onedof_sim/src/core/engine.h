@@ -74,6 +74,11 @@ class EngineModel {
   virtual Twist bodyTwist(int body) const = 0;  // linear velocity of the COM, angular, world axes
   virtual void setBodyState(int body, const Pose& pose, const Twist& twist) = 0;
   virtual void setAnchoredShapePose(int shape, const Pose& world_pose) = 0;
+  // A body's new mass, inertia and gravity mode, and its shapes' poses in the new body frame
+  // (the same shapes in the same order: a moved centre of mass moves the frame under them).
+  // Joints keep their anchors in body coordinates, so World calls attachJoints and setBodyState
+  // for the model afterwards.
+  virtual void setBodyMass(int body, const BodySpec& spec) = 0;
 
   // Hinges: the child's angle about the axis relative to the parent, wrapped to (-pi, pi];
   // sliders: the child's displacement along the axis. World unwraps hinges.

@@ -162,6 +162,69 @@ struct ModelRecord {
   bool velocity_capped = false;  // warned already, until a step passes without capping
 };
 
+ShapeSpec shapeSpec(const CollisionDescription& collision) {
+  return {collision.shape, collision.size, collision.pose, collision.mu, collision.mu2};
+}
+
+// The link that places a moving body: the first of the links welded into it.
+const LinkRecord& referenceLink(const ModelRecord& model, int body) {
+  for (const LinkRecord& link : model.links)
+    if (link.body == body && link.sets_body_pose) return link;
+  throw std::logic_error("body without a reference link");
+}
+
+// Why the links welded into a body make no rigid body.
+enum class LumpFault { None, NoMass, NotPositiveDefinite };
+
+// One body from the inertials of the links welded into it: the lumped mass, the inertia about the
+// lumped centre of mass in the reference link's axes, the reference link's gravity mode and every
+// link's collisions. On success, also places each of its links in the new body frame
+// (link_in_body); on a fault, changes nothing.
+LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out) {
+  const LinkRecord& reference = referenceLink(*model, body);
+  double mass = 0;
+  Vec3 moment;
+  Matrix3 tensor{};  // about the reference link's origin
+  for (const LinkRecord& link : model->links) {
+    const LinkDescription& d = link.desc;
+    if (link.body != body || !d.has_inertial || d.mass == 0) continue;
+    const Pose inertial = compose(compose(inverse(reference.desc.pose), d.pose), d.com);
+    const Matrix3 own{{{d.ixx, d.ixy, d.ixz}, {d.ixy, d.iyy, d.iyz}, {d.ixz, d.iyz, d.izz}}};
+    const Matrix3 rotated = rotateTensor(inertial.orientation, own);
+    const Matrix3 offset = pointMassTensor(d.mass, inertial.position);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) tensor[i][j] += rotated[i][j] + offset[i][j];
+    mass += d.mass;
+    moment = moment + d.mass * inertial.position;
+  }
+  if (!(mass > 0)) return LumpFault::NoMass;
+  const Vec3 com = (1 / mass) * moment;
+  const Matrix3 to_com = pointMassTensor(mass, com);
+  Matrix3 inertia;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) inertia[i][j] = tensor[i][j] - to_com[i][j];
+  if (!isPositiveDefinite(inertia)) return LumpFault::NotPositiveDefinite;
+  BodySpec spec;
+  spec.mass = mass;
+  spec.ixx = inertia[0][0], spec.iyy = inertia[1][1], spec.izz = inertia[2][2];
+  spec.ixy = inertia[0][1], spec.ixz = inertia[0][2], spec.iyz = inertia[1][2];
+  spec.gravity = reference.desc.gravity;
+  // Body frame: at the COM, axes of the reference link.
+  const Pose reference_inverse = inverse(reference.desc.pose);
+  for (LinkRecord& link : model->links) {
+    if (link.body != body) continue;
+    const Pose link_in_reference = compose(reference_inverse, link.desc.pose);
+    link.link_in_body = {link_in_reference.position - com, link_in_reference.orientation};
+    for (const CollisionDescription& collision : link.desc.collisions) {
+      ShapeSpec shape = shapeSpec(collision);
+      shape.pose = compose(link.link_in_body, collision.pose);
+      spec.shapes.push_back(shape);
+    }
+  }
+  *out = spec;
+  return LumpFault::None;
+}
+
 struct JointEffortJob {
   const ModelRecord* model;
   size_t joint;
@@ -416,8 +479,8 @@ struct World::Impl {
       model->joints.push_back(record);
     }
     // Bodies: a link welded by a fixed joint to a moving parent shares its body; a link welded to
-    // `world` (or in a static model) is anchored.
-    std::vector<int> reference_link;  // per body
+    // `world` (or in a static model) is anchored. The first link of a body is its reference.
+    int body_count = 0;
     for (LinkRecord& link : model->links) {
       if (model->is_static) continue;
       if (link.parent_joint >= 0 && model->joints[link.parent_joint].desc.type == JointType::Fixed) {
@@ -425,69 +488,32 @@ struct World::Impl {
         link.body = parent < 0 ? -1 : model->links[parent].body;
         continue;
       }
-      link.body = static_cast<int>(reference_link.size());
-      reference_link.push_back(static_cast<int>(&link - model->links.data()));
+      link.body = body_count++;
+      link.sets_body_pose = true;
     }
-    // Each body's mass, first moment and inertia about the reference link's origin, in its axes.
-    const size_t body_count = reference_link.size();
-    std::vector<double> masses(body_count, 0);
-    std::vector<Vec3> moments(body_count);
-    std::vector<Matrix3> tensors(body_count, Matrix3{});
     for (const LinkRecord& link : model->links) {
       const LinkDescription& d = link.desc;
       const double values[] = {d.mass, d.ixx, d.ixy, d.ixz, d.iyy, d.iyz, d.izz};
       for (double v : values)
         if (!std::isfinite(v)) return rejected("link '" + d.name + "' has a non-finite inertial");
-      if (link.body < 0 || !d.has_inertial || d.mass == 0) continue;
-      if (d.mass < 0) return rejected("link '" + d.name + "' has a negative mass");
-      const Pose inertial = compose(
-          compose(inverse(model->links[reference_link[link.body]].desc.pose), d.pose), d.com);
-      const Matrix3 own{{{d.ixx, d.ixy, d.ixz}, {d.ixy, d.iyy, d.iyz}, {d.ixz, d.iyz, d.izz}}};
-      const Matrix3 rotated = rotateTensor(inertial.orientation, own);
-      const Matrix3 offset = pointMassTensor(d.mass, inertial.position);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) tensors[link.body][i][j] += rotated[i][j] + offset[i][j];
-      masses[link.body] += d.mass;
-      moments[link.body] = moments[link.body] + d.mass * inertial.position;
+      if (link.body >= 0 && d.has_inertial && d.mass < 0)
+        return rejected("link '" + d.name + "' has a negative mass");
     }
-    for (size_t body = 0; body < body_count; ++body) {
-      const LinkRecord& reference = model->links[reference_link[body]];
-      if (!(masses[body] > 0))
-        return rejected("link '" + reference.desc.name +
-                        "' moves but has no mass (give it an <inertial>)");
-      const Vec3 com = (1 / masses[body]) * moments[body];
-      const Matrix3 to_com = pointMassTensor(masses[body], com);
-      Matrix3 inertia;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) inertia[i][j] = tensors[body][i][j] - to_com[i][j];
-      if (!isPositiveDefinite(inertia))
-        return rejected("link '" + reference.desc.name +
-                        "' has an inertia that no rigid body can have");
+    for (int body = 0; body < body_count; ++body) {
       BodySpec spec_body;
-      spec_body.mass = masses[body];
-      spec_body.ixx = inertia[0][0], spec_body.iyy = inertia[1][1], spec_body.izz = inertia[2][2];
-      spec_body.ixy = inertia[0][1], spec_body.ixz = inertia[0][2], spec_body.iyz = inertia[1][2];
-      spec_body.gravity = reference.desc.gravity;
+      const LumpFault fault = lumpBody(model, body, &spec_body);
+      const std::string& name = referenceLink(*model, body).desc.name;
+      if (fault == LumpFault::NoMass)
+        return rejected("link '" + name + "' moves but has no mass (give it an <inertial>)");
+      if (fault == LumpFault::NotPositiveDefinite)
+        return rejected("link '" + name + "' has an inertia that no rigid body can have");
       spec->bodies.push_back(spec_body);
-      // Body frame: at the COM, axes of the reference link.
-      for (LinkRecord& link : model->links) {
-        if (link.body != static_cast<int>(body)) continue;
-        const Pose link_in_reference = compose(inverse(reference.desc.pose), link.desc.pose);
-        link.link_in_body = {link_in_reference.position - com, link_in_reference.orientation};
-      }
-      model->links[reference_link[body]].sets_body_pose = true;
     }
     for (LinkRecord& link : model->links) {
-      if (link.body < 0) link.first_anchored_shape = static_cast<int>(spec->anchored_shapes.size());
-      for (const CollisionDescription& collision : link.desc.collisions) {
-        ShapeSpec shape{collision.shape, collision.size, collision.pose, collision.mu, collision.mu2};
-        if (link.body < 0) {
-          spec->anchored_shapes.push_back(shape);
-          continue;
-        }
-        shape.pose = compose(link.link_in_body, collision.pose);
-        spec->bodies[link.body].shapes.push_back(shape);
-      }
+      if (link.body >= 0) continue;
+      link.first_anchored_shape = static_cast<int>(spec->anchored_shapes.size());
+      for (const CollisionDescription& collision : link.desc.collisions)
+        spec->anchored_shapes.push_back(shapeSpec(collision));
     }
     for (JointRecord& joint : model->joints) {
       const int child_body = model->links[joint.child].body;
@@ -605,6 +631,37 @@ struct World::Impl {
     std::vector<Pose> poses;
     for (const LinkRecord& link : model.links) poses.push_back(linkWorldPose(model, link));
     return poses;
+  }
+
+  // Gives a moving link a new inertial and its body the new lump; the links keep their poses and
+  // velocities, the body frame (at the new centre of mass) moves under them.
+  Status reweighLink(ModelRecord* model, size_t index, const LinkDescription& desc) {
+    LinkRecord& link = model->links[index];
+    const int body = link.body;
+    const std::vector<Pose> poses = currentLinkPoses(*model);
+    std::vector<Twist> twists;
+    for (const LinkRecord& l : model->links) twists.push_back(linkWorldTwist(*model, l));
+    const std::vector<double> q = currentPositions(*model);
+    const LinkDescription previous = link.desc;
+    link.desc = desc;
+    BodySpec spec;
+    const LumpFault fault = lumpBody(model, body, &spec);
+    if (fault != LumpFault::None) {
+      link.desc = previous;
+      return {StatusCode::InvalidParameter, fault == LumpFault::NoMass ? "mass" : "inertia"};
+    }
+    model->bodies[body] = spec;
+    model->engine_model->setBodyMass(body, spec);
+    placeModel(model, model->frame_pose, poses, q);
+    // placeModel leaves the model at rest: each body takes back the motion of its reference link.
+    for (size_t i = 0; i < model->links.size(); ++i) {
+      const LinkRecord& reference = model->links[i];
+      if (reference.body < 0 || !reference.sets_body_pose) continue;
+      const Pose body_pose = model->engine_model->bodyPose(reference.body);
+      const Vec3 v = twists[i].linear + cross(twists[i].angular, body_pose.position - poses[i].position);
+      model->engine_model->setBodyState(reference.body, body_pose, {v, twists[i].angular});
+    }
+    return {};
   }
 
   std::vector<double> currentPositions(const ModelRecord& model) const {
@@ -1005,6 +1062,38 @@ Status World::setLinkState(const std::string& scoped_link, const Pose& pose, con
   model->engine_model->setBodyState(link.body, body_pose, {v, angular});
   impl_->updateJointPositions(model);
   return {};
+}
+
+Status World::setLinkProperties(const std::string& scoped_link, const LinkInfo& properties) {
+  const Status com = checkPose(properties.com);
+  if (!com.ok()) return {com.code, "com"};
+  if (!std::isfinite(properties.mass)) return {StatusCode::NotFinite, "mass"};
+  const double moments[] = {properties.ixx, properties.ixy, properties.ixz,
+                            properties.iyy, properties.iyz, properties.izz};
+  for (double moment : moments)
+    if (!std::isfinite(moment)) return {StatusCode::NotFinite, "inertia"};
+  if (properties.mass < 0) return {StatusCode::InvalidParameter, "mass"};
+  ModelRecord* model;
+  size_t index;
+  if (!impl_->findLink(scoped_link, &model, &index))
+    return {StatusCode::LinkNotFound, scoped_link};
+  LinkRecord& link = model->links[index];
+  LinkDescription desc = link.desc;
+  desc.has_inertial = true;
+  desc.mass = properties.mass;
+  desc.com = {properties.com.position, normalized(properties.com.orientation)};
+  desc.ixx = properties.ixx, desc.ixy = properties.ixy, desc.ixz = properties.ixz;
+  desc.iyy = properties.iyy, desc.iyz = properties.iyz, desc.izz = properties.izz;
+  desc.gravity = properties.gravity_mode;
+  if (link.body < 0) {  // anchored: nothing it carries moves
+    link.desc = desc;
+    return {};
+  }
+  // An engine body has one gravity mode.
+  for (const LinkRecord& other : model->links)
+    if (&other != &link && other.body == link.body && other.desc.gravity != desc.gravity)
+      return {StatusCode::InvalidParameter, "gravity_mode"};
+  return impl_->reweighLink(model, index, desc);
 }
 
 std::vector<std::string> World::linkNames() const {

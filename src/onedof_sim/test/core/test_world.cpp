@@ -122,6 +122,7 @@ class BodyWrench : public ::testing::TestWithParam<std::string> {};
 class Contacts : public ::testing::TestWithParam<std::string> {};
 class Errors : public ::testing::TestWithParam<std::string> {};
 class Joints : public ::testing::TestWithParam<std::string> {};
+class LinkProperties : public ::testing::TestWithParam<std::string> {};
 class Models : public ::testing::TestWithParam<std::string> {};
 class Robustness : public ::testing::TestWithParam<std::string> {};
 class State : public ::testing::TestWithParam<std::string> {};
@@ -146,22 +147,33 @@ TEST_P(TutorialRobot, SpawnsLikeTheTutorialSays) {
   EXPECT_EQ(model.joints, (std::vector<std::string>{"glue_robot_to_world", "joint1"}));
 }
 
+// The period of a small swing of the tutorial robot's joint1 about the lowest point (q = pi),
+// from the joint's upward crossings over five periods.
+double smallSwingPeriod(World* world) {
+  EXPECT_TRUE(world->setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI - 0.01}).ok());
+  std::vector<double> upward_crossings;  // times where q - pi goes from < 0 to >= 0
+  double previous = jointPosition(*world, "joint1") - M_PI;
+  while (upward_crossings.size() < 6 && world->time() < 60) {
+    world->step();
+    const double offset = jointPosition(*world, "joint1") - M_PI;
+    if (previous < 0 && offset >= 0)
+      upward_crossings.push_back(world->time() - kStep * offset / (offset - previous));
+    previous = offset;
+  }
+  EXPECT_EQ(upward_crossings.size(), 6u) << "no small swing within 60 s";
+  return upward_crossings.size() < 6 ? 0 : (upward_crossings.back() - upward_crossings.front()) / 5;
+}
+
+// The compound pendulum: T = 2 pi sqrt(I_pivot / (m g d)), I_pivot = I_com + m d^2.
+double compoundPendulumPeriod(double mass, double inertia_about_com, double arm) {
+  return 2 * M_PI * std::sqrt((inertia_about_com + mass * arm * arm) / (mass * kG * arm));
+}
+
 // 1. Small swing about the lowest point: T = 2 pi sqrt(I / (m g d)).
 TEST_P(TutorialRobot, SmallSwingHasTheCompoundPendulumPeriod) {
   World world(GetParam());
   spawnLiftedRobot(&world);
-  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI - 0.01}).ok());
-  std::vector<double> upward_crossings;  // times where q - pi goes from < 0 to >= 0
-  double previous = jointPosition(world, "joint1") - M_PI;
-  while (upward_crossings.size() < 6) {
-    world.step();
-    const double offset = jointPosition(world, "joint1") - M_PI;
-    if (previous < 0 && offset >= 0)
-      upward_crossings.push_back(world.time() - kStep * offset / (offset - previous));
-    previous = offset;
-    ASSERT_LT(world.time(), 20.0);
-  }
-  const double period = (upward_crossings.back() - upward_crossings.front()) / 5;
+  const double period = smallSwingPeriod(&world);
   const double expected = 2 * M_PI * std::sqrt(kInertiaAboutJoint / (kMass * kG * kArm));
   std::printf("[ figures  ] period %.5f s, expected %.5f s, error %.4f %%\n", period, expected,
               100 * (period / expected - 1));
@@ -960,6 +972,169 @@ TEST_P(Robustness, TableSpawnedThroughTheArmSeparatesWithoutBlowingUp) {
   EXPECT_LT(std::abs(jointRate(world, "joint1")), 20);
 }
 
+// --- set_link_properties ------------------------------------------------------------------
+
+LinkInfo link2Properties(const World& world) {
+  LinkInfo link;
+  EXPECT_TRUE(world.linkProperties("one_DOF_robot::link2", &link).ok());
+  return link;
+}
+
+// Within 10 um: a body re-placed from its joint positions loses the joints' constraint error.
+void expectSamePose(const Pose& a, const Pose& b) {
+  EXPECT_NEAR(a.position.x, b.position.x, 1e-5);
+  EXPECT_NEAR(a.position.y, b.position.y, 1e-5);
+  EXPECT_NEAR(a.position.z, b.position.z, 1e-5);
+  EXPECT_NEAR(std::abs(a.orientation.w * b.orientation.w + a.orientation.x * b.orientation.x +
+                       a.orientation.y * b.orientation.y + a.orientation.z * b.orientation.z),
+              1, 1e-9);
+}
+
+TEST_P(LinkProperties, DoubledMassGivesTheClosedFormPeriod) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  LinkInfo link = link2Properties(world);
+  link.mass = 2 * kMass;
+  const Status set = world.setLinkProperties("one_DOF_robot::link2", link);
+  ASSERT_TRUE(set.ok()) << set;
+  EXPECT_EQ(link2Properties(world).mass, 2 * kMass);
+  const double period = smallSwingPeriod(&world);
+  const double expected = compoundPendulumPeriod(2 * kMass, link.iyy, kArm);
+  std::printf("[ figures  ] period with link2 at 2 kg %.5f s, expected %.5f s\n", period, expected);
+  EXPECT_NEAR(period, expected, 0.005 * expected);
+  // The closed form moves by more than the tolerance: the mass did change the swing.
+  EXPECT_GT(std::abs(expected - compoundPendulumPeriod(kMass, link.iyy, kArm)), 0.02 * expected);
+}
+
+TEST_P(LinkProperties, MovedCentreOfMassKeepsTheLinksAndGivesTheNewPeriod) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {2.5}).ok());
+  steps(&world, 200);  // swinging, so that velocities must carry over too
+  Pose before_pose, after_pose;
+  Twist before_twist, after_twist;
+  ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &before_pose, &before_twist).ok());
+  const double rate_before = jointRate(world, "joint1");
+  const double position_before = jointPosition(world, "joint1");
+  LinkInfo link = link2Properties(world);
+  const double arm = 0.8;  // from 0.5: the COM slides along the link, away from joint1
+  link.com.position.z += arm - kArm;
+  const Status set = world.setLinkProperties("one_DOF_robot::link2", link);
+  ASSERT_TRUE(set.ok()) << set;
+  ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &after_pose, &after_twist).ok());
+  expectSamePose(after_pose, before_pose);
+  EXPECT_NEAR(after_twist.angular.y, before_twist.angular.y, 1e-9);
+  EXPECT_NEAR(after_twist.linear.x, before_twist.linear.x, 1e-5);
+  EXPECT_NEAR(after_twist.linear.z, before_twist.linear.z, 1e-5);
+  EXPECT_NEAR(jointPosition(world, "joint1"), position_before, 1e-9);
+  EXPECT_NEAR(jointRate(world, "joint1"), rate_before, 1e-9);
+  const double period = smallSwingPeriod(&world);
+  const double expected = compoundPendulumPeriod(kMass, link.iyy, arm);
+  std::printf("[ figures  ] period with link2's COM at %.1f m %.5f s, expected %.5f s\n", arm, period,
+              expected);
+  EXPECT_NEAR(period, expected, 0.005 * expected);
+}
+
+TEST_P(LinkProperties, GravityModeOffFloats) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI / 2}).ok());
+  LinkInfo link = link2Properties(world);
+  link.gravity_mode = false;
+  ASSERT_TRUE(world.setLinkProperties("one_DOF_robot::link2", link).ok());
+  EXPECT_FALSE(link2Properties(world).gravity_mode);
+  steps(&world, 1000);
+  EXPECT_NEAR(jointPosition(world, "joint1"), M_PI / 2, 1e-6);  // horizontal, and it stays
+  link.gravity_mode = true;
+  ASSERT_TRUE(world.setLinkProperties("one_DOF_robot::link2", link).ok());
+  steps(&world, 200);
+  EXPECT_GT(jointPosition(world, "joint1"), M_PI / 2 + 0.05);  // falls again, towards q = pi
+}
+
+TEST_P(LinkProperties, RefusedValuesLeaveTheWorldUnchanged) {
+  World world(GetParam()), twin(GetParam());
+  spawnLiftedRobot(&world);
+  spawnLiftedRobot(&twin);
+  for (World* w : {&world, &twin})
+    ASSERT_TRUE(w->setModelConfiguration("one_DOF_robot", {"joint1"}, {2.0}).ok());
+  const LinkInfo original = link2Properties(world);
+  const auto refused = [&](LinkInfo change, StatusCode code, const std::string& subject) {
+    const Status status = world.setLinkProperties("one_DOF_robot::link2", change);
+    EXPECT_EQ(status.code, code) << status;
+    EXPECT_EQ(status.subject, subject);
+  };
+  LinkInfo bad = original;
+  bad.mass = 0;  // link2 is a body of its own
+  refused(bad, StatusCode::InvalidParameter, "mass");
+  bad.mass = -1;
+  refused(bad, StatusCode::InvalidParameter, "mass");
+  bad = original;
+  bad.ixx = -1;
+  refused(bad, StatusCode::InvalidParameter, "inertia");
+  bad = original;
+  bad.ixy = 10;  // symmetric but indefinite
+  refused(bad, StatusCode::InvalidParameter, "inertia");
+  bad = original;
+  bad.mass = kNaN;
+  refused(bad, StatusCode::NotFinite, "mass");
+  bad = original;
+  bad.izz = std::numeric_limits<double>::infinity();
+  refused(bad, StatusCode::NotFinite, "inertia");
+  bad = original;
+  bad.com.position.x = kNaN;
+  refused(bad, StatusCode::NotFinite, "com");
+  bad = original;
+  bad.com.orientation = {0, 0, 0, 0};
+  refused(bad, StatusCode::ZeroQuaternion, "com");
+  EXPECT_EQ(world.setLinkProperties("one_DOF_robot::nope", original).code,
+            StatusCode::LinkNotFound);
+
+  const LinkInfo after = link2Properties(world);
+  EXPECT_EQ(after.mass, original.mass);
+  EXPECT_EQ(after.ixx, original.ixx);
+  EXPECT_EQ(after.ixy, original.ixy);
+  EXPECT_EQ(after.com.position.x, original.com.position.x);
+  EXPECT_EQ(after.gravity_mode, original.gravity_mode);
+  steps(&world, 500);
+  steps(&twin, 500);
+  EXPECT_EQ(jointPosition(world, "joint1"), jointPosition(twin, "joint1"));
+}
+
+TEST_P(LinkProperties, WeldedLinksChangeTheirLumpedBodyAndShareOneGravityMode) {
+  // link2 carries a 1 kg tip welded 1 m out along x; moving the tip's mass to 3 kg moves the
+  // lumped COM, which the free fall cannot show but the tip's pose and a wrench's reply can: the
+  // links stay where they are and the tip keeps its gravity mode only with link2's.
+  World world(GetParam(), withoutGravity());
+  const std::string urdf =
+      "<robot name=\"welded\"><link name=\"base\">" + inertial(1, 0.1, 0.1, 0.1) +
+      "</link><joint name=\"weld\" type=\"fixed\"><parent link=\"base\"/><child link=\"tip\"/>"
+      "<origin xyz=\"1 0 0\"/></joint><link name=\"tip\">" + inertial(1, 0.1, 0.1, 0.1) +
+      "</link></robot>";
+  ASSERT_TRUE(world.spawn("welded", urdf, ModelFormat::Urdf, at(0, 0, 2)).ok());
+  LinkInfo tip;
+  ASSERT_TRUE(world.linkProperties("welded::tip", &tip).ok());
+  tip.mass = 3;
+  ASSERT_TRUE(world.setLinkProperties("welded::tip", tip).ok());
+  Pose base, tip_pose;
+  Twist unused;
+  ASSERT_TRUE(world.linkState("welded::base", "", &base, &unused).ok());
+  ASSERT_TRUE(world.linkState("welded::tip", "", &tip_pose, &unused).ok());
+  expectSamePose(base, at(0, 0, 2));
+  expectSamePose(tip_pose, at(1, 0, 2));
+  // A force through the lumped COM (0.75 m out, 4 kg) only translates the pair.
+  ASSERT_TRUE(world.applyBodyWrench("welded::base", "", {0.75, 0, 2}, {0, 0, 4}, {0, 0, 0}, 0,
+                                    100 * kMs).ok());
+  steps(&world, 100);
+  ASSERT_TRUE(world.linkState("welded::base", "", &base, &unused).ok());
+  ASSERT_TRUE(world.linkState("welded::tip", "", &tip_pose, &unused).ok());
+  EXPECT_NEAR(base.position.z - 2, 0.5 * 1 * 0.1 * 0.1, 1e-4);  // a = F / m = 1 m/s^2
+  EXPECT_NEAR(tip_pose.position.z, base.position.z, 1e-6);      // no turn
+  tip.gravity_mode = false;
+  const Status split = world.setLinkProperties("welded::tip", tip);
+  EXPECT_EQ(split.code, StatusCode::InvalidParameter) << split;
+  EXPECT_EQ(split.subject, "gravity_mode");
+}
+
 INSTANTIATE_TEST_SUITE_P(Engines, BodyWrench, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, Contacts, ::testing::ValuesIn(World::engineNames()),
@@ -967,6 +1142,8 @@ INSTANTIATE_TEST_SUITE_P(Engines, Contacts, ::testing::ValuesIn(World::engineNam
 INSTANTIATE_TEST_SUITE_P(Engines, Errors, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, Joints, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Engines, LinkProperties, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, Models, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });

@@ -127,29 +127,18 @@ class BulletModel : public EngineModel {
     for (const BodySpec& spec_body : spec.bodies) {
       bodies_.emplace_back();
       Body& body = bodies_.back();
-      btMatrix3x3 inertia(spec_body.ixx, spec_body.ixy, spec_body.ixz, spec_body.ixy,
-                          spec_body.iyy, spec_body.iyz, spec_body.ixz, spec_body.iyz,
-                          spec_body.izz);
-      btMatrix3x3 principal;  // columns: the principal axes in the BodySpec frame
-      inertia.diagonalize(principal, SIMD_EPSILON, 100);
-      principal.getRotation(body.principal);
-      const btTransform from_principal = btTransform(body.principal).inverse();
       body.compound = std::make_unique<btCompoundShape>();
       for (const ShapeSpec& shape : spec_body.shapes) {
         body.shapes.push_back(makeShape(shape));
-        body.compound->addChildShape(from_principal * toBt(shape.pose), body.shapes.back().get());
+        body.compound->addChildShape(btTransform::getIdentity(), body.shapes.back().get());
         body.mu.push_back(shape.mu);
       }
-      const btVector3 diagonal(inertia[0][0], inertia[1][1], inertia[2][2]);
-      btRigidBody::btRigidBodyConstructionInfo info(spec_body.mass, nullptr, body.compound.get(),
-                                                    diagonal);
+      btRigidBody::btRigidBodyConstructionInfo info(spec_body.mass, nullptr, body.compound.get());
       info.m_linearDamping = info.m_angularDamping = 0;
       info.m_restitution = 0;
       body.rigid = std::make_unique<btRigidBody>(info);
+      setBodyMass(static_cast<int>(bodies_.size()) - 1, spec_body);
       btRigidBody& rigid = *body.rigid;
-      rigid.setFlags(BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY |
-                     (spec_body.gravity ? 0 : BT_DISABLE_WORLD_GRAVITY));
-      rigid.setGravity(btVector3(0, 0, 0));  // addRigidBody sets the world's unless disabled
       rigid.setActivationState(DISABLE_DEACTIVATION);
       rigid.setCollisionFlags(rigid.getCollisionFlags() |
                               btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
@@ -259,6 +248,28 @@ class BulletModel : public EngineModel {
     btCollisionObject* object = anchored_[shape].object.get();
     object->setWorldTransform(toBt(world_pose));
     world_->updateSingleAabb(object);
+  }
+
+  // Bullet keeps the inertia diagonal: the btRigidBody sits in the principal axes, which a new
+  // inertia may turn, and its compound's children are placed in those axes.
+  void setBodyMass(int body, const BodySpec& spec) override {
+    Body& b = bodies_[body];
+    btMatrix3x3 inertia(spec.ixx, spec.ixy, spec.ixz, spec.ixy, spec.iyy, spec.iyz, spec.ixz,
+                        spec.iyz, spec.izz);
+    btMatrix3x3 principal;  // columns: the principal axes in the BodySpec frame
+    inertia.diagonalize(principal, SIMD_EPSILON, 100);
+    principal.getRotation(b.principal);
+    const btTransform from_principal = btTransform(b.principal).inverse();
+    for (size_t s = 0; s < spec.shapes.size(); ++s)
+      b.compound->updateChildTransform(static_cast<int>(s), from_principal * toBt(spec.shapes[s].pose));
+    btRigidBody& rigid = *b.rigid;
+    rigid.setMassProps(spec.mass, btVector3(inertia[0][0], inertia[1][1], inertia[2][2]));
+    rigid.updateInertiaTensor();
+    // World gravity reaches the bodies without BT_DISABLE_WORLD_GRAVITY (addRigidBody, and
+    // setParams through btDiscreteDynamicsWorld::setGravity).
+    rigid.setFlags(BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY |
+                   (spec.gravity ? 0 : BT_DISABLE_WORLD_GRAVITY));
+    rigid.setGravity(spec.gravity ? world_->getGravity() : btVector3(0, 0, 0));
   }
 
   double jointPosition(int joint) const override {

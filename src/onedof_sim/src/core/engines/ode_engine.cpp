@@ -74,17 +74,14 @@ class OdeModel : public EngineModel {
     space_ = dSimpleSpaceCreate(parent_space);
     for (const BodySpec& spec_body : spec.bodies) {
       dBodyID body = dBodyCreate(world);
-      dMass mass;
-      dMassSetParameters(&mass, spec_body.mass, 0, 0, 0, spec_body.ixx, spec_body.iyy,
-                         spec_body.izz, spec_body.ixy, spec_body.ixz, spec_body.iyz);
-      dBodySetMass(body, &mass);
-      dBodySetGravityMode(body, spec_body.gravity ? 1 : 0);
+      bodies_.push_back(body);
+      body_geoms_.emplace_back();
       for (const ShapeSpec& shape : spec_body.shapes) {
         dGeomID geom = createGeom(shape);
         dGeomSetBody(geom, body);
-        setGeomPose(geom, shape.pose, true);
+        body_geoms_.back().push_back(geom);
       }
-      bodies_.push_back(body);
+      setBodyMass(static_cast<int>(bodies_.size()) - 1, spec_body);
     }
     for (const ShapeSpec& shape : spec.anchored_shapes) anchored_.push_back(createGeom(shape));
     for (const JointSpec& spec_joint : spec.joints) {
@@ -154,6 +151,16 @@ class OdeModel : public EngineModel {
     setGeomPose(anchored_[shape], world_pose, false);
   }
 
+  void setBodyMass(int body, const BodySpec& spec) override {
+    dMass mass;
+    dMassSetParameters(&mass, spec.mass, 0, 0, 0, spec.ixx, spec.iyy, spec.izz, spec.ixy, spec.ixz,
+                       spec.iyz);
+    dBodySetMass(bodies_[body], &mass);
+    dBodySetGravityMode(bodies_[body], spec.gravity ? 1 : 0);
+    for (size_t g = 0; g < spec.shapes.size(); ++g)
+      setGeomPose(body_geoms_[body][g], spec.shapes[g].pose, true);
+  }
+
   double jointPosition(int joint) const override {
     const Joint& j = joints_[joint];
     return j.hinge ? dJointGetHingeAngle(j.id) : dJointGetSliderPosition(j.id);
@@ -207,6 +214,7 @@ class OdeModel : public EngineModel {
 
   dSpaceID space_ = nullptr;
   std::vector<dBodyID> bodies_;
+  std::vector<std::vector<dGeomID>> body_geoms_;  // per body, in its BodySpec's shape order
   std::vector<dGeomID> anchored_;
   std::vector<Joint> joints_;
   std::deque<Surface> surfaces_;
