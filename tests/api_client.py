@@ -140,7 +140,9 @@ class GazeboApi:
         return self.run_until(self.sim_time_ns() + duration_ns, timeout)
 
 
-def pendulum_period(amplitude):
-    """Period of link2 swinging about its lowest point, with the first amplitude correction."""
-    small = 2 * math.pi * math.sqrt(LINK2_INERTIA / (LINK2_MASS * GRAVITY * LINK2_COM))
+def pendulum_period(amplitude, mass=LINK2_MASS):
+    """Period of link2 (of that mass, inertia about its COM unchanged) swinging about its lowest
+    point, with the first amplitude correction."""
+    inertia = LINK2_INERTIA + (mass - LINK2_MASS) * LINK2_COM ** 2
+    small = 2 * math.pi * math.sqrt(inertia / (mass * GRAVITY * LINK2_COM))
     return small * (1 + amplitude ** 2 / 16)

@@ -124,7 +124,7 @@ def test_all_services_and_clock_are_listed(ros, engine):
                  'set_link_state', 'set_model_configuration', 'get_model_properties',
                  'get_world_properties', 'get_link_properties', 'get_physics_properties',
                  'set_physics_properties', 'pause_physics', 'unpause_physics',
-                 'reset_simulation', 'reset_world'):
+                 'reset_simulation', 'reset_world', 'set_parameters'):
         assert '/gazebo/' + name in services
     wait_until(lambda: '/clock' in ros.run(['rostopic', 'list']).stdout.split(), 30,
                what='/clock in rostopic list')
@@ -806,21 +806,124 @@ def link_properties_request(props, **changes):
     return fields
 
 
-def test_set_link_properties_round_trip_and_refusals(ros, engine, api):
+def swing_period(api, amplitude):
+    res = api.set_model_configuration(ROBOT, '', ['joint1'], [math.pi + amplitude])
+    assert res.success, res.status_message
+    samples = paused_samples(api, api.sim_time_ns() + int(4.5 * 1e9))
+    crossings = zero_crossings(samples, math.pi)
+    assert len(crossings) >= 4, crossings
+    return 2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+
+
+def test_set_link_properties_changes_the_swing_and_refuses_what_no_body_has(ros, engine, api):
     start_paused(ros, engine)
-    api.spawn_robot()
+    api.spawn_robot(initial_pose=pose(z=1.0))
     link = ROBOT + '::link2'
     props = api.get_link_properties(link)
     res = api.set_link_properties(link_name=link, **link_properties_request(props))
     assert (res.success, res.status_message) == (True, 'SetLinkProperties: properties set')
-    res = api.set_link_properties(link_name=link,
-                                  **link_properties_request(props, mass=2.0, gravity_mode=False))
-    assert not res.success
-    assert 'mass' in res.status_message and 'gravity_mode' in res.status_message
-    assert api.get_link_properties(link).mass == props.mass
+    heavy = 2 * LINK2_MASS
+    res = api.set_link_properties(link_name=link, **link_properties_request(props, mass=heavy))
+    assert (res.success, res.status_message) == (True, 'SetLinkProperties: properties set')
+    assert api.get_link_properties(link).mass == heavy
+    amplitude = 0.05
+    assert swing_period(api, amplitude) == pytest.approx(pendulum_period(amplitude, heavy),
+                                                         rel=0.005)
+    assert pendulum_period(amplitude, heavy) < 0.95 * pendulum_period(amplitude)
+
+    for change, text in [
+            (dict(mass=-1.0), 'mass must be >= 0, and > 0 for a link that moves (welded links: in sum)'),
+            (dict(mass=0.0), 'mass must be >= 0, and > 0 for a link that moves (welded links: in sum)'),
+            (dict(ixy=10.0), "the inertia must be positive definite, as a rigid body's is (ixx, "
+                             "iyy, izz > 0 and the products small enough)"),
+            (dict(izz=float('nan')), 'mass, com and the inertia must be finite')]:
+        res = api.set_link_properties(link_name=link, **link_properties_request(props, **change))
+        assert (res.success, res.status_message) == (False, 'SetLinkProperties: ' + text), change
+    assert api.get_link_properties(link).mass == heavy
     res = api.set_link_properties(link_name=ROBOT + '::link9', **link_properties_request(props))
     assert (res.success, res.status_message) == (
         False, 'SetLinkProperties: link not found, did you forget to scope the link by model name?')
+
+
+def test_set_link_properties_gravity_mode_off_floats(ros, engine, api):
+    start_paused(ros, engine)
+    api.spawn_robot(initial_pose=pose(z=1.0))
+    link = ROBOT + '::link2'
+    props = api.get_link_properties(link)
+    res = api.set_model_configuration(ROBOT, '', ['joint1'], [math.pi / 2])  # horizontal
+    assert res.success, res.status_message
+    res = api.set_link_properties(link_name=link,
+                                  **link_properties_request(props, gravity_mode=False))
+    assert res.success, res.status_message
+    assert api.get_link_properties(link).gravity_mode is False
+    api.run_for(500 * STEP_NS)
+    assert api.joint()[0] == pytest.approx(math.pi / 2, abs=1e-6)
+    res = api.set_link_properties(link_name=link, **link_properties_request(props))
+    assert res.success, res.status_message
+    api.run_for(200 * STEP_NS)
+    assert api.joint()[0] > math.pi / 2 + 0.05  # gravity is back: it falls towards pi
+
+
+# --- dynamic_reconfigure (/gazebo/set_parameters) ----------------------------------------------
+
+def dynparam(ros, *args):
+    """`rosrun dynamic_reconfigure dynparam ARGS`. dynparam starts with `#!/usr/bin/env python3`:
+    the system Python (the one with rospy) goes first on PATH."""
+    env = dict(ros.env, PATH='/usr/bin:' + ros.env['PATH'])
+    out = subprocess.run(['rosrun', 'dynamic_reconfigure', 'dynparam'] + list(args), env=env,
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stdout + out.stderr
+    return out.stdout
+
+
+def dynparam_get(ros):
+    import ast
+    return ast.literal_eval(dynparam(ros, 'get', '/gazebo'))
+
+
+def test_dynparam_get_and_set_reach_the_physics(ros, engine, api):
+    start_paused(ros, engine)
+    for kind, name, type_name in (('rosservice', 'set_parameters', 'Reconfigure'),
+                                  ('rostopic', 'parameter_descriptions', 'ConfigDescription'),
+                                  ('rostopic', 'parameter_updates', 'Config')):
+        out = ros.run([kind, 'type', '/gazebo/' + name])
+        assert out.stdout.strip() == 'dynamic_reconfigure/' + type_name, (name, out.stderr)
+    config = dynparam_get(ros)
+    assert {name: config[name] for name in [
+        'time_step', 'max_update_rate', 'gravity_x', 'gravity_y', 'gravity_z', 'auto_disable_bodies',
+        'sor_pgs_precon_iters', 'sor_pgs_iters', 'sor_pgs_w', 'sor_pgs_rms_error_tol',
+        'contact_surface_layer', 'contact_max_correcting_vel', 'cfm', 'erp', 'max_contacts']} == {
+        'time_step': 0.001, 'max_update_rate': 1000.0, 'gravity_x': 0.0, 'gravity_y': 0.0,
+        'gravity_z': -9.8, 'auto_disable_bodies': False, 'sor_pgs_precon_iters': 0,
+        'sor_pgs_iters': 50, 'sor_pgs_w': 1.3, 'sor_pgs_rms_error_tol': 0.0,
+        'contact_surface_layer': 0.001, 'contact_max_correcting_vel': 100.0, 'cfm': 0.0,
+        'erp': 0.2, 'max_contacts': 20}
+
+    dynparam(ros, 'set', '/gazebo', 'time_step', '0.002')
+    dynparam(ros, 'set', '/gazebo', 'gravity_z', '-1.62')
+    dynparam(ros, 'set', '/gazebo', 'sor_pgs_iters', '80')
+    got = api.get_physics_properties()
+    assert (got.time_step, got.gravity.z, got.ode_config.sor_pgs_iters) == (0.002, -1.62, 80)
+    assert got.ode_config.erp == 0.2  # untouched
+    # The steps are 2 ms now.
+    assert api.sim_time_ns() == 0  # paused since the start
+    assert api.run_for(10 * STEP_NS) % (2 * STEP_NS) == 0
+
+    # Out of range: clamped to the advertised range, as dynamic_reconfigure servers do; a value
+    # the world refuses (a zero step) leaves everything as it was.
+    dynparam(ros, 'set', '/gazebo', 'erp', '5')
+    assert api.get_physics_properties().ode_config.erp == 1.0
+    dynparam(ros, 'set', '/gazebo', 'time_step', '0')
+    assert api.get_physics_properties().time_step == 0.002
+
+    # set_physics_properties and dynparam see one configuration.
+    got = api.get_physics_properties()
+    got.gravity.z = -3.0
+    res = api.set_physics_properties(got.time_step, got.max_update_rate, got.gravity,
+                                     got.ode_config)
+    assert res.success, res.status_message
+    wait_until(lambda: dynparam_get(ros)['gravity_z'] == -3.0, 60, what='parameter_updates')
+    assert dynparam_get(ros)['time_step'] == 0.002
 
 
 def test_lights_do_not_exist_as_gazebo_says(ros, engine, api):

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 
+#include <dynamic_reconfigure/ConfigDescription.h>
 #include <rosgraph_msgs/Clock.h>
 #include <tinyxml2.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -108,7 +110,8 @@ const Wording kSetLinkState{"SetLinkState", "SetLinkState: success",
                             "pose and twist must be finite", "SetLinkState: link does not exist",
                             "SetLinkState: failed"};
 const Wording kGetLinkProperties{"GetLinkProperties", "GetLinkProperties: got properties"};
-const Wording kSetLinkProperties{"SetLinkProperties", "SetLinkProperties: properties set"};
+const Wording kSetLinkProperties{"SetLinkProperties", "SetLinkProperties: properties set",
+                                 "mass, com and the inertia must be finite"};
 const Wording kSpawnModel{
     "SpawnModel", "SpawnModel: Successfully spawned entity", "initial_pose must be finite",
     nullptr,
@@ -132,13 +135,20 @@ const char* const kNotUrdfOrSdf =
     "GazeboRosApiPlugin SpawnModel Failure: input model_xml not SDF or URDF, or cannot be "
     "converted to Gazebo compatible format.";
 
-// The range World::setParams enforces on a PhysicsParams field, in ODEPhysics' names.
+// The range World enforces on a field: PhysicsParams' (in ODEPhysics' names), a joint's
+// damping, a link's inertial.
 std::string parameterRange(const std::string& field) {
   if (field == "step") return "time_step must be at least 1 ns";
   if (field == "erp") return "erp must be in [0, 1]";
   if (field == "sor_pgs_iters") return "sor_pgs_iters must be >= 1";
   if (field == "max_contacts") return "max_contacts must be <= 65535";
   if (field == "damping") return "damping must be >= 0";
+  if (field == "mass") return "mass must be >= 0, and > 0 for a link that moves (welded links: in sum)";
+  if (field == "inertia")
+    return "the inertia must be positive definite, as a rigid body's is (ixx, iyy, izz > 0 and the "
+           "products small enough)";
+  if (field == "gravity_mode")
+    return "links welded together by fixed joints move as one body and share one gravity_mode";
   return "cfm, contact_surface_layer, contact_max_correcting_vel and sor_pgs_rms_error_tol must "
          "be >= 0, sor_pgs_w > 0";
 }
@@ -195,6 +205,145 @@ std::string configurationText(const Status& status) {
   if (status.code == StatusCode::JointNotFound)
     return "SetModelConfiguration: joint '" + status.subject + "' not found in model";
   return statusText(kSetModelConfiguration, status);
+}
+
+// --- dynamic_reconfigure: gazebo_ros' PhysicsConfig (cfg/Physics.cfg) ---------------------------
+
+// What the physics setters take: the world's parameters and the node's pace.
+struct PhysicsSettings {
+  PhysicsParams params;
+  double max_update_rate = 0;
+};
+
+// One parameter of PhysicsConfig, in gazebo_ros' order, with the range a dynamic_reconfigure
+// server clamps to: gazebo_ros' range, narrowed where World refuses more (erp, sor_pgs_iters,
+// sor_pgs_rms_error_tol, max_contacts).
+struct PhysicsField {
+  const char* name;
+  const char* type;  // "double", "bool" or "int"
+  const char* description;
+  double min, max;
+  double (*get)(const PhysicsSettings&);
+  void (*set)(PhysicsSettings*, double);
+};
+
+// clang-format off
+const PhysicsField kPhysicsFields[] = {
+  {"time_step", "double", "physics step, s", 0, 10,
+   [](const PhysicsSettings& s) { return s.params.step; },
+   [](PhysicsSettings* s, double v) { s->params.step = v; }},
+  {"max_update_rate", "double", "steps per wall second; 0 = as fast as possible", 0, 1e6,
+   [](const PhysicsSettings& s) { return s.max_update_rate; },
+   [](PhysicsSettings* s, double v) { s->max_update_rate = v; }},
+  {"gravity_x", "double", "gravity along x, m/s^2", -100, 100,
+   [](const PhysicsSettings& s) { return s.params.gravity.x; },
+   [](PhysicsSettings* s, double v) { s->params.gravity.x = v; }},
+  {"gravity_y", "double", "gravity along y, m/s^2", -100, 100,
+   [](const PhysicsSettings& s) { return s.params.gravity.y; },
+   [](PhysicsSettings* s, double v) { s->params.gravity.y = v; }},
+  {"gravity_z", "double", "gravity along z, m/s^2", -100, 100,
+   [](const PhysicsSettings& s) { return s.params.gravity.z; },
+   [](PhysicsSettings* s, double v) { s->params.gravity.z = v; }},
+  {"auto_disable_bodies", "bool", "let bodies at rest sleep (ODE)", 0, 1,
+   [](const PhysicsSettings& s) { return s.params.auto_disable_bodies ? 1.0 : 0.0; },
+   [](PhysicsSettings* s, double v) { s->params.auto_disable_bodies = v != 0; }},
+  {"sor_pgs_precon_iters", "int", "preconditioning iterations of the SOR PGS solver", 0, 10000,
+   [](const PhysicsSettings& s) { return double(s.params.sor_pgs_precon_iters); },
+   [](PhysicsSettings* s, double v) { s->params.sor_pgs_precon_iters = uint32_t(v); }},
+  {"sor_pgs_iters", "int", "iterations of the SOR PGS solver", 1, 10000,
+   [](const PhysicsSettings& s) { return double(s.params.sor_pgs_iters); },
+   [](PhysicsSettings* s, double v) { s->params.sor_pgs_iters = uint32_t(v); }},
+  {"sor_pgs_w", "double", "SOR relaxation of the PGS solver", 0, 5,
+   [](const PhysicsSettings& s) { return s.params.sor_pgs_w; },
+   [](PhysicsSettings* s, double v) { s->params.sor_pgs_w = v; }},
+  {"sor_pgs_rms_error_tol", "double", "RMS error tolerance of the SOR PGS solver", 0, 10000,
+   [](const PhysicsSettings& s) { return s.params.sor_pgs_rms_error_tol; },
+   [](PhysicsSettings* s, double v) { s->params.sor_pgs_rms_error_tol = v; }},
+  {"cfm", "double", "constraint force mixing", 0, 10,
+   [](const PhysicsSettings& s) { return s.params.cfm; },
+   [](PhysicsSettings* s, double v) { s->params.cfm = v; }},
+  {"erp", "double", "error reduction parameter", 0, 1,
+   [](const PhysicsSettings& s) { return s.params.erp; },
+   [](PhysicsSettings* s, double v) { s->params.erp = v; }},
+  {"contact_surface_layer", "double", "penetration allowed before contacts push back, m", 0, 10,
+   [](const PhysicsSettings& s) { return s.params.contact_surface_layer; },
+   [](PhysicsSettings* s, double v) { s->params.contact_surface_layer = v; }},
+  {"contact_max_correcting_vel", "double", "fastest a contact corrects penetration, m/s", 0, 1e7,
+   [](const PhysicsSettings& s) { return s.params.contact_max_correcting_vel; },
+   [](PhysicsSettings* s, double v) { s->params.contact_max_correcting_vel = v; }},
+  {"max_contacts", "int", "most contact points between two geoms", 0, 65535,
+   [](const PhysicsSettings& s) { return double(s.params.max_contacts); },
+   [](PhysicsSettings* s, double v) { s->params.max_contacts = uint32_t(v); }},
+};
+// clang-format on
+
+constexpr int kDefaultGroupId = 0;  // dynamic_reconfigure's top-level group, "Default"
+
+dynamic_reconfigure::Config toConfig(const PhysicsSettings& settings) {
+  dynamic_reconfigure::Config config;
+  for (const PhysicsField& field : kPhysicsFields) {
+    const double value = field.get(settings);
+    if (std::string(field.type) == "bool") {
+      dynamic_reconfigure::BoolParameter p;
+      p.name = field.name;
+      p.value = value != 0;
+      config.bools.push_back(p);
+    } else if (std::string(field.type) == "int") {
+      dynamic_reconfigure::IntParameter p;
+      p.name = field.name;
+      p.value = static_cast<int32_t>(value);
+      config.ints.push_back(p);
+    } else {
+      dynamic_reconfigure::DoubleParameter p;
+      p.name = field.name;
+      p.value = value;
+      config.doubles.push_back(p);
+    }
+  }
+  dynamic_reconfigure::GroupState group;
+  group.name = "Default";
+  group.state = true;
+  group.id = group.parent = kDefaultGroupId;
+  config.groups.push_back(group);
+  return config;
+}
+
+// The value a Reconfigure request gives the field, if it names it (in the list of its type, as
+// dynamic_reconfigure's own servers read it), clamped to the field's range as they clamp.
+std::optional<double> requested(const dynamic_reconfigure::Config& config,
+                                const PhysicsField& field) {
+  std::optional<double> value;
+  for (const auto& p : config.doubles)
+    if (p.name == field.name && std::string(field.type) == "double") value = p.value;
+  for (const auto& p : config.ints)
+    if (p.name == field.name && std::string(field.type) == "int") value = p.value;
+  for (const auto& p : config.bools)
+    if (p.name == field.name && std::string(field.type) == "bool") value = p.value ? 1 : 0;
+  if (value && !std::isnan(*value)) value = std::clamp(*value, field.min, field.max);
+  return value;
+}
+
+dynamic_reconfigure::ConfigDescription physicsDescription(const PhysicsSettings& defaults) {
+  dynamic_reconfigure::ConfigDescription description;
+  dynamic_reconfigure::Group group;
+  group.name = "Default";
+  group.id = group.parent = kDefaultGroupId;
+  PhysicsSettings min, max;
+  for (const PhysicsField& field : kPhysicsFields) {
+    dynamic_reconfigure::ParamDescription param;
+    param.name = field.name;
+    param.type = field.type;
+    param.level = 1;
+    param.description = field.description;
+    group.parameters.push_back(param);
+    field.set(&min, field.min);
+    field.set(&max, field.max);
+  }
+  description.groups.push_back(group);
+  description.min = toConfig(min);
+  description.max = toConfig(max);
+  description.dflt = toConfig(defaults);
+  return description;
 }
 
 // What a job became, after the service's "effort set" or "wrench set".
@@ -475,6 +624,14 @@ GazeboApi::GazeboApi(const NodeOptions& options)
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
+  parameter_descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
+      "parameter_descriptions", 1, true);
+  parameter_updates_pub_ =
+      private_nh_.advertise<dynamic_reconfigure::Config>("parameter_updates", 1, true);
+  // The start-up settings are the defaults a client resets to.
+  parameter_descriptions_pub_.publish(
+      physicsDescription({world_.params(), max_update_rate_}));
+  parameter_updates_pub_.publish(physicsConfig());
 
   auto& n = private_nh_;
   services_ = {
@@ -501,6 +658,7 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       n.advertiseService("delete_light", &GazeboApi::deleteLight, this),
       n.advertiseService("get_physics_properties", &GazeboApi::getPhysicsProperties, this),
       n.advertiseService("set_physics_properties", &GazeboApi::setPhysicsProperties, this),
+      n.advertiseService("set_parameters", &GazeboApi::setParameters, this),
       n.advertiseService("pause_physics", &GazeboApi::pausePhysics, this),
       n.advertiseService("reset_simulation", &GazeboApi::resetSimulation, this),
       n.advertiseService("reset_world", &GazeboApi::resetWorld, this),
@@ -802,41 +960,20 @@ bool GazeboApi::getLinkProperties(gazebo_msgs::GetLinkProperties::Request& req,
   return answer(res, found, statusText(kGetLinkProperties, found));
 }
 
-// The engines fix a body's mass, inertia and gravity mode when the model is spawned, and World
-// welds links joined by fixed joints into one body with their masses lumped, so changing them
-// would need the seam to rebuild bodies: a change is refused, naming the fields; the values the
-// link has (a get/set round trip) succeed.
 bool GazeboApi::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& req,
                                   gazebo_msgs::SetLinkProperties::Response& res) {
   LinkInfo link;
-  Status found;
+  link.com = toCore(req.com);
+  link.mass = req.mass;
+  link.ixx = req.ixx, link.ixy = req.ixy, link.ixz = req.ixz;
+  link.iyy = req.iyy, link.iyz = req.iyz, link.izz = req.izz;
+  link.gravity_mode = req.gravity_mode;
+  Status set;
   {
     WorldLock lock(*this);
-    found = world_.linkProperties(req.link_name, &link);
+    set = world_.setLinkProperties(req.link_name, link);
   }
-  if (!found.ok()) return refuse(res, statusText(kSetLinkProperties, found));
-  const auto differs = [](double requested, double current) {
-    return !(std::abs(requested - current) <= 1e-12 * std::max(1.0, std::abs(current)));
-  };
-  std::vector<std::string> changed;
-  if (differs(req.mass, link.mass)) changed.push_back("mass");
-  const std::pair<const char*, std::pair<double, double>> moments[] = {
-      {"ixx", {req.ixx, link.ixx}}, {"ixy", {req.ixy, link.ixy}}, {"ixz", {req.ixz, link.ixz}},
-      {"iyy", {req.iyy, link.iyy}}, {"iyz", {req.iyz, link.iyz}}, {"izz", {req.izz, link.izz}}};
-  for (const auto& moment : moments)
-    if (differs(moment.second.first, moment.second.second)) changed.push_back(moment.first);
-  const auto& com = req.com.position;
-  if (differs(com.x, link.com.position.x) || differs(com.y, link.com.position.y) ||
-      differs(com.z, link.com.position.z)) {
-    changed.push_back("com");
-  }
-  if (req.gravity_mode != link.gravity_mode) changed.push_back("gravity_mode");
-  if (changed.empty()) return succeed(res, kSetLinkProperties.done);
-  std::string fields;
-  for (const auto& name : changed) fields += (fields.empty() ? "" : ", ") + name;
-  return refuse(res, "SetLinkProperties: cannot change " + fields + " of link '" + req.link_name +
-                         "': the engines fix mass, inertia and gravity mode when the model is "
-                         "spawned; spawn it again with the new <inertial>");
+  return answer(res, set, statusText(kSetLinkProperties, set));
 }
 
 // --- lights ---------------------------------------------------------------------------------
@@ -1005,36 +1142,74 @@ bool GazeboApi::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&
   return succeed(res, "GetPhysicsProperties: got properties (engine: " + world_.engineName() + ")");
 }
 
-bool GazeboApi::setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& req,
-                                     gazebo_msgs::SetPhysicsProperties::Response& res) {
-  if (!std::isfinite(req.max_update_rate) || req.max_update_rate < 0) {
+Status GazeboApi::applyPhysics(const PhysicsParams& params, double max_update_rate,
+                               std::string* text) {
+  if (!std::isfinite(max_update_rate) || max_update_rate < 0) {
     std::ostringstream message;
     message << "SetPhysicsProperties: max_update_rate must be finite and >= 0 (0 = as fast as "
                "possible), got "
-            << req.max_update_rate;
-    return refuse(res, message.str());
+            << max_update_rate;
+    *text = message.str();
+    return {StatusCode::InvalidParameter, "max_update_rate"};
   }
   Status set;
   {
     WorldLock lock(*this);
-    PhysicsParams p = world_.params();  // keeps what ODEPhysics can't say (quick_step)
-    p.step = req.time_step;
-    p.gravity = toCore(req.gravity);
-    const auto& ode = req.ode_config;
-    p.auto_disable_bodies = ode.auto_disable_bodies;
-    p.sor_pgs_precon_iters = ode.sor_pgs_precon_iters;
-    p.sor_pgs_iters = ode.sor_pgs_iters;
-    p.sor_pgs_w = ode.sor_pgs_w;
-    p.sor_pgs_rms_error_tol = ode.sor_pgs_rms_error_tol;
-    p.contact_surface_layer = ode.contact_surface_layer;
-    p.contact_max_correcting_vel = ode.contact_max_correcting_vel;
-    p.cfm = ode.cfm;
-    p.erp = ode.erp;
-    p.max_contacts = ode.max_contacts;
-    set = world_.setParams(p);
-    if (set.ok()) max_update_rate_ = req.max_update_rate;
+    set = world_.setParams(params);
+    if (set.ok()) max_update_rate_ = max_update_rate;
   }
-  return answer(res, set, statusText(kSetPhysicsProperties, set));
+  *text = statusText(kSetPhysicsProperties, set);
+  if (set.ok()) parameter_updates_pub_.publish(physicsConfig());
+  return set;
+}
+
+bool GazeboApi::setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& req,
+                                     gazebo_msgs::SetPhysicsProperties::Response& res) {
+  PhysicsParams p;
+  {
+    WorldLock lock(*this);
+    p = world_.params();  // keeps what ODEPhysics can't say (quick_step)
+  }
+  p.step = req.time_step;
+  p.gravity = toCore(req.gravity);
+  const auto& ode = req.ode_config;
+  p.auto_disable_bodies = ode.auto_disable_bodies;
+  p.sor_pgs_precon_iters = ode.sor_pgs_precon_iters;
+  p.sor_pgs_iters = ode.sor_pgs_iters;
+  p.sor_pgs_w = ode.sor_pgs_w;
+  p.sor_pgs_rms_error_tol = ode.sor_pgs_rms_error_tol;
+  p.contact_surface_layer = ode.contact_surface_layer;
+  p.contact_max_correcting_vel = ode.contact_max_correcting_vel;
+  p.cfm = ode.cfm;
+  p.erp = ode.erp;
+  p.max_contacts = ode.max_contacts;
+  std::string text;
+  const Status set = applyPhysics(p, req.max_update_rate, &text);
+  return answer(res, set, text);
+}
+
+dynamic_reconfigure::Config GazeboApi::physicsConfig() {
+  WorldLock lock(*this);
+  return toConfig({world_.params(), max_update_rate_});
+}
+
+// The parameters the request names change, the others keep their values; the reply is the
+// configuration in force afterwards. Reconfigure has no status field, so a refusal (the same
+// checks as set_physics_properties) is logged and the reply shows nothing changed.
+bool GazeboApi::setParameters(dynamic_reconfigure::Reconfigure::Request& req,
+                              dynamic_reconfigure::Reconfigure::Response& res) {
+  PhysicsSettings settings;
+  {
+    WorldLock lock(*this);
+    settings = {world_.params(), max_update_rate_};
+  }
+  for (const PhysicsField& field : kPhysicsFields)
+    if (const std::optional<double> value = requested(req.config, field)) field.set(&settings, *value);
+  std::string text;
+  if (!applyPhysics(settings.params, settings.max_update_rate, &text).ok())
+    ROS_WARN_STREAM("set_parameters: " << text);
+  res.config = physicsConfig();
+  return true;
 }
 
 bool GazeboApi::pausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {

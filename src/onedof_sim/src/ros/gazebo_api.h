@@ -16,6 +16,9 @@
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 
+#include <dynamic_reconfigure/Config.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+
 #include <gazebo_msgs/ApplyBodyWrench.h>
 #include <gazebo_msgs/ApplyJointEffort.h>
 #include <gazebo_msgs/BodyRequest.h>
@@ -118,6 +121,14 @@ class GazeboApi {
                             gazebo_msgs::GetPhysicsProperties::Response& res);
   bool setPhysicsProperties(gazebo_msgs::SetPhysicsProperties::Request& req,
                             gazebo_msgs::SetPhysicsProperties::Response& res);
+  // Both physics setters; the text is the refusal, or the confirmation. Publishes the new
+  // parameter_updates on success.
+  Status applyPhysics(const PhysicsParams& params, double max_update_rate, std::string* text);
+  // dynamic_reconfigure as gazebo_ros serves it (set_parameters, parameter_descriptions,
+  // parameter_updates), with gazebo_ros' PhysicsConfig.
+  bool setParameters(dynamic_reconfigure::Reconfigure::Request& req,
+                     dynamic_reconfigure::Reconfigure::Response& res);
+  dynamic_reconfigure::Config physicsConfig();
   bool pausePhysics(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool unpausePhysics(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool resetSimulation(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
@@ -153,6 +164,8 @@ class GazeboApi {
   ros::Publisher model_states_pub_;
   ros::Publisher link_states_pub_;
   ros::Publisher markers_pub_;
+  ros::Publisher parameter_descriptions_pub_;  // latched
+  ros::Publisher parameter_updates_pub_;       // latched
   std::vector<ros::ServiceServer> services_;
   std::vector<ros::Subscriber> subscribers_;
   ros::AsyncSpinner spinner_;
