@@ -199,3 +199,23 @@ def test_gazebo_interface_calls_the_simulator(ros, rospy_client, sim):
         pytest.approx(0.5, abs=0.05)
     assert gazebo_interface.spawn_sdf_model_client(
         'cafe_table', DATABASE_REQUEST.format('cafe_table'), '/', pose(x=0.85), '', '/gazebo')
+
+
+def test_books_paused_world_then_robot_from_the_parameter_at_an_angle_then_unpaused(
+        ros, rospy_client, engine):
+    """The book's Part 2, as typed: the paused empty world, the robot spawned from
+    robot_description with joint1 at 1.0 rad, physics unpaused by spawn_model itself."""
+    start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'paused:=true',
+                        'gui:=false', 'physics:=' + engine], 'roslaunch', env=HEADLESS)
+    with open(TUTORIAL_URDF) as urdf:
+        ros.set_param('/robot_description', urdf.read())
+    api = GazeboApi(rospy_client)
+    assert api.get_physics_properties().pause
+    result = run(ros, 'rosrun', 'gazebo_ros', 'spawn_model', '-param', 'robot_description',
+                 '-urdf', '-model', ROBOT, '-J', 'joint1', '1.0', '-unpause')
+    assert result.returncode == 0, output(result)
+    assert 'SetModelConfiguration: success' in result.stdout, output(result)
+    assert not api.get_physics_properties().pause
+    # Released at rest at 1.0 rad, gravity (m g d sin q) turns the link further from upright.
+    wait_until(lambda: api.joint()[0] > 1.01, 30, what='joint1 to fall on from 1.0 rad')
+    assert api.get_world_properties().sim_time > 0
