@@ -77,13 +77,10 @@ def test_book_shaped_cpp_controller_holds_the_link_where_gravity_balances_the_ga
 
     def settled():
         assert client.poll() is None, 'client exited:\n' + ros.log_text(client)
-        samples = jnt_pos.values_since(start)
-        if not samples or samples[-1][0] - start < SETTLE_WINDOW:
+        tail = jnt_pos.steady_tail(start, SETTLE_WINDOW, SETTLE_BAND)
+        if not tail or max(q for _, q in tail) < COMMAND:
             return None
-        tail = [q for t, q in samples if t >= samples[-1][0] - SETTLE_WINDOW]
-        if max(tail) - min(tail) > SETTLE_BAND or max(tail) < COMMAND:
-            return None
-        return sum(tail) / len(tail)
+        return sum(q for _, q in tail) / len(tail)
 
     q = wait_until(settled, 300, interval=0.2,
                    what='jnt_pos to settle within %g rad for %g s of sim time'

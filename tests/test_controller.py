@@ -53,6 +53,16 @@ class Topic:
     def values_since(self, start):
         return [(t, msg.data) for t, msg in self.since(start)]
 
+    def steady_tail(self, start, window, band, after=0.0):
+        """The (t, value) samples of the last `window` s of sim time, if they stay within `band`
+        and at least window + after s have passed since `start`; else None."""
+        samples = self.values_since(start)
+        if not samples or samples[-1][0] - start < window + after:
+            return None
+        tail = [(t, v) for t, v in samples if t >= samples[-1][0] - window]
+        values = [v for _, v in tail]
+        return tail if max(values) - min(values) <= band else None
+
 
 class ControlledRobot:
     """The tutorial's setup: simulator, controller running, robot spawned, a pos_cmd publisher and
@@ -120,14 +130,12 @@ class ControlledRobot:
         1 ms step now and then."""
         def settled():
             self.assert_controller_alive()
-            samples = self.jnt_pos.values_since(since)
-            if not samples or samples[-1][0] - since < window:
+            tail = self.jnt_pos.steady_tail(since, window, band)
+            if not tail or len(tail) < window * RATE_HZ * 0.5:
                 return None
-            tail = [q for t, q in samples if t >= samples[-1][0] - window]
-            if len(tail) < window * RATE_HZ * 0.5 or max(tail) - min(tail) > band:
-                return None
-            torques = [u for t, u in self.jnt_trq.values_since(samples[-1][0] - window)]
-            return sum(tail) / len(tail), sum(torques) / len(torques)
+            positions = [q for _, q in tail]
+            torques = [u for t, u in self.jnt_trq.values_since(tail[-1][0] - window)]
+            return sum(positions) / len(positions), sum(torques) / len(torques)
         return wait_until(settled, timeout, interval=0.2,
                           what='jnt_pos to settle within %g rad for %g s' % (band, window))
 

@@ -220,13 +220,8 @@ class Checks:
     def settled_since(self, start):
         def settled():
             self.s.alive(self.controller)
-            samples = self.jnt_pos.values_since(start)
-            if not samples or samples[-1][0] - start < SETTLE_WINDOW + 1.0:
-                return None
-            tail = [q for t, q in samples if t >= samples[-1][0] - SETTLE_WINDOW]
-            if max(tail) - min(tail) > SETTLE_BAND:
-                return None
-            return [sum(tail) / len(tail)]
+            tail = self.jnt_pos.steady_tail(start, SETTLE_WINDOW, SETTLE_BAND, after=1.0)
+            return tail and [sum(q for _, q in tail) / len(tail)]
         return wait_until(settled, 180, interval=0.2, what='jnt_pos to settle')[0]
 
     def robot_launch(self, command):
