@@ -40,7 +40,7 @@ def shown(display, namespace):
 def test_rviz_shows_the_table_and_not_the_robots_own_collision_geometry(ros, rospy_client):
     ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch'],
               name='launch')
-    from onedof_sim.srv import GetModelState
+    from gazebo_msgs.srv import GetModelState
     from visualization_msgs.msg import Marker, MarkerArray
     rospy_client.wait_for_service('/gazebo/get_model_state', timeout=60)
     robot = launched_robot_name()

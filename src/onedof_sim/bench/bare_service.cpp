@@ -6,14 +6,14 @@
 //   rosrun onedof_sim bench_bare_service __name:=bare   ->  /bare/get_joint_properties, ...
 #include <ros/ros.h>
 
-#include <onedof_sim/ApplyJointEffort.h>
-#include <onedof_sim/GetJointProperties.h>
+#include <gazebo_msgs/ApplyJointEffort.h>
+#include <gazebo_msgs/GetJointProperties.h>
 
 namespace {
 
-bool getJointProperties(onedof_sim::GetJointProperties::Request&,
-                        onedof_sim::GetJointProperties::Response& res) {
-  res.type = onedof_sim::GetJointProperties::Response::REVOLUTE;
+bool getJointProperties(gazebo_msgs::GetJointProperties::Request&,
+                        gazebo_msgs::GetJointProperties::Response& res) {
+  res.type = gazebo_msgs::GetJointProperties::Response::REVOLUTE;
   res.position = {0.0};
   res.rate = {0.0};
   res.success = true;
@@ -21,8 +21,8 @@ bool getJointProperties(onedof_sim::GetJointProperties::Request&,
   return true;
 }
 
-bool applyJointEffort(onedof_sim::ApplyJointEffort::Request&,
-                      onedof_sim::ApplyJointEffort::Response& res) {
+bool applyJointEffort(gazebo_msgs::ApplyJointEffort::Request&,
+                      gazebo_msgs::ApplyJointEffort::Response& res) {
   res.success = true;
   res.status_message = "ApplyJointEffort: effort set";
   return true;

@@ -12,15 +12,15 @@
 
 #include <ros/ros.h>
 
-#include <onedof_sim/ApplyJointEffort.h>
-#include <onedof_sim/GetJointProperties.h>
+#include <gazebo_msgs/ApplyJointEffort.h>
+#include <gazebo_msgs/GetJointProperties.h>
 
 namespace {
 
 // The controller's calls: joint1, and a 10 ms effort job starting now.
-void fill(onedof_sim::GetJointProperties* srv) { srv->request.joint_name = "joint1"; }
+void fill(gazebo_msgs::GetJointProperties* srv) { srv->request.joint_name = "joint1"; }
 
-void fill(onedof_sim::ApplyJointEffort* srv) {
+void fill(gazebo_msgs::ApplyJointEffort* srv) {
   srv->request.joint_name = "joint1";
   srv->request.effort = 0.0;
   srv->request.duration = ros::Duration(0.01);
@@ -76,6 +76,6 @@ int main(int argc, char** argv) {
     return 1;
   }
   const bool persistent = mode == "persistent";
-  return kind == "get" ? measure<onedof_sim::GetJointProperties>(nh, service, persistent, count)
-                       : measure<onedof_sim::ApplyJointEffort>(nh, service, persistent, count);
+  return kind == "get" ? measure<gazebo_msgs::GetJointProperties>(nh, service, persistent, count)
+                       : measure<gazebo_msgs::ApplyJointEffort>(nh, service, persistent, count);
 }

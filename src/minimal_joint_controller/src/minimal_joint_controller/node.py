@@ -11,7 +11,7 @@ import rospy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
-from onedof_sim.srv import ApplyJointEffort, GetJointProperties
+from gazebo_msgs.srv import ApplyJointEffort, GetJointProperties
 
 from minimal_joint_controller.control_law import pd_torque
 

@@ -210,7 +210,7 @@ class Bench:
         # time only where it subscribes /clock itself, so the nodes have no /clock subscriber
         # when they run as fast as possible.
         rospy.init_node('benchmark', disable_signals=True)
-        from onedof_sim import srv
+        from gazebo_msgs import srv
         self.srv = srv
         packages = rospkg.RosPack()
         self.robot_urdf = os.path.join(packages.get_path('minimal_robot_description'),

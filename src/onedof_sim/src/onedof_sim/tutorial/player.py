@@ -231,7 +231,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         os.environ.update(ros.env)
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)
-        from onedof_sim.srv import GetModelState
+        from gazebo_msgs.srv import GetModelState
         rospy.wait_for_service('/gazebo/get_model_state', timeout=60)
         model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
         wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
