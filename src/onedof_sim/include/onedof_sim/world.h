@@ -234,6 +234,9 @@ class World {
                           int64_t duration_ns, JobOutcome* outcome = nullptr);
   // Drops every pending job on joints of that bare name (any model).
   void clearJointForces(const std::string& joint);
+  // Whether an effort job acts on the joint in the step that starts at t_ns; false for a joint
+  // that does not exist (any more). For the owner to see where a controller's command runs out.
+  bool jointEffortActive(const std::string& joint, int64_t t_ns) const;
 
   // Wrench on a link, force and torque in reference_frame's orientation, force applied at
   // reference_point (in reference_frame). Same job rules as joint efforts, the bound on this

@@ -1162,6 +1162,16 @@ Status World::applyJointEffort(const std::string& joint_name, double effort, int
   return {};
 }
 
+bool World::jointEffortActive(const std::string& joint_name, int64_t t_ns) const {
+  ModelRecord* model;
+  size_t index;
+  if (!impl_->findJoint(joint_name, &model, &index)) return false;
+  for (const JointEffortJob& job : impl_->joint_jobs)
+    if (job.model == model && job.joint == index && job.start_ns <= t_ns && t_ns < job.end_ns)
+      return true;
+  return false;
+}
+
 void World::clearJointForces(const std::string& joint_name) {
   auto& jobs = impl_->joint_jobs;
   jobs.erase(std::remove_if(jobs.begin(), jobs.end(),

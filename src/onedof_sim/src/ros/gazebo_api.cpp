@@ -464,6 +464,35 @@ visualization_msgs::Marker toMarker(const CollisionShape& shape, int id) {
   return marker;
 }
 
+// --- lock-step texts -------------------------------------------------------------------------
+
+std::string simSeconds(int64_t ns) {
+  std::ostringstream text;
+  text.setf(std::ios::fixed);
+  text.precision(3);
+  text << double(ns) / kNsPerS << " s";
+  return text.str();
+}
+
+std::string lockstepJoinText(const std::string& joint, const std::string& caller) {
+  return "lock-step: " + joint + " is commanded by " + caller +
+         "; from now on the world stops where its effort runs out and waits for its next "
+         "apply_joint_effort";
+}
+
+std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, int64_t t_ns,
+                                Lockstep::Clock::duration timeout) {
+  std::ostringstream text;
+  text << "lock-step: the world waited "
+       << std::chrono::duration<double>(timeout).count() << " s (wall) at sim time "
+       << simSeconds(t_ns) << " for apply_joint_effort on";
+  for (const Lockstep::Awaited& joint : awaited)
+    text << " " << joint.joint << " (last commanded by " << joint.caller << ")";
+  text << "; going on without " << (awaited.size() > 1 ? "them" : "it")
+       << " until commanded again (~lockstep_timeout sets the wait)";
+  return text.str();
+}
+
 // --- start-up parameters --------------------------------------------------------------------
 
 // Reads ~name into *value when set; a value of the wrong type is an error, not a silent default.
@@ -493,6 +522,21 @@ bool readRate(const ros::NodeHandle& nh, const std::string& name, double* value,
     *error = "parameter " + nh.resolveName(name) + " must be finite and >= 0";
     return false;
   }
+  return true;
+}
+
+bool readLockstep(const ros::NodeHandle& nh, Lockstep::Options* lockstep, std::string* error) {
+  double timeout = std::chrono::duration<double>(lockstep->timeout).count();
+  if (!readParam(nh, "lockstep", &lockstep->enabled, error) ||
+      !readParam(nh, "lockstep_timeout", &timeout, error)) {
+    return false;
+  }
+  if (!(timeout > 0) || !std::isfinite(timeout)) {
+    *error = "parameter " + nh.resolveName("lockstep_timeout") + " must be a finite number of seconds > 0";
+    return false;
+  }
+  lockstep->timeout = std::chrono::duration_cast<Lockstep::Clock::duration>(
+      std::chrono::duration<double>(timeout));
   return true;
 }
 
@@ -549,6 +593,8 @@ void masterSetParam(const std::string& name, bool value) {
 //   ~sor_pgs_precon_iters, ~sor_pgs_iters, ~sor_pgs_w, ~sor_pgs_rms_error_tol,
 //   ~contact_surface_layer, ~contact_max_correcting_vel, ~cfm, ~erp, ~max_contacts
 //   ~states_publish_frequency (Hz of sim time for model_states/link_states; 0 = every step)
+//   ~lockstep (false; see lockstep.h)
+//   ~lockstep_timeout (wall s a stopped world waits for a controller's command, 5)
 // and, read while running, ~pub_clock_frequency (Hz of sim time; unset or <= 0 = every step).
 bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& args,
                      NodeOptions* options, std::string* error) {
@@ -568,7 +614,8 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
       !readParam(nh, "contact_max_correcting_vel", &p.contact_max_correcting_vel, error) ||
       !readParam(nh, "cfm", &p.cfm, error) || !readParam(nh, "erp", &p.erp, error) ||
       !readCount(nh, "max_contacts", &p.max_contacts, error) ||
-      !readRate(nh, "states_publish_frequency", &options->states_publish_frequency, error)) {
+      !readRate(nh, "states_publish_frequency", &options->states_publish_frequency, error) ||
+      !readLockstep(nh, &options->lockstep, error)) {
     return false;
   }
   // gzserver's flags, as launch files pass them (-u/--pause, -e ode, --verbose, a world file).
@@ -588,6 +635,8 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
 
 struct GazeboApi::StepOutput {
   bool stepped = false;
+  bool on_request = false;     // a step of step_simulation: not paced
+  bool publish_clock = false;  // whatever pub_clock_frequency says: the world stops here
   bool resumed = false;  // the pacing must restart (after a pause or a rate change)
   int64_t time_ns = 0;
   double max_update_rate = 0;
@@ -611,8 +660,10 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       world_(options.engine),
       paused_(options.paused),
       max_update_rate_(options.max_update_rate),
+      lockstep_(options.lockstep),
       states_publish_frequency_(options.states_publish_frequency),
-      spinner_(2) {
+      spinner_(2),
+      step_spinner_(1, &step_queue_) {
   const Status params = world_.setParams(options.physics);
   if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
   world_.setModelPath(options.model_path);
@@ -620,7 +671,9 @@ GazeboApi::GazeboApi(const NodeOptions& options)
   // Through the master, not the node handle: this node remaps /use_sim_time for itself (main.cpp).
   if (!masterHasParam(kUseSimTime)) masterSetParam(kUseSimTime, true);
 
-  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100);
+  // Latched: a node started while the world is paused learns the time at once, instead of
+  // running on time 0 (no valid time to roscpp and rospy) until the world moves.
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100, true);
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
@@ -633,6 +686,13 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       physicsDescription({world_.params(), max_update_rate_}));
   parameter_updates_pub_.publish(physicsConfig());
 
+  ros::AdvertiseServiceOptions step_options;
+  step_options.init<StepSimulation::Request, StepSimulation::Response>(
+      "step_simulation", [this](StepSimulation::Request& req, StepSimulation::Response& res) {
+        return stepSimulation(req, res);
+      });
+  step_options.callback_queue = &step_queue_;
+  step_service_ = private_nh_.advertiseService(step_options);
   auto& n = private_nh_;
   services_ = {
       n.advertiseService("get_joint_properties", &GazeboApi::getJointProperties, this),
@@ -669,15 +729,19 @@ GazeboApi::GazeboApi(const NodeOptions& options)
       n.subscribe("set_model_state", 10, &GazeboApi::setModelStateTopic, this),
       n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
   };
+  step_spinner_.start();
   spinner_.start();
-  ROS_INFO("onedof_sim, standing in for Gazebo: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s)",
+  const std::string lockstep_note = lockstep_.enabled() ? ", lock-step" : "";
+  ROS_INFO("onedof_sim, standing in for Gazebo: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s%s)",
            private_nh_.getNamespace().c_str(), options.physics.step, max_update_rate_,
-           paused_ ? ", paused" : "");
+           paused_ ? ", paused" : "", lockstep_note.c_str());
 }
 
 GazeboApi::~GazeboApi() {
   spinner_.stop();
-  unpaused_.notify_all();
+  step_spinner_.stop();
+  wake_loop_.notify_all();
+  steps_done_.notify_all();
 }
 
 void GazeboApi::run() {
@@ -686,14 +750,16 @@ void GazeboApi::run() {
   while (ros::ok()) {
     StepOutput out;
     stepOnce(&out);
+    for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
     if (!out.stepped) {
       was_stepping = false;
       continue;
     }
+    publish(out);
+    if (out.on_request) continue;  // step_simulation runs its steps as fast as it can
     out.resumed = !was_stepping || out.max_update_rate != paced_rate;
     was_stepping = true;
     paced_rate = out.max_update_rate;
-    publish(out);
     pace(out.max_update_rate, out.resumed);
   }
 }
@@ -706,16 +772,31 @@ void GazeboApi::stepOnce(StepOutput* out) {
   // Let waiting service callbacks in first; they hold the lock only for one world call.
   while (waiting_callbacks_.load() > 0) std::this_thread::yield();
   std::unique_lock<std::mutex> lock(mutex_);
-  if (paused_) {
-    // Wakes on unpause; the timeout lets run() notice a shutdown.
-    unpaused_.wait_for(lock, std::chrono::milliseconds(50));
+  const bool requested = step_request_.remaining > 0;
+  const bool request_ending = step_request_.active && !requested;
+  if (paused_ && !requested && !request_ending) {
+    // Wakes on unpause or a step request; the timeout lets run() notice a shutdown.
+    wake_loop_.wait_for(lock, std::chrono::milliseconds(50));
+    return;
+  }
+  if (lockstep_.enabled() && !awaitControllers(lock, out)) return;
+  if (request_ending) {
+    step_request_.active = false;
+    steps_done_.notify_all();
     return;
   }
   world_.step();
+  if (requested) --step_request_.remaining;
   out->stepped = true;
-  out->warnings = world_.takeWarnings();
+  out->on_request = requested;
+  const std::vector<std::string> world_warnings = world_.takeWarnings();
+  out->warnings.insert(out->warnings.end(), world_warnings.begin(), world_warnings.end());
   out->time_ns = world_.timeNs();
   out->max_update_rate = max_update_rate_;
+  // Where the world stops (the last requested step, or a controller's effort running out in
+  // lock-step), its time must reach the clients even when /clock is throttled: they wait for it.
+  out->publish_clock = (requested && step_request_.remaining == 0) ||
+                       (lockstep_.enabled() && !lockstep_.awaited(world_, out->time_ns).empty());
 
   const bool states_due = isDue(out->time_ns, last_states_ns_, states_publish_frequency_);
   if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
@@ -748,10 +829,30 @@ void GazeboApi::stepOnce(StepOutput* out) {
   }
 }
 
+// Lock-step: holds the world until every lock-stepped joint has an effort acting in the coming
+// step, giving up (and saying so once) on those silent for the timeout. Returns false when the wait
+// ends for another reason (paused meanwhile, shutdown): the caller starts over.
+bool GazeboApi::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out) {
+  const auto deadline = Lockstep::Clock::now() + lockstep_.timeout();
+  for (;;) {
+    const std::vector<Lockstep::Awaited> awaited = lockstep_.awaited(world_, world_.timeNs());
+    if (awaited.empty()) return true;
+    const auto now = Lockstep::Clock::now();
+    if (now >= deadline) {
+      lockstep_.giveUp(awaited);
+      out->warnings.push_back(lockstepTimeoutText(awaited, world_.timeNs(), lockstep_.timeout()));
+      return true;
+    }
+    // In slices, to notice a shutdown.
+    wake_loop_.wait_until(lock, std::min(deadline, now + std::chrono::milliseconds(50)));
+    if (!ros::ok()) return false;
+    if (paused_ && !step_request_.active) return false;
+  }
+}
+
 void GazeboApi::publish(const StepOutput& out) {
-  for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
   refreshClockFrequency();
-  if (isDue(out.time_ns, last_clock_ns_, clock_frequency_)) {
+  if (out.publish_clock || isDue(out.time_ns, last_clock_ns_, clock_frequency_)) {
     last_clock_ns_ = out.time_ns;
     rosgraph_msgs::Clock clock;
     clock.clock.fromNSec(uint64_t(out.time_ns));
@@ -820,15 +921,23 @@ bool GazeboApi::getJointProperties(gazebo_msgs::GetJointProperties::Request& req
   return answer(res, found, statusText(kGetJointProperties, found));
 }
 
-bool GazeboApi::applyJointEffort(gazebo_msgs::ApplyJointEffort::Request& req,
-                                 gazebo_msgs::ApplyJointEffort::Response& res) {
+bool GazeboApi::applyJointEffort(
+    ros::ServiceEvent<gazebo_msgs::ApplyJointEffort::Request, gazebo_msgs::ApplyJointEffort::Response>& event) {
+  const auto& req = event.getRequest();
+  auto& res = event.getResponse();
   JobOutcome job;
   Status applied;
+  bool joined = false;
   {
     WorldLock lock(*this);
     applied = world_.applyJointEffort(req.joint_name, req.effort, toNs(req.start_time),
                                       toNs(req.duration), &job);
+    if (applied.ok() && job.queued)
+      joined = lockstep_.heard(req.joint_name, event.getCallerName(),
+                               req.duration < ros::Duration(0), world_.timeNs());
   }
+  if (lockstep_.enabled()) wake_loop_.notify_all();
+  if (joined) ROS_INFO_STREAM(lockstepJoinText(req.joint_name, event.getCallerName()));
   const std::string text = statusText(kApplyJointEffort, applied);
   return answer(res, applied, applied.ok() ? text + jobNotes(job) : text);
 }
@@ -1223,13 +1332,36 @@ bool GazeboApi::unpausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Respo
     WorldLock lock(*this);
     paused_ = false;
   }
-  unpaused_.notify_all();
+  wake_loop_.notify_all();
   return true;
 }
 
-bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+bool GazeboApi::stepSimulation(StepSimulation::Request& req, StepSimulation::Response& res) {
   WorldLock lock(*this);
-  world_.resetSimulation();
+  paused_ = true;
+  step_request_ = {true, req.steps};
+  wake_loop_.notify_all();
+  while (step_request_.active && ros::ok())
+    steps_done_.wait_for(lock.held(), std::chrono::milliseconds(100));
+  res.sim_time.fromNSec(uint64_t(world_.timeNs()));
+  res.iterations = world_.stepCount();
+  if (step_request_.active) {
+    step_request_ = {};
+    return refuse(res, "StepSimulation: the simulator is shutting down");
+  }
+  std::ostringstream text;
+  text << "StepSimulation: stepped " << req.steps << " steps to sim time " << simSeconds(world_.timeNs())
+       << "; paused";
+  return succeed(res, text.str());
+}
+
+bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  {
+    WorldLock lock(*this);
+    world_.resetSimulation();
+    lockstep_.reset();
+  }
+  wake_loop_.notify_all();
   return true;
 }
 

@@ -2,7 +2,9 @@
 //
 // One object owns the node handles, the world and the fixed-step loop (turtlesim style). Service
 // callbacks run on an AsyncSpinner; they and the step loop share one mutex around the world, held
-// only for world calls, never while doing ROS I/O (stage_ros).
+// only for world calls, never while doing ROS I/O (stage_ros). Requests that change how the world
+// advances (pause, step, a controller's command in lock-step) only set state under that mutex and
+// wake the loop; the loop alone steps.
 #pragma once
 
 #include <atomic>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 
@@ -43,7 +46,10 @@
 #include <gazebo_msgs/SetModelState.h>
 #include <gazebo_msgs/SetPhysicsProperties.h>
 #include <gazebo_msgs/SpawnModel.h>
+#include <onedof_sim/StepSimulation.h>
 #include <onedof_sim/world.h>
+
+#include "lockstep.h"
 
 namespace onedof_sim {
 
@@ -58,6 +64,7 @@ struct NodeOptions {
   bool paused = false;
   double states_publish_frequency = 0;   // Hz of sim time for model/link_states; 0 = every step
   std::vector<std::string> model_path;   // where SDF's model:// URIs resolve (World::setModelPath)
+  Lockstep::Options lockstep;
 };
 
 // Reads the private start-up parameters and gzserver's command-line flags (args without the
@@ -79,19 +86,23 @@ class GazeboApi {
   class WorldLock {
    public:
     explicit WorldLock(GazeboApi& api);
+    std::unique_lock<std::mutex>& held() { return lock_; }
    private:
     std::unique_lock<std::mutex> lock_;
   };
 
   struct StepOutput;
   void stepOnce(StepOutput* out);
+  bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   void publish(const StepOutput& out);
   void refreshClockFrequency();
   void pace(double max_update_rate, bool resumed);
 
   // Services (all under /gazebo/).
   bool getJointProperties(gazebo_msgs::GetJointProperties::Request& req, gazebo_msgs::GetJointProperties::Response& res);
-  bool applyJointEffort(gazebo_msgs::ApplyJointEffort::Request& req, gazebo_msgs::ApplyJointEffort::Response& res);
+  // With the caller's name: lock-step says whom it waits for.
+  bool applyJointEffort(
+      ros::ServiceEvent<gazebo_msgs::ApplyJointEffort::Request, gazebo_msgs::ApplyJointEffort::Response>& event);
   bool setJointProperties(gazebo_msgs::SetJointProperties::Request& req,
                           gazebo_msgs::SetJointProperties::Response& res);
   bool clearJointForces(gazebo_msgs::JointRequest::Request& req, gazebo_msgs::JointRequest::Response& res);
@@ -130,6 +141,9 @@ class GazeboApi {
                      dynamic_reconfigure::Reconfigure::Response& res);
   dynamic_reconfigure::Config physicsConfig();
   bool pausePhysics(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  // /gazebo/step_simulation: served on its own thread (step_spinner_), as it holds its caller
+  // until the loop has done the steps, while the other services go on being served.
+  bool stepSimulation(StepSimulation::Request& req, StepSimulation::Response& res);
   bool unpausePhysics(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool resetSimulation(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool resetWorld(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
@@ -145,10 +159,16 @@ class GazeboApi {
 
   // Guarded by mutex_.
   std::mutex mutex_;
-  std::condition_variable unpaused_;
+  std::condition_variable wake_loop_;  // unpaused, steps requested, a controller's command
+  std::condition_variable steps_done_;
   World world_;
   bool paused_;
   double max_update_rate_;
+  Lockstep lockstep_;
+  struct StepRequest {
+    bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
+    uint64_t remaining = 0;
+  } step_request_;
   std::atomic<int> waiting_callbacks_{0};
 
   // Step-loop state (only the loop thread touches these).
@@ -169,6 +189,9 @@ class GazeboApi {
   std::vector<ros::ServiceServer> services_;
   std::vector<ros::Subscriber> subscribers_;
   ros::AsyncSpinner spinner_;
+  ros::CallbackQueue step_queue_;
+  ros::ServiceServer step_service_;
+  ros::AsyncSpinner step_spinner_;
 };
 
 }  // namespace onedof_sim

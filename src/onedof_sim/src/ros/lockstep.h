@@ -1,0 +1,75 @@
+// Lock-step between the simulator and the controllers that command it through apply_joint_effort.
+//
+// A controller in the book's shape samples the joint at its own period of sim time and commands
+// a torque for that period (an effort job of one period's duration). Free-running, the world
+// goes on whether or not the next command has come, so a busy machine changes the results. In
+// lock-step the world stops where a lock-stepped joint's effort runs out and waits, up to a
+// wall-clock timeout, for that joint's next apply_joint_effort: each controller acts on every one
+// of its periods, whatever its rate (100 Hz and 10 ms jobs, 1 kHz and 1 ms jobs) and however many
+// controllers there are (each joint is waited for on its own). The controllers need no change.
+//
+// Which joints are lock-stepped: every joint that receives an effort job of finite duration (a
+// controller joins with its first command, so a world with no controller advances as ever). A
+// joint the world gave up on after the timeout is left out until its next command.
+//
+// Not thread-safe: the owner calls it under the lock it holds around the world.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <onedof_sim/world.h>
+
+namespace onedof_sim {
+
+class Lockstep {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  struct Options {
+    bool enabled = false;
+    Clock::duration timeout = std::chrono::seconds(5);
+  };
+
+  // A joint the world waits for, and who commanded it last.
+  struct Awaited {
+    std::string joint;
+    std::string caller;
+  };
+
+  explicit Lockstep(const Options& options);
+
+  bool enabled() const { return options_.enabled; }
+  Clock::duration timeout() const { return options_.timeout; }
+
+  // An accepted apply_joint_effort at sim time now_ns. Returns true when the joint joins the
+  // lock-step with it (for the owner to say so once). A job that lasts until cleared never runs
+  // out: it does not join. A command at time 0 does not make the world wait for the next one: ROS
+  // clients have no valid time before the first nonzero /clock and sleep a whole period from the
+  // first time they see, so their next command comes after that job's end.
+  bool heard(const std::string& joint, const std::string& caller, bool until_cleared,
+             int64_t now_ns);
+
+  // The lock-stepped joints with no effort acting in the step that starts at t_ns.
+  std::vector<Awaited> awaited(const World& world, int64_t t_ns) const;
+
+  // The world gave up waiting for these: they are left out until they command again.
+  void giveUp(const std::vector<Awaited>& joints);
+
+  // reset_simulation: every joint leaves; controllers join again with their next command.
+  void reset() { joints_.clear(); }
+
+ private:
+  struct Joint {
+    std::string caller;
+    bool waited_for = true;  // false after a timeout or a command at time 0, until the next one
+  };
+
+  Options options_;
+  std::map<std::string, Joint> joints_;
+};
+
+}  // namespace onedof_sim
