@@ -6,6 +6,7 @@ that does not exist yet (it warns and retries), a non-finite command (ignored) a
 back (reset_simulation, a restarted simulator).
 """
 import math
+import time
 
 import rospy
 from sensor_msgs.msg import JointState
@@ -21,6 +22,8 @@ APPLY_JOINT_EFFORT = '/gazebo/apply_joint_effort'
 WARN_PERIOD = 5.0
 # Wall seconds between checks for shutdown while waiting for the simulator's services.
 SERVICE_WAIT_SLICE = 1.0
+# Wall seconds between checks for the first /clock.
+CLOCK_WAIT_SLICE = 0.005
 # Errors of a service call whose cause is the connection (simulator gone or restarted).
 CONNECTION_ERRORS = (rospy.ServiceException, rospy.exceptions.TransportException, OSError)
 
@@ -77,9 +80,19 @@ class MinimalJointController:
                           msg.data, self.pos_cmd)
             return
         self.pos_cmd = msg.data
+        # The book's controller prints this line; it also tells a script driving the simulator
+        # step by step (on /rosout) that the command is in before the next period.
+        rospy.loginfo('received value of pos_cmd is: %f', msg.data)
 
     def run(self):
         """Controls until shutdown (rospy.ROSInterruptException then)."""
+        # Sim time is 0 until the first /clock: a rate started then would keep a grid of periods
+        # from 0 while its first sleep counts from the first time seen, and the periods would
+        # not start where the commanded efforts end (what a lock-stepped simulator waits at).
+        while rospy.Time.now().is_zero():
+            if rospy.is_shutdown():
+                raise rospy.ROSInterruptException('shutdown before the first /clock')
+            time.sleep(CLOCK_WAIT_SLICE)
         # reset=True: when ROS time jumps back the rate restarts from the new time instead of
         # raising ROSTimeMovedBackwardsException.
         rate = rospy.Rate(self.rate, reset=True)
@@ -136,7 +149,10 @@ class MinimalJointController:
 
         self._pos_pub.publish(Float64(position))
         self._vel_pub.publish(Float64(rate))
-        joint_state = JointState(name=[self.joint_name], position=[position], velocity=[rate])
+        # Stamped with the sample's sim time, and with the torque commanded for the period: the
+        # one topic that says when each sample was taken (the Float64 topics cannot).
+        joint_state = JointState(name=[self.joint_name], position=[position], velocity=[rate],
+                                 effort=[torque])
         joint_state.header.stamp = now
         self._joint_state_pub.publish(joint_state)
         self._trq_pub.publish(Float64(torque))
@@ -156,7 +172,8 @@ USAGE = '''usage: rosrun minimal_joint_controller minimal_joint_controller [_kp:
 
 The tutorial's PD joint controller: reads the joint through /gazebo/get_joint_properties, applies
 Kp * wrap(pos_cmd - q) - Kv * rate through /gazebo/apply_joint_effort for one period, at _rate Hz of
-ROS time; listens on pos_cmd, publishes jnt_pos, jnt_vel, jnt_trq and joint_states.'''
+ROS time; listens on pos_cmd, publishes jnt_pos, jnt_vel, jnt_trq and joint_states (stamped, with the torque
+as effort).'''
 
 
 def main():

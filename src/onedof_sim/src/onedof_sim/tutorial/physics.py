@@ -112,7 +112,9 @@ def tail_mean(times, values, window=0.5):
     """Mean of the values over the last `window` seconds of the samples."""
     if not times:
         raise ValueError('no samples')
-    tail = [v for t, v in zip(times, values) if t >= times[-1] - window]
+    # A sample on the window's edge counts whatever the rounding of its time: two runs whose
+    # times differ by an offset then average the same samples.
+    tail = [v for t, v in zip(times, values) if t >= times[-1] - window - 1e-9]
     return sum(tail) / len(tail)
 
 

@@ -3,6 +3,14 @@ look at. The steps are the tutorial's: launch the simulator with the robot, run 
 command 1.0 then 2.0, bring the arm upright (0), insert the cafe table at x = 0.85, command 2.5.
 Each phase lasts a fixed span of sim time; the recorder keeps every sample for the plots, the CSV
 and the per-phase figures.
+
+By default the simulator runs in lock-step with the controller (it waits for the controller's
+command at the end of every period) and the player advances it phase by phase with
+/gazebo/step_simulation, each command taken before its phase starts: the figures are the
+physics' alone, the same on every run however busy the machine. The controller's first period
+runs on its initial command 0, before the player has commanded anything, and it starts after one
+period of the arm at rest (sim time 0 is no valid time to a ROS node): the phases start at 0.02 s. With free_run the simulator paces itself at a real-time factor and the
+controller samples it over the network as a real robot would be, missed periods included.
 """
 import collections
 import json
@@ -31,7 +39,19 @@ PHASES = (
     Phase('table_2.5', 2.5, SPAWN_TABLE),
 )
 DEFAULT_TIME_STEP = 0.001  # the simulators' default step, s
+CONTROL_PERIOD = 0.01      # minimal_joint_controller's default 100 Hz
+CONTROLLER_NODE = '/minimal_joint_controller'
+JOINT = 'joint1'
+# Wall seconds the lock-stepped simulator waits for a silent controller: far beyond any period's
+# work on a loaded machine, so that it never gives up on a live controller; a dead one is
+# noticed by its exit.
+LOCKSTEP_TIMEOUT = 30
 RECORDED_TOPICS = ('pos_cmd', 'jnt_pos', 'jnt_vel', 'jnt_trq')
+
+
+def seconds(ns):
+    """Seconds from integer nanoseconds, rounded as rospy's Time.to_sec() rounds them."""
+    return float(ns // 1000000000) + float(ns % 1000000000) / 1e9
 
 
 def say(text):
@@ -39,21 +59,36 @@ def say(text):
 
 
 class Recorder:
-    """Keeps (sim time, value) of every recorded std_msgs/Float64 topic, stamped on reception."""
+    """Keeps (sim time, value) of what the tutorial plots: pos_cmd as the player commands it, and
+    jnt_pos, jnt_vel and jnt_trq from the controller's joint_states (position, velocity, effort),
+    each at the sim time its sample was taken (the header stamp: the Float64 topics carry no time,
+    and the time of reception says nothing when the simulator runs faster than real time)."""
 
     def __init__(self, rospy):
-        from std_msgs.msg import Float64
-        self.rospy = rospy
+        from sensor_msgs.msg import JointState
         self.samples = {topic: [] for topic in RECORDED_TOPICS}
-        self.subscribers = [rospy.Subscriber('/' + topic, Float64, self._on_sample,
-                                             callback_args=topic, queue_size=1000)
-                            for topic in RECORDED_TOPICS]
+        self.subscriber = rospy.Subscriber('/joint_states', JointState, self._on_joint_state,
+                                           queue_size=100000)
 
-    def connected(self, topic):
-        return self.subscribers[RECORDED_TOPICS.index(topic)].get_num_connections() > 0
+    def connected(self):
+        return self.subscriber.get_num_connections() > 0
 
-    def _on_sample(self, msg, topic):
-        self.samples[topic].append((self.rospy.get_time(), msg.data))
+    def _on_joint_state(self, msg):
+        if JOINT not in msg.name:
+            return
+        index = msg.name.index(JOINT)
+        t = msg.header.stamp.to_sec()
+        for topic, values in (('jnt_pos', msg.position), ('jnt_vel', msg.velocity),
+                              ('jnt_trq', msg.effort)):
+            if index < len(values):
+                self.samples[topic].append((t, values[index]))
+
+    def command(self, t, value):
+        self.samples['pos_cmd'].append((t, value))
+
+    def latest(self):
+        """Sim time of the newest joint sample (-inf before the first)."""
+        return self.samples['jnt_pos'][-1][0] if self.samples['jnt_pos'] else -math.inf
 
     def between(self, topic, start, end):
         return [(t, v) for t, v in self.samples[topic] if start <= t < end]
@@ -68,6 +103,42 @@ class Recorder:
                                         start, end)
             series[topic] = ([t - origin for t in times], values)
         return series
+
+
+class Rosout:
+    """The log lines of some nodes (/rosout): the controller's for each command it takes, the
+    simulator's when a controller joins the lock-step. They tell the player when to go on."""
+
+    COMMAND_TAKEN = 'received value of pos_cmd is: '
+    JOINED = 'lock-step: %s is commanded by %s' % (JOINT, CONTROLLER_NODE)
+
+    def __init__(self, rospy):
+        from rosgraph_msgs.msg import Log
+        self.lines = []
+        self.subscriber = rospy.Subscriber('/rosout', Log, self._on_log, queue_size=1000)
+
+    def connected(self, node):
+        """Whether the node's /rosout reaches this subscriber."""
+        return any(getattr(connection, 'callerid_pub', None) == node
+                   for connection in list(self.subscriber.impl.connections))
+
+    def _on_log(self, msg):
+        self.lines.append((msg.name, msg.msg))
+
+    def commands_taken(self):
+        return [float(line[len(self.COMMAND_TAKEN):]) for node, line in list(self.lines)
+                if node == CONTROLLER_NODE and line.startswith(self.COMMAND_TAKEN)]
+
+    def wait_for_command_taken(self, value, taken_before, timeout=60):
+        def taken():
+            commands = self.commands_taken()
+            return len(commands) > taken_before and abs(commands[-1] - value) < 1e-9
+        wait_until(taken, timeout, what='the controller to log that it took pos_cmd %g' % value)
+
+    def wait_for_join(self, timeout=60):
+        wait_until(lambda: any(node == '/gazebo' and line.startswith(self.JOINED)
+                               for node, line in list(self.lines)), timeout,
+                   what='the controller to join the lock-step')
 
 
 def free_display():
@@ -164,12 +235,16 @@ def is_blank(png_path):
     return result.returncode != 0 or result.stdout.strip() in ('', '1')
 
 
-def phase_summary(phase, recorder, start, end):
+def phase_summary(phase, recorder, start, end, lockstep):
     positions = recorder.between('jnt_pos', start, end)
     torques = recorder.between('jnt_trq', start, end)
     if len(positions) < 2 or len(torques) < 2:
         raise RuntimeError('phase %s recorded %d positions and %d torques: is the controller '
                            'running?' % (phase.name, len(positions), len(torques)))
+    periods = round((end - start) / CONTROL_PERIOD)
+    if lockstep and len(positions) != periods:
+        raise RuntimeError('phase %s recorded %d samples in lock-step, not one per period (%d)'
+                           % (phase.name, len(positions), periods))
     metrics = physics.step_metrics([t for t, _ in positions], [q for _, q in positions],
                                    start_value=positions[0][1])
     metrics['holding_torque'] = physics.tail_mean([t for t, _ in torques], [u for _, u in torques])
@@ -196,8 +271,9 @@ SUMMARY_COLUMNS = (
     ('predicted torque (N m)', 'predicted_torque', '%.3f'), ('met the table', 'met_table', '%s'))
 
 
-def summary_markdown(rows, physics_engine):
-    lines = ['# Tutorial summary (%s engine)' % physics_engine, '',
+def summary_markdown(rows, physics_engine, free_run=False):
+    lines = ['# Tutorial summary (%s engine, %s)'
+             % (physics_engine, 'free-running' if free_run else 'lock-step'), '',
              'Predicted: where Kp (c - q) + m g d sin q = 0; with the table, the angle at which '
              'the link first touches the table top. Settling: within 0.02 rad of the settled '
              'angle. Times are sim time.', '',
@@ -208,9 +284,93 @@ def summary_markdown(rows, physics_engine):
     return '\n'.join(lines) + '\n'
 
 
-def play(output, physics_engine, phase_duration=5.0, screenshot=True,
+class LockstepRun:
+    """Advances the lock-stepped simulator phase by phase: each command is published while the
+    world stands, taken by the controller (its log line), then the world steps through the phase
+    and answers once the controller has acted at the phase's end. A phase is the periods in which
+    the controller holds its command: from the period after the world stood to the one at the
+    phase's end, times in integer nanoseconds so that every run draws the same edges."""
+
+    def __init__(self, rospy, recorder, pos_cmd):
+        from onedof_sim.srv import StepSimulation
+        from gazebo_msgs.srv import GetPhysicsProperties
+        self.rospy = rospy
+        self.recorder = recorder
+        self.pos_cmd = pos_cmd
+        self.rosout = Rosout(rospy)
+        self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation)
+        self.time_step = rospy.ServiceProxy('/gazebo/get_physics_properties',
+                                            GetPhysicsProperties)().time_step
+        self.now_ns = 0
+        self.period_ns = int(round(CONTROL_PERIOD * 1e9))
+
+    def before_controller(self):
+        wait_until(lambda: self.rosout.connected('/gazebo'), 60, what='the simulator\'s /rosout')
+        # One period without a controller (the arm upright and at rest, no torque): ROS clients
+        # have no valid time at sim time 0, so the controller starts on a time the world holds.
+        self.now_ns = self.step(int(round(CONTROL_PERIOD / self.time_step)))
+
+    def start(self):
+        # The controller's first period, on its initial command: with it the controller joins
+        # the lock-step (the simulator says so), and the world waits for it from then on.
+        self.rosout.wait_for_join()
+        wait_until(lambda: self.rosout.connected(CONTROLLER_NODE), 60,
+                   what='the controller\'s /rosout')
+
+    def step(self, steps):
+        say('rosservice call /gazebo/step_simulation "steps: %d"' % steps)
+        reply = self.step_service(steps)
+        if not reply.success:
+            raise RuntimeError('step_simulation: ' + reply.status_message)
+        return reply.sim_time.to_nsec()
+
+    def phase(self, command, duration):
+        """Runs one phase; returns its (start, end) in sim time."""
+        taken_before = len(self.rosout.commands_taken())
+        self.pos_cmd.publish(self.pos_cmd.data_class(command))
+        self.rosout.wait_for_command_taken(command, taken_before)
+        start = seconds(self.now_ns + self.period_ns)
+        self.recorder.command(start, command)
+        self.now_ns = self.step(int(round(duration / self.time_step)))
+        end = seconds(self.now_ns + self.period_ns)
+        # Every sample of the phase is in once the one taken at its end is.
+        wait_until(lambda: self.recorder.latest() >= seconds(self.now_ns), 60,
+                   what='the controller\'s samples up to %.2f s' % seconds(self.now_ns))
+        return start, end
+
+
+class FreeRun:
+    """Lets the simulator run at its pace; a phase is the sim time between a command and the end
+    of its duration, as a student lives it."""
+
+    def __init__(self, rospy, recorder, pos_cmd):
+        self.rospy = rospy
+        self.recorder = recorder
+        self.pos_cmd = pos_cmd
+
+    def before_controller(self):
+        pass
+
+    def start(self):
+        from std_srvs.srv import Empty
+        say('rosservice call /gazebo/unpause_physics')
+        self.rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
+        wait_until(lambda: self.recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
+
+    def phase(self, command, duration):
+        start = self.rospy.get_time()
+        self.pos_cmd.publish(self.pos_cmd.data_class(command))
+        self.recorder.command(start, command)
+        end = start + duration
+        wait_until(lambda: self.rospy.get_time() >= end, duration * 20 + 30,
+                   what='%.0f s of sim time' % duration)
+        return start, end
+
+
+def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=False,
          real_time_factor=1.0):
-    """Plays the tutorial; returns the per-phase summary rows. Raises with the reason on failure."""
+    """Plays the tutorial, in lock-step unless free_run (then paced at real_time_factor); returns
+    the per-phase summary rows. Raises with the reason on failure."""
     from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
     log_dir = os.path.join(output, 'logs')
@@ -224,8 +384,11 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         # engine holds exactly and the other loses to round-off before a late controller starts.
         launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
                   'physics:=' + physics_engine, 'paused:=true']
-        if real_time_factor != 1.0:
-            launch.append('max_update_rate:=%g' % (real_time_factor / DEFAULT_TIME_STEP))
+        if free_run:
+            if real_time_factor != 1.0:
+                launch.append('max_update_rate:=%g' % (real_time_factor / DEFAULT_TIME_STEP))
+        else:
+            launch += ['lockstep:=true', 'lockstep_timeout:=%g' % LOCKSTEP_TIMEOUT]
         say(' '.join(launch))
         ros.start(launch, name='launch_simulator')
         os.environ.update(ros.env)
@@ -241,22 +404,18 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
         if rviz:
             rviz.wait_until_up()
-        say('rosrun minimal_joint_controller minimal_joint_controller')
-        recorder = Recorder(rospy)
-        ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
-                  name='controller')
-        # Paused, sim time stands still, so the controller's first sample may come before this
-        # subscription connects and the next only after unpausing: wait for the connection and
-        # for the controller's persistent service connections (one per service on the sim).
-        wait_until(lambda: recorder.connected('jnt_pos') and recorder.connected('jnt_trq'), 60,
-                   what='the controller to publish jnt_pos and jnt_trq')
-        say('rosservice call /gazebo/unpause_physics')
-        from std_srvs.srv import Empty
-        rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
-        wait_until(lambda: recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
-
         from std_msgs.msg import Float64
         pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+        recorder = Recorder(rospy)
+        run = (FreeRun if free_run else LockstepRun)(rospy, recorder, pos_cmd)
+        run.before_controller()
+        say('rosrun minimal_joint_controller minimal_joint_controller')
+        ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
+                  name='controller')
+        # Paused, sim time stands still: wait for the controller's topics before it runs.
+        wait_until(lambda: recorder.connected() and pos_cmd.get_num_connections() > 0, 60,
+                   what='the controller to publish joint_states and subscribe pos_cmd')
+        run.start()
         rows = []
         for phase in PHASES:
             if phase.before:
@@ -267,14 +426,13 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
                                                             result.stdout, result.stderr))
             say('rostopic pub pos_cmd std_msgs/Float64 %.1f   (%.0f s of sim time)'
                 % (phase.command, phase_duration))
-            start = rospy.get_time()
-            pos_cmd.publish(Float64(phase.command))
-            end = start + phase_duration
-            wait_until(lambda: rospy.get_time() >= end, phase_duration * 20 + 30,
-                       what='%.0f s of sim time' % phase_duration)
-            row = phase_summary(phase, recorder, start, end)
-            say('  settled at %.4f rad (predicted %.4f), holding %.3f N m'
-                % (row['settled'], row['predicted'], row['holding_torque']))
+            phase_wall = time.monotonic()
+            start, end = run.phase(phase.command, phase_duration)
+            row = phase_summary(phase, recorder, start, end, lockstep=not free_run)
+            say('  settled at %.4f rad (predicted %.4f), holding %.3f N m; %.1f s of sim time '
+                'in %.1f s of wall time' % (row['settled'], row['predicted'],
+                                            row['holding_torque'], end - start,
+                                            time.monotonic() - phase_wall))
             rows.append(row)
             plot.write_figure(
                 recorder.series(start, end, origin=start),
@@ -288,13 +446,14 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
         plot.write_figure(recorder.series(origin=t0), os.path.join(output, 'tutorial.png'),
                           title='The whole tutorial (%s)' % physics_engine,
-                          xlabel='sim time (s)', until=rospy.get_time() - t0)
+                          xlabel='sim time (s)', until=end - t0)
         rospy.signal_shutdown('tutorial finished')
-    summary = summary_markdown(rows, physics_engine)
+    summary = summary_markdown(rows, physics_engine, free_run)
     with open(os.path.join(output, 'summary.md'), 'w') as f:
         f.write(summary)
     with open(os.path.join(output, 'summary.json'), 'w') as f:
-        json.dump({'physics': physics_engine, 'phases': rows}, f, indent=1)
+        json.dump({'physics': physics_engine, 'lockstep': not free_run, 'phases': rows}, f,
+                  indent=1)
     print(summary)
     say('done in %.1f s of wall time; outputs in %s' % (time.monotonic() - wall_start, output))
     return rows
