@@ -34,6 +34,8 @@ SERVICE_TYPES = {
     'set_joint_properties': 'SetJointProperties', 'set_link_properties': 'SetLinkProperties',
     'get_light_properties': 'GetLightProperties', 'set_light_properties': 'SetLightProperties',
     'delete_light': 'DeleteLight',
+    # The simulator's own service beyond Gazebo's.
+    'step_simulation': 'onedof_sim/StepSimulation',
 }
 
 # A free box (SDF), 0.2 m cube of 1 kg, for the model and link state services.
@@ -89,10 +91,12 @@ class GazeboApi:
         if name not in SERVICE_TYPES:
             raise AttributeError(name)
         if name not in self._proxies:
-            import gazebo_msgs.srv
-            import std_srvs.srv
+            import importlib
             type_name = SERVICE_TYPES[name]
-            module = std_srvs.srv if type_name == 'Empty' else gazebo_msgs.srv
+            package = 'std_srvs' if type_name == 'Empty' else 'gazebo_msgs'
+            if '/' in type_name:
+                package, type_name = type_name.split('/')
+            module = importlib.import_module(package + '.srv')
             service = self._namespace + '/' + name
             self._rospy.wait_for_service(service, timeout=60)
             # Persistent: one connection, so that a call costs well under a millisecond.

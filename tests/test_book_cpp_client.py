@@ -6,9 +6,10 @@ scratch overlay on this workspace's devel as a student builds it, and run agains
 The build takes seconds (one source file), so each engine's test builds its own overlay: under
 pytest-forked no fixture outlives its test.
 
-The simulator runs at a quarter of real time: the client runs free against the simulator's clock,
-and on a busy machine a period it misses leaves the link without torque for 10 ms, so it droops a
-little further than the closed form. A quarter speed gives it four times the wall time per period.
+The simulator runs in lock-step at the tutorial's real-time factor 1: it waits for the client's
+command at the end of every period, so the client misses none however busy the machine, and its
+rest angle is the physics' to the last micro-radian: that of the rospy controller on the same
+simulator, and that of the in-process run of the tutorial's controller law.
 """
 import os
 import shutil
@@ -20,16 +21,14 @@ from api_client import GazeboApi
 from conftest import WORKSPACE, start_sim
 from onedof_sim.private_ros import wait_until
 from onedof_sim.tutorial import physics
-from test_controller import Topic
 
 PACKAGE = 'book_cpp_client'
-QUARTER_SPEED = ['_max_update_rate:=250']
+LOCKSTEP = ['_lockstep:=true']
 COMMAND = 1.0
-SETTLE_WINDOW = 1.0  # s of sim time the link must stay within SETTLE_BAND to count as settled
-SETTLE_BAND = 0.01
-# The closed form neglects nothing but missed periods; a missed period or two moves the rest
-# position by millirad.
-TOLERANCE = 0.02
+# Sim seconds from the command to the reading: the step response decays as exp(-Kv t / 2 I), to
+# well under 1e-7 rad in 5 s.
+SETTLE_S = 5.0
+SAME = 1e-6  # rad
 
 
 def build_overlay(tmp_path):
@@ -54,40 +53,59 @@ def sim_time_client(ros, request):
     return request.getfixturevalue('rospy_client')
 
 
-def test_book_shaped_cpp_controller_holds_the_link_where_gravity_balances_the_gain(
+def rest_angle(ros, api, sim, pos_cmd, command, controller, name):
+    """Starts the controller on the running lock-stepped simulator, spawns the robot once the
+    controller looks for joint1, commands `command` and returns joint1's angle SETTLE_S of sim time
+    later, as the simulator reads it. Then removes the robot, resets the simulation and stops the
+    controller."""
+    proc = ros.start(controller, name=name)
+    wait_until(lambda: proc.poll() is not None or pos_cmd.get_num_connections() > 0, 60,
+               what='%s to subscribe to pos_cmd' % name)
+    wait_until(lambda: proc.poll() is not None or 'cannot read joint' in ros.log_text(proc),
+               60, what='%s to look for joint1' % name)
+    assert proc.poll() is None, ros.log_text(proc)
+    api.spawn_robot()
+    pos_cmd.publish(pos_cmd.data_class(command))
+    wait_until(lambda: 'received value of pos_cmd is: %f' % command in ros.log_text(proc), 60,
+               what='%s to take the command' % name)
+    end = api.sim_time_ns() + SETTLE_S * 1e9
+    wait_until(lambda: proc.poll() is not None or api.sim_time_ns() >= end, 300,
+               what='%g s of sim time' % SETTLE_S)
+    assert proc.poll() is None, name + ' exited:\n' + ros.log_text(proc)
+    q = api.get_joint_properties('joint1').position[0]
+    # Lock-stepped all along: the simulator took it in and never had to go on without it.
+    log = ros.log_text(sim)
+    assert 'lock-step: joint1 is commanded by /%s' % name in log, log
+    assert 'the world waited' not in log, log
+    # Without the robot the controller has nothing to command: the world does not wait for it.
+    api.delete_model('one_DOF_robot')
+    api.reset_simulation()
+    ros.terminate(proc)
+    return q
+
+
+def in_process_rest_angle(engine):
+    """The tutorial's first phase on the core with no ROS in between (the cross-validation's run)."""
+    from onedof_sim.reference.cross_validation import ToolEngine, settled
+    return settled(ToolEngine(engine).scenario(), 0)
+
+
+def test_book_shaped_cpp_controller_rests_where_the_rospy_controller_does(
         ros, engine, sim_time_client, tmp_path):
-    from std_msgs.msg import Float64
     rospy = sim_time_client
     setup = build_overlay(tmp_path)
-    start_sim(ros, engine, QUARTER_SPEED)
-    jnt_pos = Topic(rospy, '/jnt_pos', Float64)
-    pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
-    client = ros.start(['bash', '-c', 'source %s && rosrun %s book_controller' % (setup, PACKAGE)],
-                       name='book_controller')
-    # Controlling before the robot exists, so the upright link is held from the first period.
-    wait_until(lambda: client.poll() is not None or pos_cmd.get_num_connections() > 0, 60,
-               what='the C++ client to subscribe to pos_cmd')
-    wait_until(lambda: client.poll() is not None or 'cannot read joint1' in ros.log_text(client),
-               60, what='the C++ client to look for joint1')
-    assert client.poll() is None, ros.log_text(client)
+    sim = start_sim(ros, engine, LOCKSTEP)
     api = GazeboApi(rospy)
-    api.spawn_robot()
-    start = rospy.get_time()
-    pos_cmd.publish(Float64(COMMAND))
-
-    def settled():
-        assert client.poll() is None, 'client exited:\n' + ros.log_text(client)
-        tail = jnt_pos.steady_tail(start, SETTLE_WINDOW, SETTLE_BAND)
-        if not tail or max(q for _, q in tail) < COMMAND:
-            return None
-        return sum(q for _, q in tail) / len(tail)
-
-    q = wait_until(settled, 300, interval=0.2,
-                   what='jnt_pos to settle within %g rad for %g s of sim time'
-                   % (SETTLE_BAND, SETTLE_WINDOW))
-    expected = physics.settled_angle(COMMAND)
-    assert q == pytest.approx(expected, abs=TOLERANCE), \
-        'settled at %.4f rad, Kp (c - q) + m g d sin q = 0 gives %.4f' % (q, expected)
-    # The simulator's own reading, not only what the client says it read.
-    assert api.get_joint_properties('joint1').position[0] == pytest.approx(expected,
-                                                                           abs=TOLERANCE)
+    from std_msgs.msg import Float64
+    pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+    q_cpp = rest_angle(ros, api, sim, pos_cmd, COMMAND,
+                       ['bash', '-c', 'source %s && rosrun %s book_controller' % (setup, PACKAGE)],
+                       'book_controller')
+    pos_cmd.publish(Float64(0.0))
+    q_rospy = rest_angle(ros, api, sim, pos_cmd, COMMAND,
+                         ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
+                         'minimal_joint_controller')
+    reference = in_process_rest_angle(engine)
+    assert abs(q_cpp - q_rospy) < SAME, (q_cpp, q_rospy)
+    assert abs(q_cpp - reference) < SAME, (q_cpp, reference)
+    assert q_cpp == pytest.approx(physics.settled_angle(COMMAND), abs=1e-4)

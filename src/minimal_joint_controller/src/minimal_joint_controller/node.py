@@ -28,6 +28,39 @@ CLOCK_WAIT_SLICE = 0.005
 CONNECTION_ERRORS = (rospy.ServiceException, rospy.exceptions.TransportException, OSError)
 
 
+def wait_until_time(target):
+    """Waits until ROS time reaches `target`; returns the time then (earlier than target when time
+    jumped back: reset_simulation, a restarted simulator).
+
+    rospy.Rate cannot be used here: it reads the time, then rospy.sleep reads it again and
+    sleeps a whole remainder from the second reading, so a clock that moves in between puts
+    the wake-up past the period (and past the end of the effort job a lock-stepped simulator
+    waits at); and it checks the time outside the clock's condition, so a clock message can slip
+    by unnoticed for half a second. Here the time is read under the condition the clock
+    callback notifies."""
+    start = rospy.Time.now()
+    if rospy.rostime.is_wallclock():
+        rospy.sleep(target - start)
+        return rospy.Time.now()
+    condition = rospy.rostime.get_rostime_cond()
+    with condition:
+        while not rospy.is_shutdown():
+            now = rospy.Time.now()
+            if now >= target or now < start:
+                return now
+            condition.wait(1.0)
+    raise rospy.ROSInterruptException('shutdown while waiting for the next period')
+
+
+def next_tick(tick, period, now):
+    """The next period's start: a period after `tick`, or `now` when time jumped back or the loop
+    fell more than a period behind (a free-running simulator outpacing it)."""
+    upcoming = tick + period
+    if now < tick or now - upcoming > period:
+        return now
+    return upcoming
+
+
 class ParameterError(ValueError):
     pass
 
@@ -93,14 +126,12 @@ class MinimalJointController:
             if rospy.is_shutdown():
                 raise rospy.ROSInterruptException('shutdown before the first /clock')
             time.sleep(CLOCK_WAIT_SLICE)
-        # reset=True: when ROS time jumps back the rate restarts from the new time instead of
-        # raising ROSTimeMovedBackwardsException.
-        rate = rospy.Rate(self.rate, reset=True)
+        tick = rospy.Time.now()
         while not rospy.is_shutdown():
             if self._get_properties is None:
                 self._connect()
             self.control_once()
-            rate.sleep()
+            tick = next_tick(tick, self.period, wait_until_time(tick + self.period))
 
     def _connect(self):
         """Waits for both services and opens persistent connections to them."""

@@ -83,6 +83,9 @@ class PrivateRos:
             self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_HOSTNAME='127.0.0.1',
                             ROS_LOG_DIR=self.log_dir, ROS_HOME=self.log_dir)
             self.env.pop('ROS_IP', None)
+            # Each log line reaches the log file when it is written (C++ and Python nodes buffer
+            # stdout into a file otherwise): waits on a node's log see what it has said.
+            self.env.update(ROSCONSOLE_STDOUT_LINE_BUFFERED='1', PYTHONUNBUFFERED='1')
             self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
             try:
                 wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)

@@ -637,6 +637,7 @@ struct GazeboApi::StepOutput {
   bool stepped = false;
   bool on_request = false;     // a step of step_simulation: not paced
   bool publish_clock = false;  // whatever pub_clock_frequency says: the world stops here
+  bool hold_clock = false;     // lock-stepped controllers' efforts run: only stops are published
   bool resumed = false;  // the pacing must restart (after a pause or a rate change)
   int64_t time_ns = 0;
   double max_update_rate = 0;
@@ -795,8 +796,14 @@ void GazeboApi::stepOnce(StepOutput* out) {
   out->max_update_rate = max_update_rate_;
   // Where the world stops (the last requested step, or a controller's effort running out in
   // lock-step), its time must reach the clients even when /clock is throttled: they wait for it.
-  out->publish_clock = (requested && step_request_.remaining == 0) ||
-                       (lockstep_.enabled() && !lockstep_.awaited(world_, out->time_ns).empty());
+  // While lock-stepped controllers' efforts run, only those stops are published: roscpp's and
+  // rospy's rates read the clock twice (sleep for a remainder counted from the second reading),
+  // and a clock that moves between the two readings puts their wake-up past the stop they are
+  // waited for at. Held still between stops, it cannot move there.
+  const bool stop = (requested && step_request_.remaining == 0) ||
+                    (lockstep_.enabled() && !lockstep_.awaited(world_, out->time_ns).empty());
+  out->publish_clock = stop;
+  out->hold_clock = !stop && lockstep_.enabled() && lockstep_.holding();
 
   const bool states_due = isDue(out->time_ns, last_states_ns_, states_publish_frequency_);
   if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
@@ -852,7 +859,8 @@ bool GazeboApi::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput*
 
 void GazeboApi::publish(const StepOutput& out) {
   refreshClockFrequency();
-  if (out.publish_clock || isDue(out.time_ns, last_clock_ns_, clock_frequency_)) {
+  if (out.publish_clock ||
+      (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
     last_clock_ns_ = out.time_ns;
     rosgraph_msgs::Clock clock;
     clock.clock.fromNSec(uint64_t(out.time_ns));

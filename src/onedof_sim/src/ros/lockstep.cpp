@@ -31,6 +31,12 @@ std::vector<Lockstep::Awaited> Lockstep::awaited(const World& world, int64_t t_n
   return out;
 }
 
+bool Lockstep::holding() const {
+  for (const auto& entry : joints_)
+    if (entry.second.waited_for) return true;
+  return false;
+}
+
 void Lockstep::giveUp(const std::vector<Awaited>& joints) {
   for (const Awaited& awaited : joints) {
     auto found = joints_.find(awaited.joint);

@@ -56,6 +56,9 @@ class Lockstep {
   // The lock-stepped joints with no effort acting in the step that starts at t_ns.
   std::vector<Awaited> awaited(const World& world, int64_t t_ns) const;
 
+  // Whether any joint is lock-stepped now.
+  bool holding() const;
+
   // The world gave up waiting for these: they are left out until they command again.
   void giveUp(const std::vector<Awaited>& joints);
 

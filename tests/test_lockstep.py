@@ -1,0 +1,102 @@
+"""Step control (/gazebo/step_simulation) and lock-step (~lockstep) on every engine, over real ROS.
+
+The book-shaped C++ client under lock-step is in test_book_cpp_client.py, the rospy controller in
+test_controller.py, the tutorial's figures in test_tutorial.py.
+"""
+import re
+
+import pytest
+
+from api_client import GazeboApi
+from conftest import start_sim
+from onedof_sim.private_ros import wait_until
+
+STEP_NS = 1000000  # the default 1 ms step
+
+
+@pytest.fixture
+def api(ros, engine, rospy_client):
+    return GazeboApi(rospy_client)
+
+
+def test_step_simulation_advances_exactly_n_steps_paused_or_not(ros, engine, api):
+    start_sim(ros, engine, ['_paused:=true'])
+    reply = api.step_simulation(7)
+    assert reply.success, reply.status_message
+    assert (reply.sim_time.to_nsec(), reply.iterations) == (7 * STEP_NS, 7)
+    assert api.sim_time_ns() == 7 * STEP_NS
+    reply = api.step_simulation(0)
+    assert (reply.sim_time.to_nsec(), reply.iterations) == (7 * STEP_NS, 7)
+
+    # Running: the world pauses where it is, then steps exactly N more, and stays paused.
+    api.unpause_physics()
+    wait_until(lambda: api.sim_time_ns() > 50 * STEP_NS, 30, what='the world to run')
+    reply = api.step_simulation(25)
+    assert reply.success, reply.status_message
+    assert reply.sim_time.to_nsec() == reply.iterations * STEP_NS
+    paused_at = reply.iterations - 25
+    assert paused_at > 50
+    assert api.sim_time_ns() == reply.sim_time.to_nsec()
+    assert api.step_simulation(1000).iterations == paused_at + 25 + 1000
+    assert api.get_world_properties().sim_time == pytest.approx((paused_at + 1025) * 1e-3, abs=1e-9)
+
+
+def test_step_simulation_from_the_command_line(ros, engine, api):
+    start_sim(ros, engine, ['_paused:=true'])
+    result = ros.run(['rosservice', 'call', '/gazebo/step_simulation', 'steps: 250'])
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert 'success: True' in result.stdout
+    assert re.search(r'secs: 0\s+nsecs: +250000000', result.stdout), result.stdout
+    assert 'iterations: 250' in result.stdout
+    assert api.sim_time_ns() == 250 * STEP_NS
+
+
+def test_lockstep_world_without_controllers_advances(ros, engine, api):
+    start_sim(ros, engine, ['_lockstep:=true'])
+    api.spawn_robot()
+    wait_until(lambda: api.sim_time_ns() > 500 * STEP_NS, 30, what='the world to run')
+
+
+def test_lockstep_waits_where_the_effort_runs_out_then_says_whom_it_waited_for(
+        ros, engine, api, rospy_client):
+    sim = start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=1'])
+    api.spawn_robot()
+    api.step_simulation(10)
+    # One 20 ms job from this node: the world runs to its end and waits there for the next one.
+    res = api.apply_joint_effort('joint1', 0.5, rospy_client.Time(0),
+                                 rospy_client.Duration.from_sec(0.02))
+    assert res.success, res.status_message
+    api.unpause_physics()
+    caller = rospy_client.get_name()
+    wait_until(lambda: 'the world waited 1 s (wall) at sim time 0.030 s for apply_joint_effort on '
+               'joint1 (last commanded by %s)' % caller in ros.log_text(sim), 30,
+               what='the lock-step timeout warning')
+    log = ros.log_text(sim)
+    assert 'lock-step: joint1 is commanded by %s' % caller in log
+    # Then it goes on without the silent controller, and says so once.
+    wait_until(lambda: api.sim_time_ns() > 100 * STEP_NS, 30, what='the world to go on')
+    assert ros.log_text(sim).count('the world waited') == 1
+
+
+def test_lockstep_step_simulation_answers_once_the_controller_acted(ros, engine, api,
+                                                                     rospy_client):
+    """The step reply comes only when the lock-stepped joint has its command for the time
+    reached: here this test is the controller, and it commands in the reply's absence from
+    another thread."""
+    import threading
+    start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=30'])
+    api.spawn_robot()
+    api.step_simulation(10)
+    period = rospy_client.Duration.from_sec(0.01)
+    assert api.apply_joint_effort('joint1', 0.1, rospy_client.Time(0), period).success
+    replies = []
+    stepping = threading.Thread(target=lambda: replies.append(api.step_simulation(15)))
+    stepping.start()
+    # The world stops at 0.020 s, where the job ends, until the next command.
+    wait_until(lambda: api.sim_time_ns() == 20 * STEP_NS, 30, what='the world at 0.020 s')
+    assert not replies
+    commander = GazeboApi(rospy_client)
+    assert commander.apply_joint_effort('joint1', 0.1, rospy_client.Time(0), period).success
+    wait_until(lambda: api.sim_time_ns() == 25 * STEP_NS, 30, what='the world at 0.025 s')
+    stepping.join(30)
+    assert replies and replies[0].sim_time.to_nsec() == 25 * STEP_NS
