@@ -51,8 +51,7 @@ def rospy_client(ros):
     import rospy
     if rospy.core.is_initialized():
         pytest.fail('rospy is already initialised in this process: run pytest with --forked')
-    os.environ.update(ROS_MASTER_URI=ros.master_uri, ROS_HOSTNAME='127.0.0.1',
-                      ROS_LOG_DIR=ros.log_dir, ROS_HOME=ros.log_dir)
+    ros.adopt_environment()
     rospy.init_node('test_client', anonymous=True, disable_signals=True)
     yield rospy
     rospy.signal_shutdown('test finished')

@@ -3,6 +3,10 @@
 Tests, the tutorial player and the benchmarks all run their nodes here, so they can run side by
 side and never touch a user's roscore on 11311. Every process gets its own process group, and
 stop() ends them all (SIGINT first, as roslaunch does, then SIGKILL), also after a failure.
+
+Every process listens on one address only, loopback unless told otherwise: ROS_IP is that address
+(ROS_HOSTNAME, which would override it, is dropped), and bind_to_ros_ip.c is preloaded, because
+ROS 1 binds its XML-RPC servers to every interface whatever ROS_IP says.
 """
 import os
 import signal
@@ -51,10 +55,34 @@ def wait_until(condition, timeout, interval=0.05, what='condition'):
         time.sleep(interval)
 
 
-class PrivateRos:
-    """Context manager: a roscore on a free port plus every process started through start()."""
+BIND_LIBRARY = 'libonedof_bind_to_ros_ip.so'
 
-    def __init__(self, log_dir=None, use_sim_time=None):
+
+def bind_library():
+    """The path of the preloaded bind library, from the workspace's library path (devel/lib)."""
+    for directory in os.environ.get('LD_LIBRARY_PATH', '').split(os.pathsep):
+        path = os.path.join(directory, BIND_LIBRARY)
+        if directory and os.path.exists(path):
+            return path
+    raise RuntimeError('%s is not on LD_LIBRARY_PATH: build the workspace and source its '
+                       'devel/setup.bash' % BIND_LIBRARY)
+
+
+def listening_environment(address):
+    """The variables that make a ROS process advertise `address` and listen on it only."""
+    preload = os.environ.get('LD_PRELOAD', '').split()
+    library = bind_library()
+    if library not in preload:
+        preload.append(library)
+    return {'ROS_IP': address, 'LD_PRELOAD': ' '.join(preload)}
+
+
+class PrivateRos:
+    """Context manager: a roscore on a free port plus every process started through start().
+    address is the one every process listens on and advertises."""
+
+    def __init__(self, log_dir=None, use_sim_time=None, address='127.0.0.1'):
+        self.address = address
         self.log_dir = log_dir or tempfile.mkdtemp(prefix='onedof_ros_')
         os.makedirs(self.log_dir, exist_ok=True)
         self.port = None
@@ -64,7 +92,7 @@ class PrivateRos:
 
     @property
     def master_uri(self):
-        return 'http://127.0.0.1:%d' % self.port
+        return 'http://%s:%d' % (self.address, self.port)
 
     def __enter__(self):
         self.start_master()
@@ -80,9 +108,9 @@ class PrivateRos:
         failures = []
         for _ in range(attempts):
             self.port = free_port()
-            self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_HOSTNAME='127.0.0.1',
-                            ROS_LOG_DIR=self.log_dir, ROS_HOME=self.log_dir)
-            self.env.pop('ROS_IP', None)
+            self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_LOG_DIR=self.log_dir,
+                            ROS_HOME=self.log_dir, **listening_environment(self.address))
+            self.env.pop('ROS_HOSTNAME', None)
             self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
             try:
                 wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)
@@ -110,6 +138,12 @@ class PrivateRos:
         if code != 1 or not is_descendant(pid, self.roscore.pid):
             raise PortTaken('port %d answers for another ROS master (pid %s)' % (self.port, pid))
         return True
+
+    def adopt_environment(self):
+        """Points this process at the graph (before rospy.init_node here): the graph's variables,
+        and no ROS_HOSTNAME of the user's, which would override ROS_IP."""
+        os.environ.pop('ROS_HOSTNAME', None)
+        os.environ.update(self.env)
 
     def master(self):
         return xmlrpc.client.ServerProxy(self.master_uri)

@@ -228,7 +228,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
             launch.append('max_update_rate:=%g' % (real_time_factor / DEFAULT_TIME_STEP))
         say(' '.join(launch))
         ros.start(launch, name='launch_simulator')
-        os.environ.update(ros.env)
+        ros.adopt_environment()
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)
         from gazebo_msgs.srv import GetModelState
