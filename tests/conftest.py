@@ -26,10 +26,9 @@ def pytest_runtest_makereport(item, call):
     setattr(item, 'report_' + report.when, report)
 
 
-@pytest.fixture
-def ros(request, tmp_path):
-    """A private roscore on a free port; stops every process it started."""
-    graph = PrivateRos(log_dir=str(tmp_path / 'ros'))
+def running_graph(request, graph):
+    """Starts graph's roscore and yields graph; at the end stops every process it started, and
+    prints their logs if the test failed. For fixtures: `yield from running_graph(...)`."""
     graph.start_master()
     try:
         yield graph
@@ -43,6 +42,12 @@ def ros(request, tmp_path):
                 if name.endswith('.log'):
                     text = graph.log_text(name[:-4])
                     sys.stderr.write('----- %s (last 3000 chars) -----\n%s\n' % (name, text[-3000:]))
+
+
+@pytest.fixture
+def ros(request, tmp_path):
+    """A private roscore on a free port; stops every process it started."""
+    yield from running_graph(request, PrivateRos(log_dir=str(tmp_path / 'ros')))
 
 
 @pytest.fixture

@@ -9,9 +9,9 @@ import ipaddress
 import os
 import socket
 
-import psutil
 import pytest
 
+from listening import WILDCARD, listening_sockets, process_tree
 from onedof_sim.private_ros import wait_until
 from onedof_sim.tutorial.player import RvizView
 
@@ -21,36 +21,6 @@ def networked_shell(monkeypatch):
     """The shell of a user whose ROS talks to other machines: ROS_HOSTNAME names this one."""
     monkeypatch.setenv('ROS_HOSTNAME', socket.gethostname())
     monkeypatch.delenv('ROS_IP', raising=False)
-
-
-def program(cmdline):
-    """The program a command line runs: the script for a Python interpreter."""
-    words = [os.path.basename(word) for word in cmdline]
-    if words[0].startswith('python'):
-        words = [word for word in words[1:] if not word.startswith('-')]
-    return words[0]
-
-
-def bound_sockets(pid):
-    """(program, protocol, address) of every listening TCP socket and bound UDP socket of pid and
-    its descendants."""
-    sockets = []
-    try:
-        root = psutil.Process(pid)
-        processes = [root] + root.children(recursive=True)
-    except psutil.NoSuchProcess:
-        return sockets
-    for process in processes:
-        try:
-            name = program(process.cmdline())
-            for connection in process.connections(kind='inet'):
-                if connection.type == socket.SOCK_STREAM and connection.status == psutil.CONN_LISTEN:
-                    sockets.append((name, 'tcp', connection.laddr.ip))
-                elif connection.type == socket.SOCK_DGRAM and connection.laddr:
-                    sockets.append((name, 'udp', connection.laddr.ip))
-        except psutil.NoSuchProcess:
-            continue
-    return sockets
 
 
 def test_the_tutorial_nodes_listen_on_loopback_only(networked_shell, ros, rospy_client, tmp_path):
@@ -68,11 +38,13 @@ def test_the_tutorial_nodes_listen_on_loopback_only(networked_shell, ros, rospy_
     ros.start(['rostopic', 'pub', 'pos_cmd', 'std_msgs/Float64', '1.0'], name='pos_cmd')
     wait_until(lambda: positions, 60, what='jnt_pos from the controller')
 
-    sockets = [s for proc in ros.processes for s in bound_sockets(proc.pid)]
-    sockets += bound_sockets(os.getpid())  # this process's rospy, as the player's own node
-    programs = {name for name, _, _ in sockets}
+    # This process's rospy stands for the player's own node.
+    ours = set.union({os.getpid()}, *(process_tree(proc.pid) for proc in ros.processes))
+    sockets = [s for s in listening_sockets() if s.pid in ours]
+    programs = {s.program for s in sockets}
     for expected in ('rosmaster', 'rosout', 'roslaunch', 'onedof_sim', 'robot_state_publisher',
                      'rviz', 'minimal_joint_controller', 'rostopic', 'pytest'):
         assert expected in programs, 'no socket of %s found among %s' % (expected, sorted(programs))
-    exposed = [s for s in sockets if not ipaddress.ip_address(s[2]).is_loopback]
-    assert not exposed, 'listening beyond loopback: %s' % sorted(set(exposed))
+    exposed = {(s.program, s.protocol, s.address) for s in sockets
+               if s.address == WILDCARD or not ipaddress.ip_address(s.address).is_loopback}
+    assert not exposed, 'listening beyond loopback: %s' % sorted(exposed)
