@@ -24,6 +24,19 @@ def free_port():
         return sock.getsockname()[1]
 
 
+class TimeoutTransport(xmlrpc.client.Transport):
+    """XML-RPC over HTTP that gives up on a server silent for `timeout` s."""
+
+    def __init__(self, timeout):
+        super().__init__()
+        self.timeout = timeout
+
+    def make_connection(self, host):
+        connection = super().make_connection(host)
+        connection.timeout = self.timeout
+        return connection
+
+
 class PortTaken(Exception):
     """The port chosen for the roscore answers for another program, or the roscore could not bind it."""
 
@@ -56,6 +69,10 @@ def wait_until(condition, timeout, interval=0.05, what='condition'):
 
 
 BIND_LIBRARY = 'libonedof_bind_to_ros_ip.so'
+# How long a call to the roscore may take (s): rosmaster answers in milliseconds, seconds on a
+# loaded machine; a port held by a program that never answers must not hang us.
+MASTER_TIMEOUT = 60
+ANSWER_TIMEOUT = 2  # per try while waiting for our roscore to answer: the wait retries
 
 
 def bind_library():
@@ -130,9 +147,11 @@ class PrivateRos:
             raise PortTaken('roscore on port %d exited with %s' % (self.port,
                                                                    self.roscore.returncode))
         try:
-            code, _, pid = self.master().getPid('/private_ros')
+            code, _, pid = self.master(timeout=ANSWER_TIMEOUT).getPid('/private_ros')
         except OSError:
-            return False  # nothing listens on the port yet
+            # Nothing listens on the port yet, or something that does has not answered: roscore
+            # exits when it cannot bind the port, which the next poll sees.
+            return False
         except (xmlrpc.client.Error, ExpatError) as answer:
             raise PortTaken('port %d answers for another program: %s' % (self.port, answer))
         if code != 1 or not is_descendant(pid, self.roscore.pid):
@@ -145,8 +164,8 @@ class PrivateRos:
         os.environ.pop('ROS_HOSTNAME', None)
         os.environ.update(self.env)
 
-    def master(self):
-        return xmlrpc.client.ServerProxy(self.master_uri)
+    def master(self, timeout=MASTER_TIMEOUT):
+        return xmlrpc.client.ServerProxy(self.master_uri, transport=TimeoutTransport(timeout))
 
     def set_param(self, name, value):
         self.master().setParam('/private_ros', name, value)
