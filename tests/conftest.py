@@ -26,10 +26,9 @@ def pytest_runtest_makereport(item, call):
     setattr(item, 'report_' + report.when, report)
 
 
-@pytest.fixture
-def ros(request, tmp_path):
-    """A private roscore on a free port; stops every process it started."""
-    graph = PrivateRos(log_dir=str(tmp_path / 'ros'))
+def running_graph(request, graph):
+    """Starts graph's roscore and yields graph; at the end stops every process it started, and
+    prints their logs if the test failed. For fixtures: `yield from running_graph(...)`."""
     graph.start_master()
     try:
         yield graph
@@ -46,13 +45,18 @@ def ros(request, tmp_path):
 
 
 @pytest.fixture
+def ros(request, tmp_path):
+    """A private roscore on a free port; stops every process it started."""
+    yield from running_graph(request, PrivateRos(log_dir=str(tmp_path / 'ros')))
+
+
+@pytest.fixture
 def rospy_client(ros):
     """rospy initialised as a node of the private graph (one per forked test process)."""
     import rospy
     if rospy.core.is_initialized():
         pytest.fail('rospy is already initialised in this process: run pytest with --forked')
-    os.environ.update(ROS_MASTER_URI=ros.master_uri, ROS_HOSTNAME='127.0.0.1',
-                      ROS_LOG_DIR=ros.log_dir, ROS_HOME=ros.log_dir)
+    ros.adopt_environment()
     rospy.init_node('test_client', anonymous=True, disable_signals=True)
     yield rospy
     rospy.signal_shutdown('test finished')

@@ -1,6 +1,7 @@
 """The workspace as a new user meets it: idempotent set-up, commands that resolve to our packages
 under a Python that can import rospy, clean package manifests, and a docker/ that only wraps what
 these tests exercise."""
+import ipaddress
 import os
 import re
 import shlex
@@ -10,7 +11,7 @@ import pytest
 import yaml
 
 from conftest import WORKSPACE
-from onedof_sim.private_ros import wait_until
+from onedof_sim.private_ros import BIND_LIBRARY, wait_until
 
 DEVEL = next(p for p in os.environ['CMAKE_PREFIX_PATH'].split(':')
              if os.path.isfile(os.path.join(p, '.catkin')))
@@ -79,27 +80,36 @@ def test_dockerfile_runs_the_make_targets_ci_runs():
         make_dry_run(target)  # raises if the target does not exist
 
 
-def compose_services():
+def compose():
     with open(os.path.join(WORKSPACE, 'docker', 'compose.yaml')) as f:
-        return yaml.safe_load(f)['services']
+        return yaml.safe_load(f)
 
 
-def test_compose_wires_every_node_to_the_roscore_service():
-    services = compose_services()
-    assert set(services) == {'roscore', 'simulator', 'controller'}
-    for name, service in services.items():
-        assert service['environment'] == {'ROS_MASTER_URI': 'http://roscore:11311',
-                                          'ROS_HOSTNAME': name}
-        assert service['networks'] == ['ros']
+def test_compose_is_the_two_hosts_set_up():
+    """docker/compose.yaml puts the simulator and the controller where tests/test_two_hosts.py
+    puts them: one network, ROS_MASTER_URI at the sim service, ROS_IP each its own address, and
+    the bind library (built in the image's workspace) preloaded."""
+    from test_two_hosts import CONTROLLER_ADDRESS, PREFIX_LENGTH, SIM_ADDRESS
+    with open(os.path.join(WORKSPACE, 'docker', 'Dockerfile')) as f:
+        workdir = re.search(r'^WORKDIR (\S+)', f.read(), re.M).group(1)
+    services = compose()['services']
+    assert set(services) == {'sim', 'controller'}
+    for name, address in (('sim', SIM_ADDRESS), ('controller', CONTROLLER_ADDRESS)):
+        assert services[name]['networks'] == {'ros': {'ipv4_address': address}}
+        assert services[name]['environment'] == {
+            'ROS_MASTER_URI': 'http://%s:11311' % SIM_ADDRESS, 'ROS_IP': address,
+            'LD_PRELOAD': os.path.join(workdir, 'devel', 'lib', BIND_LIBRARY)}
+    subnet = ipaddress.ip_network('%s/%d' % (SIM_ADDRESS, PREFIX_LENGTH), strict=False)
+    assert compose()['networks']['ros']['ipam']['config'][0]['subnet'] == str(subnet)
 
 
 def test_compose_services_commands_bring_up_the_controlled_robot(ros, rospy_client):
     """Runs the simulator and controller services' commands as compose would, against a private
-    roscore (the container's roscore and host names replaced by this graph's)."""
+    roscore (the compose file's addresses replaced by this graph's)."""
     rospy = rospy_client
     from std_msgs.msg import Float64
-    for name in ('simulator', 'controller'):
-        command = compose_services()[name]['command']
+    for name in ('sim', 'controller'):
+        command = compose()['services'][name]['command']
         assert command[:2] == ['bash', '-c']
         ros.start(['bash', '-c', command[2]], name='compose_' + name)
     positions = []

@@ -1,6 +1,9 @@
 """The private roscore never takes someone else's port for its own (issue 12, finding 1): the port
 it chose can be taken between choosing and binding it."""
 import os
+import socket
+import subprocess
+import sys
 import threading
 import xmlrpc.server
 
@@ -64,3 +67,44 @@ def test_it_says_what_happened_when_no_port_works(monkeypatch, tmp_path):
     finally:
         graph.stop()
         server.shutdown()
+
+
+def bound_address(family, wildcard, address):
+    """Where a child process with the graph's listening environment for `address` binds when it
+    asks for the wildcard address."""
+    script = ('import socket; s = socket.socket(socket.%s); s.bind((%r, 0)); '
+              'print(s.getsockname()[0])' % (family, wildcard))
+    env = dict(os.environ, **private_ros.listening_environment(address))
+    return subprocess.run([sys.executable, '-c', script], env=env, capture_output=True,
+                          text=True, check=True).stdout.strip()
+
+
+def test_a_wildcard_bind_binds_the_graphs_address_instead():
+    assert bound_address('AF_INET', '0.0.0.0', '127.0.0.1') == '127.0.0.1'
+    assert bound_address('AF_INET6', '::', '127.0.0.1') == '::ffff:127.0.0.1'
+    assert bound_address('AF_INET6', '::', '::1') == '::1'
+
+
+def test_a_bind_to_a_named_address_is_left_alone():
+    assert bound_address('AF_INET', '127.0.0.2', '127.0.0.1') == '127.0.0.2'
+
+
+def test_a_port_held_by_a_program_that_never_answers_is_left_for_another(monkeypatch, tmp_path):
+    """A listener that accepts connections (its backlog does) but never replies: waiting for its
+    answer must not hang the roscore's start."""
+    silent = socket.socket()
+    silent.bind(('127.0.0.1', 0))
+    silent.listen(16)
+    ports_taken_first(monkeypatch, [silent.getsockname()[1]])
+    graph = PrivateRos(log_dir=str(tmp_path))
+    started = threading.Thread(target=graph.start_master, daemon=True)
+    try:
+        started.start()
+        started.join(timeout=120)
+        assert not started.is_alive(), 'start_master still waits for the silent port'
+        assert graph.port != silent.getsockname()[1]
+        _, _, pid = graph.master().getPid('/test')
+        assert is_descendant(pid, graph.roscore.pid)
+    finally:
+        graph.stop()
+        silent.close()

@@ -3,6 +3,10 @@
 Tests, the tutorial player and the benchmarks all run their nodes here, so they can run side by
 side and never touch a user's roscore on 11311. Every process gets its own process group, and
 stop() ends them all (SIGINT first, as roslaunch does, then SIGKILL), also after a failure.
+
+Every process listens on one address only, loopback unless told otherwise: ROS_IP is that address
+(ROS_HOSTNAME, which would override it, is dropped), and bind_to_ros_ip.c is preloaded, because
+ROS 1 binds its XML-RPC servers to every interface whatever ROS_IP says.
 """
 import os
 import signal
@@ -18,6 +22,19 @@ def free_port():
     with socket.socket() as sock:
         sock.bind(('127.0.0.1', 0))
         return sock.getsockname()[1]
+
+
+class TimeoutTransport(xmlrpc.client.Transport):
+    """XML-RPC over HTTP that gives up on a server silent for `timeout` s."""
+
+    def __init__(self, timeout):
+        super().__init__()
+        self.timeout = timeout
+
+    def make_connection(self, host):
+        connection = super().make_connection(host)
+        connection.timeout = self.timeout
+        return connection
 
 
 class PortTaken(Exception):
@@ -51,10 +68,38 @@ def wait_until(condition, timeout, interval=0.05, what='condition'):
         time.sleep(interval)
 
 
-class PrivateRos:
-    """Context manager: a roscore on a free port plus every process started through start()."""
+BIND_LIBRARY = 'libonedof_bind_to_ros_ip.so'
+# How long a call to the roscore may take (s): rosmaster answers in milliseconds, seconds on a
+# loaded machine; a port held by a program that never answers must not hang us.
+MASTER_TIMEOUT = 60
+ANSWER_TIMEOUT = 2  # per try while waiting for our roscore to answer: the wait retries
 
-    def __init__(self, log_dir=None, use_sim_time=None):
+
+def bind_library():
+    """The path of the preloaded bind library, from the workspace's library path (devel/lib)."""
+    for directory in os.environ.get('LD_LIBRARY_PATH', '').split(os.pathsep):
+        path = os.path.join(directory, BIND_LIBRARY)
+        if directory and os.path.exists(path):
+            return path
+    raise RuntimeError('%s is not on LD_LIBRARY_PATH: build the workspace and source its '
+                       'devel/setup.bash' % BIND_LIBRARY)
+
+
+def listening_environment(address):
+    """The variables that make a ROS process advertise `address` and listen on it only."""
+    preload = os.environ.get('LD_PRELOAD', '').split()
+    library = bind_library()
+    if library not in preload:
+        preload.append(library)
+    return {'ROS_IP': address, 'LD_PRELOAD': ' '.join(preload)}
+
+
+class PrivateRos:
+    """Context manager: a roscore on a free port plus every process started through start().
+    address is the one every process listens on and advertises."""
+
+    def __init__(self, log_dir=None, use_sim_time=None, address='127.0.0.1'):
+        self.address = address
         self.log_dir = log_dir or tempfile.mkdtemp(prefix='onedof_ros_')
         os.makedirs(self.log_dir, exist_ok=True)
         self.port = None
@@ -64,7 +109,7 @@ class PrivateRos:
 
     @property
     def master_uri(self):
-        return 'http://127.0.0.1:%d' % self.port
+        return 'http://%s:%d' % (self.address, self.port)
 
     def __enter__(self):
         self.start_master()
@@ -80,9 +125,9 @@ class PrivateRos:
         failures = []
         for _ in range(attempts):
             self.port = free_port()
-            self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_HOSTNAME='127.0.0.1',
-                            ROS_LOG_DIR=self.log_dir, ROS_HOME=self.log_dir)
-            self.env.pop('ROS_IP', None)
+            self.env = dict(os.environ, ROS_MASTER_URI=self.master_uri, ROS_LOG_DIR=self.log_dir,
+                            ROS_HOME=self.log_dir, **listening_environment(self.address))
+            self.env.pop('ROS_HOSTNAME', None)
             # Each log line reaches the log file when it is written (C++ and Python nodes buffer
             # stdout into a file otherwise): waits on a node's log see what it has said.
             self.env.update(ROSCONSOLE_STDOUT_LINE_BUFFERED='1', PYTHONUNBUFFERED='1')
@@ -105,17 +150,25 @@ class PrivateRos:
             raise PortTaken('roscore on port %d exited with %s' % (self.port,
                                                                    self.roscore.returncode))
         try:
-            code, _, pid = self.master().getPid('/private_ros')
+            code, _, pid = self.master(timeout=ANSWER_TIMEOUT).getPid('/private_ros')
         except OSError:
-            return False  # nothing listens on the port yet
+            # Nothing listens on the port yet, or something that does has not answered: roscore
+            # exits when it cannot bind the port, which the next poll sees.
+            return False
         except (xmlrpc.client.Error, ExpatError) as answer:
             raise PortTaken('port %d answers for another program: %s' % (self.port, answer))
         if code != 1 or not is_descendant(pid, self.roscore.pid):
             raise PortTaken('port %d answers for another ROS master (pid %s)' % (self.port, pid))
         return True
 
-    def master(self):
-        return xmlrpc.client.ServerProxy(self.master_uri)
+    def adopt_environment(self):
+        """Points this process at the graph (before rospy.init_node here): the graph's variables,
+        and no ROS_HOSTNAME of the user's, which would override ROS_IP."""
+        os.environ.pop('ROS_HOSTNAME', None)
+        os.environ.update(self.env)
+
+    def master(self, timeout=MASTER_TIMEOUT):
+        return xmlrpc.client.ServerProxy(self.master_uri, transport=TimeoutTransport(timeout))
 
     def set_param(self, name, value):
         self.master().setParam('/private_ros', name, value)

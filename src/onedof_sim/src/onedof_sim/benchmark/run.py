@@ -203,7 +203,7 @@ class Bench:
         self.failed_calls = 0  # roscpp calls that got no answer, in the latency item
         self.notes = []
         self.results = {}
-        os.environ.update(ros.env)
+        ros.adopt_environment()
         import rospy
         self.rospy = rospy
         # Before any simulator sets /use_sim_time: this process keeps wall time and reads sim

@@ -391,7 +391,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
             launch += ['lockstep:=true', 'lockstep_timeout:=%g' % LOCKSTEP_TIMEOUT]
         say(' '.join(launch))
         ros.start(launch, name='launch_simulator')
-        os.environ.update(ros.env)
+        ros.adopt_environment()
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)
         from gazebo_msgs.srv import GetModelState

@@ -1,0 +1,51 @@
+"""The main job and the tests listen on loopback only (issue 12, finding 11): the tutorial's nodes,
+started through PrivateRos as the player starts them, bind no TCP or UDP socket to the wildcard or
+to an external address, even when the user's shell names the machine in ROS_HOSTNAME.
+
+ROS 1 exposes a node with no authentication: anyone who reaches its XML-RPC port can shut it down,
+and anyone who reaches the simulator's services can move or spawn models.
+"""
+import ipaddress
+import os
+import socket
+
+import pytest
+
+from listening import WILDCARD, listening_sockets, process_tree
+from onedof_sim.private_ros import wait_until
+from onedof_sim.tutorial.player import RvizView
+
+
+@pytest.fixture
+def networked_shell(monkeypatch):
+    """The shell of a user whose ROS talks to other machines: ROS_HOSTNAME names this one."""
+    monkeypatch.setenv('ROS_HOSTNAME', socket.gethostname())
+    monkeypatch.delenv('ROS_IP', raising=False)
+
+
+def test_the_tutorial_nodes_listen_on_loopback_only(networked_shell, ros, rospy_client, tmp_path):
+    rospy = rospy_client
+    from std_msgs.msg import Float64
+    ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch'],
+              name='launch_simulator')
+    ros.wait_for_service('/gazebo/get_model_state', 60)
+    rviz = RvizView(ros, str(tmp_path))
+    rviz.wait_until_up()
+    ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
+              name='controller')
+    positions = []
+    rospy.Subscriber('/jnt_pos', Float64, lambda msg: positions.append(msg.data))
+    ros.start(['rostopic', 'pub', 'pos_cmd', 'std_msgs/Float64', '1.0'], name='pos_cmd')
+    wait_until(lambda: positions, 60, what='jnt_pos from the controller')
+
+    # This process's rospy stands for the player's own node.
+    ours = set.union({os.getpid()}, *(process_tree(proc.pid) for proc in ros.processes))
+    sockets = [s for s in listening_sockets() if s.pid in ours]
+    programs = {s.program for s in sockets}
+    for expected in ('rosmaster', 'rosout', 'roslaunch', 'onedof_sim', 'robot_state_publisher',
+                     'rviz', 'minimal_joint_controller', 'rostopic'):
+        assert expected in programs, 'no socket of %s found among %s' % (expected, sorted(programs))
+    assert os.getpid() in {s.pid for s in sockets}, 'no socket of this process\'s rospy found'
+    exposed = {(s.program, s.protocol, s.address) for s in sockets
+               if s.address == WILDCARD or not ipaddress.ip_address(s.address).is_loopback}
+    assert not exposed, 'listening beyond loopback: %s' % sorted(exposed)
