@@ -25,6 +25,9 @@ constexpr const char* kWorldLink = "world";
 // resolves 1e-10 there, far below the 1 mm contact layer, and the products an engine forms
 // (lever arm times force) stay far from overflow; no robot needs more room.
 constexpr double kMaxPosition = 1e6;
+// A collision shape's size, per dimension: a building or a field. A 1e6 m box on a 1 kg body
+// made ODE's contact solver abort the process (dxLDLTRemove).
+constexpr double kMaxShapeSize = 1e3;  // m
 // A link's mass: 0 (a massless link, carried by the link it is welded to) or 1 mg to 1000 t, a
 // small sensor part to a heavy machine; outside, the mass ratios at a joint leave the solver
 // without precision.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <ignition/math/Pose3.hh>
@@ -89,9 +90,14 @@ Status checkLimits(const ModelDescription& model) {
       return rejected(what + " has a mass of " + formatNumber(link.mass) +
                       " kg; a mass must be 0 or in [" + formatNumber(kMinMass) + ", " +
                       formatNumber(kMaxMass) + "] kg");
-    for (const CollisionDescription& collision : link.collisions)
-      if (!withinPosition(collision.pose.position) || !withinPosition(collision.size))
-        return rejected(what + ": collision '" + collision.name + "' reaches" + position_range);
+    for (const CollisionDescription& collision : link.collisions) {
+      const Vec3& size = collision.size;
+      if (!withinPosition(collision.pose.position))
+        return rejected(what + ": collision '" + collision.name + "' lies" + position_range);
+      if (std::max({size.x, size.y, size.z}) > kMaxShapeSize)
+        return rejected(what + ": collision '" + collision.name + "' is larger than " +
+                        formatNumber(kMaxShapeSize) + " m");
+    }
   }
   for (const JointDescription& joint : model.joints) {
     const std::string what = "joint '" + joint.name + "'";

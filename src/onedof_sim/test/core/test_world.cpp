@@ -1330,6 +1330,12 @@ TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
                                ModelFormat::Sdf, Pose()),
                    "invalid SDF");
   }
+  expectRejected(world.spawn("r",
+                             "<robot name=\"r\"><link name=\"a\">" + body +
+                                 "<collision><geometry><box size=\"1e6 1 1\"/></geometry>"
+                                 "</collision></link></robot>",
+                             ModelFormat::Urdf, Pose()),
+                 "link 'a': collision 'a_collision' is larger than 1000 m");
   expectRejected(world.spawn("r", "<sdf version=\"99\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
                              ModelFormat::Sdf, Pose()),
                  "version '99' is not one this libsdformat reads");
