@@ -848,11 +848,13 @@ struct World::Impl {
     for (const auto& model : models) {
       const bool blown = isBlownUp(*model);
       if (blown) holdAtSavedState(*model);
-      if (blown && (model->last_blow_up_warning_ns < 0 ||
-                    time_ns - model->last_blow_up_warning_ns >= 1000000000)) {
+      const bool stopped =
+          blown || std::count(newly_blown.begin(), newly_blown.end(), model.get()) > 0;
+      if (stopped && (model->last_blow_up_warning_ns < 0 ||
+                      time_ns - model->last_blow_up_warning_ns >= 1000000000)) {
         warn("model '" + model->name +
-             "' reached a non-finite state: it is held where the step started, at rest, while "
-             "the rest of the world runs on");
+             "' reached a non-finite state: it was stopped where the step started while the "
+             "rest of the world ran on");
         model->last_blow_up_warning_ns = time_ns;
       }
       model->blown_up = blown;
@@ -864,8 +866,7 @@ struct World::Impl {
       if (s.model == model.engine_model.get()) s.model->setBodyState(s.body, s.pose, Twist());
   }
 
-  // After the engine step: the models blown up are held where the step started (see stepEngine),
-  // and every model's speed is capped (see kMaxLinearSpeed and maxAngularSpeed), scaling all its
+  // After the engine step (stepEngine): every model's speed is capped (see kMaxLinearSpeed and maxAngularSpeed), scaling all its
   // bodies alike so that its joints stay consistent.
   void guardStates() {
     const double max_angular = maxAngularSpeed(params.step);
