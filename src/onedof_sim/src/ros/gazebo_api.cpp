@@ -566,6 +566,13 @@ bool readRate(const ros::NodeHandle& nh, const std::string& name, double* value,
   return true;
 }
 
+bool readMaxUpdateRate(const ros::NodeHandle& nh, double* value, std::string* error) {
+  if (!readRate(nh, "max_update_rate", value, error)) return false;
+  const std::string why = maxUpdateRateError(*value);
+  if (!why.empty()) *error = "parameter " + nh.resolveName("max_update_rate") + ": " + why;
+  return why.empty();
+}
+
 // ~gravity as a list [x, y, z] (rosparam, launch files) or a string "x y z" / "[x, y, z]" (what
 // _gravity:=... on the rosrun command line gives, as roscpp does not parse lists there).
 bool readGravity(const ros::NodeHandle& nh, Vec3* gravity, std::string* error) {
@@ -625,8 +632,7 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
   PhysicsParams& p = options->physics;
   if (!readParam(nh, "physics", &options->engine, error) ||
       !readParam(nh, "time_step", &p.step, error) ||
-      !readRate(nh, "max_update_rate", &options->max_update_rate, error) ||
-      !(*error = maxUpdateRateError(options->max_update_rate)).empty() ||
+      !readMaxUpdateRate(nh, &options->max_update_rate, error) ||
       !readParam(nh, "paused", &options->paused, error) ||
       !readGravity(nh, &p.gravity, error) ||
       !readParam(nh, "quick_step", &p.quick_step, error) ||
