@@ -3,6 +3,11 @@
 Run under pytest-forked (the Makefile passes --forked): each test runs in its own process, so it can
 init its own rospy node against its own roscore. Logs of every process a test started are printed
 when the test fails.
+
+A module whose tests only need a simulator in a known state takes `shared_sim` instead: one roscore
+and simulator per engine for all of the module's tests that a worker runs in a row (started in the
+worker before pytest-forked forks the test, so that it outlives each test); the module resets the
+world between tests.
 """
 import os
 import sys
@@ -50,14 +55,20 @@ def ros(request, tmp_path):
     yield from running_graph(request, PrivateRos(log_dir=str(tmp_path / 'ros')))
 
 
-@pytest.fixture
-def rospy_client(ros):
-    """rospy initialised as a node of the private graph (one per forked test process)."""
+def init_rospy(graph):
+    """rospy initialised as a node of `graph` (a PrivateRos), once per forked test process."""
     import rospy
     if rospy.core.is_initialized():
         pytest.fail('rospy is already initialised in this process: run pytest with --forked')
-    ros.adopt_environment()
+    graph.adopt_environment()
     rospy.init_node('test_client', anonymous=True, disable_signals=True)
+    return rospy
+
+
+@pytest.fixture
+def rospy_client(ros):
+    """rospy initialised as a node of the private graph (one per forked test process)."""
+    rospy = init_rospy(ros)
     yield rospy
     rospy.signal_shutdown('test finished')
 
@@ -81,3 +92,51 @@ def engine(request):
 def sim(ros, engine):
     """The simulator of each engine, running against the private roscore."""
     return start_sim(ros, engine)
+
+
+# --- one simulator per engine shared by a module's tests --------------------------------------
+
+# Started simulators by (module, engine), in this worker: {key: PrivateRos, or the start failure}.
+_shared_sims = {}
+
+
+def _shared_sim_key(item):
+    if item is None or 'shared_sim' not in getattr(item, 'fixturenames', ()):
+        return None
+    return item.module.__name__, item.callspec.params['engine']
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """Starts the shared simulator before the test is forked, and stops it once the worker's next
+    test needs another one (or none)."""
+    key = _shared_sim_key(item)
+    if key is not None and key not in _shared_sims:
+        graph = PrivateRos()
+        try:
+            graph.start_master()
+            start_sim(graph, key[1], getattr(item.module, 'SHARED_SIM_ARGS', ()))
+            _shared_sims[key] = graph
+        except Exception as failure:  # reported by the test's set-up, in shared_sim
+            graph.stop()
+            _shared_sims[key] = failure
+    yield
+    if key is not None and _shared_sim_key(nextitem) != key:
+        shared = _shared_sims.pop(key)
+        if isinstance(shared, PrivateRos):
+            shared.stop()
+
+
+@pytest.fixture
+def shared_sim(request, engine):
+    """The module's simulator of `engine` (args: the module's SHARED_SIM_ARGS), a PrivateRos; its
+    log is printed when the test fails."""
+    shared = _shared_sims.get(_shared_sim_key(request.node))
+    if not isinstance(shared, PrivateRos):
+        pytest.fail('the shared %s simulator did not start: %s' % (engine, shared))
+    yield shared
+    call = getattr(request.node, 'report_call', None)
+    if call is not None and call.failed:
+        for proc in shared.processes:
+            sys.stderr.write('----- %s (last 3000 chars) -----\n%s\n'
+                             % (proc.log_name, shared.log_text(proc)[-3000:]))

@@ -53,11 +53,18 @@ enum class StatusCode {
   LinkAnchored,            // subject: the link name asked for; it has no body to move or push
   LengthMismatch,          // joint names and positions differ in count
   InvalidParameter,        // subject: the field out of its range (see setParams, setLinkProperties)
+  // subject: the field ("twist.linear", "step", ...) or joint; [min, max] the accepted range, in
+  // the field's unit. A finite value past what a simulation can mean: refused before an engine
+  // overflows on it (see "Limits" in world.cpp).
+  OutOfRange,
+  InvalidModelName,        // subject: the name; it holds "::" or is "world" (scoped names)
+  TooManyJobs,             // subject: the joint or link; max: the jobs it may have pending
 };
 
 struct Status {
   StatusCode code = StatusCode::Ok;
   std::string subject;
+  double min = 0, max = 0;  // OutOfRange: the accepted range; TooManyJobs: max
   bool ok() const { return code == StatusCode::Ok; }
 };
 

@@ -16,6 +16,33 @@ namespace core {
 // reserved frame name).
 constexpr const char* kWorldLink = "world";
 
+// Limits: what the world accepts, from the physics of robots; the rest is refused up front (a
+// model with ModelRejected, a call with OutOfRange and the range). Every engine computes in
+// doubles, so a finite but absurd number (1e308) overflows inside the step, where ODE aborts the
+// process on the non-finite quaternion it makes.
+//
+// Positions, lengths and joint positions: 1000 km (or rad) from the origin. A double still
+// resolves 1e-10 there, far below the 1 mm contact layer, and the products an engine forms
+// (lever arm times force) stay far from overflow; no robot needs more room.
+constexpr double kMaxPosition = 1e6;
+// A collision shape's size, per dimension: a building or a field. A 1e6 m box on a 1 kg body
+// made ODE's contact solver abort the process (dxLDLTRemove).
+constexpr double kMaxShapeSize = 1e3;  // m
+// A link's mass: 0 (a massless link, carried by the link it is welded to) or 1 mg to 1000 t, a
+// small sensor part to a heavy machine; outside, the mass ratios at a joint leave the solver
+// without precision.
+constexpr double kMinMass = 1e-6, kMaxMass = 1e6;  // kg
+// Principal moments of inertia of a moving body: those of the masses above at 1 mm to 30 m
+// (m r^2). A vanishing moment gives an infinite angular acceleration.
+constexpr double kMinMoment = 1e-12, kMaxMoment = 1e9;  // kg m^2
+// Viscous damping and Coulomb friction of a joint (N m s/rad or N s/m; N m or N). The world
+// applies damping as an explicit effort, so a huge value only makes it unstable.
+constexpr double kMaxJointDamping = 1e6, kMaxJointFriction = 1e6;
+// Links per model. A humanoid has about 50, a long snake robot a few hundred; the world's
+// per-model bookkeeping grows with links times joints, and a 20000-link URDF spent 20000 nested
+// calls (the stack) before this limit.
+constexpr size_t kMaxModelLinks = 1000;
+
 struct CollisionDescription {
   std::string name;
   GeometryShape shape = GeometryShape::Box;

@@ -1,7 +1,9 @@
 // URDF (urdfdom) and SDF (libsdformat 12) to ModelDescription.
 #include <console_bridge/console.h>
+#include <cmath>
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <ignition/math/Pose3.hh>
@@ -19,18 +21,23 @@ namespace core {
 namespace {
 
 // urdfdom reports why it rejects a file only through console_bridge; this collects those lines so
-// that the spawn status can carry the parser's reason.
+// that the spawn status can carry the parser's reason. It also drops an element it cannot parse
+// (a box of size "nan 1 1") with an error line and returns the rest of the model, so an error
+// line is a refusal even when a model came back.
 class CapturedParserErrors : public console_bridge::OutputHandler {
  public:
   CapturedParserErrors() { console_bridge::useOutputHandler(this); }
   ~CapturedParserErrors() override { console_bridge::restorePreviousOutputHandler(); }
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) lines_ += (lines_.empty() ? "" : "; ") + text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) has_errors_ = true;
   }
   const std::string& text() const { return lines_; }
+  bool hasErrors() const { return has_errors_; }
 
  private:
   std::string lines_;
+  bool has_errors_ = false;
 };
 
 Pose toPose(const urdf::Pose& p) {
@@ -51,9 +58,65 @@ std::string collisionName(const std::string& given, const std::string& link, siz
   return link + "_collision" + (index == 0 ? "" : "_" + std::to_string(index));
 }
 
+std::string formatNumber(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+bool withinPosition(const Vec3& v) {
+  return std::abs(v.x) <= kMaxPosition && std::abs(v.y) <= kMaxPosition &&
+         std::abs(v.z) <= kMaxPosition;
+}
+
+// The Limits (model_description.h) on what a model file gives; finish() has checked finiteness
+// of the joints, checkShape that of the shapes.
+Status checkLimits(const ModelDescription& model) {
+  if (model.links.size() > kMaxModelLinks)
+    return rejected("the model has " + std::to_string(model.links.size()) + " links; at most " +
+                    std::to_string(kMaxModelLinks) + " are accepted");
+  const std::string position_range = " beyond " + formatNumber(kMaxPosition) + " m";
+  for (const LinkDescription& link : model.links) {
+    const std::string what = "link '" + link.name + "'";
+    if (!withinPosition(link.pose.position) || !withinPosition(link.com.position))
+      return rejected(what + " lies" + position_range + " of the model origin");
+    const double moments[] = {link.ixx, link.ixy, link.ixz, link.iyy, link.iyz, link.izz};
+    for (double moment : moments)
+      if (std::isfinite(moment) && std::abs(moment) > kMaxMoment)
+        return rejected(what + " has an inertia component of " + formatNumber(moment) +
+                        " kg m^2; at most " + formatNumber(kMaxMoment) + " is accepted");
+    if (link.has_inertial && std::isfinite(link.mass) && link.mass != 0 &&
+        (std::abs(link.mass) < kMinMass || link.mass > kMaxMass))
+      return rejected(what + " has a mass of " + formatNumber(link.mass) +
+                      " kg; a mass must be 0 or in [" + formatNumber(kMinMass) + ", " +
+                      formatNumber(kMaxMass) + "] kg");
+    for (const CollisionDescription& collision : link.collisions) {
+      const Vec3& size = collision.size;
+      if (!withinPosition(collision.pose.position))
+        return rejected(what + ": collision '" + collision.name + "' lies" + position_range);
+      if (std::max({size.x, size.y, size.z}) > kMaxShapeSize)
+        return rejected(what + ": collision '" + collision.name + "' is larger than " +
+                        formatNumber(kMaxShapeSize) + " m");
+    }
+  }
+  for (const JointDescription& joint : model.joints) {
+    const std::string what = "joint '" + joint.name + "'";
+    if (!withinPosition(joint.anchor)) return rejected(what + " lies" + position_range);
+    if (!(std::abs(joint.damping) <= kMaxJointDamping))
+      return rejected(what + " has a damping of " + formatNumber(joint.damping) + "; at most " +
+                      formatNumber(kMaxJointDamping) + " is accepted");
+    if (!(std::abs(joint.friction) <= kMaxJointFriction))
+      return rejected(what + " has a friction of " + formatNumber(joint.friction) +
+                      "; at most " + formatNumber(kMaxJointFriction) + " is accepted");
+  }
+  return {};
+}
+
 // Checks the kinematic tree shared by both formats and orders links parents first, which the
 // world relies on when it walks the tree.
 Status finish(ModelDescription* model) {
+  Status limits = checkLimits(*model);
+  if (!limits.ok()) return limits;
   std::map<std::string, size_t> link_index;
   for (size_t i = 0; i < model->links.size(); ++i) {
     const std::string& name = model->links[i].name;
@@ -68,6 +131,9 @@ Status finish(ModelDescription* model) {
       return rejected("duplicate joint '" + joint.name + "'");
     if (!link_index.count(joint.child))
       return rejected("joint '" + joint.name + "' has unknown child link '" + joint.child + "'");
+    if (joint.parent == joint.child)
+      return rejected("joint '" + joint.name + "' has link '" + joint.child +
+                      "' as both its parent and its child");
     if (joint.parent != kWorldLink && !link_index.count(joint.parent))
       return rejected("joint '" + joint.name + "' has unknown parent link '" + joint.parent +
                       "'");
@@ -214,12 +280,26 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* o
 Status parseUrdf(const std::string& xml, ModelDescription* out) {
   urdf::ModelInterfaceSharedPtr urdf;
   std::string parser_errors;
+  bool parser_has_errors = false;
   {
     CapturedParserErrors errors;
     urdf = urdf::parseURDF(xml);
     parser_errors = errors.text();
+    parser_has_errors = errors.hasErrors();
   }
   if (!urdf) return rejected("invalid URDF: " + (parser_errors.empty() ? "parse failed" : parser_errors));
+  if (parser_has_errors) return rejected("invalid URDF: " + parser_errors);
+  // Before the tree is walked: a walk is as deep as the tree.
+  const size_t links = urdf->links_.size() - urdf->links_.count(kWorldLink);
+  if (links > kMaxModelLinks)
+    return rejected("the model has " + std::to_string(links) + " links; at most " +
+                    std::to_string(kMaxModelLinks) + " are accepted");
+  // urdfdom keeps a joint whose parent is its child, and its link, out of the tree it builds; the
+  // walk from the root would drop both without a word.
+  for (const auto& [name, joint] : urdf->joints_)
+    if (joint->parent_link_name == joint->child_link_name)
+      return rejected("joint '" + name + "' has link '" + joint->child_link_name +
+                      "' as both its parent and its child");
   ModelDescription model;
   std::function<Status(const urdf::Link&, const Pose&)> visit = [&](const urdf::Link& link,
                                                                      const Pose& pose) {
@@ -235,6 +315,9 @@ Status parseUrdf(const std::string& xml, ModelDescription* out) {
   Status status = visit(*urdf->getRoot(), Pose());
   if (!status.ok()) return status;
   if (model.links.empty()) return rejected("the URDF has no link besides 'world'");
+  // Every link hangs from the root, or it was dropped (a loop of joints: urdfdom finds no root).
+  if (model.links.size() != links)
+    return rejected("the URDF's links do not form one tree from its root link");
   model.canonical_link = model.links.front().name;
   status = finish(&model);
   if (!status.ok()) return status;
@@ -453,17 +536,43 @@ sdf::ParserConfig modelPathConfig(const std::vector<std::string>& model_path,
   return config;
 }
 
+// libsdformat converts older SDF versions up to its own, but reads a newer one as its own with
+// only a line on stderr ("Unable to convert from SDF version 99"): refused here, naming both.
+Status checkSdfVersion(const sdf::Root& root) {
+  const std::string given = root.Element() ? root.Element()->OriginalVersion() : "";
+  const auto number = [](const std::string& text, int* major, int* minor) {
+    std::istringstream in(text);
+    char dot = 0;
+    return static_cast<bool>(in >> *major >> dot >> *minor) && dot == '.' && in.peek() == EOF;
+  };
+  int major = 0, minor = 0, max_major = 0, max_minor = 0;
+  if (!number(sdf::SDF::Version(), &max_major, &max_minor)) return {};
+  if (number(given, &major, &minor) && major >= 1 &&
+      (major < max_major || (major == max_major && minor <= max_minor)))
+    return {};
+  return rejected("invalid SDF: version '" + given + "' is not one this libsdformat reads (1.0 to " +
+                  sdf::SDF::Version() + ")");
+}
+
 }  // namespace
 
 Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
                 ModelDescription* out) {
   sdf::Root root;
   std::vector<std::string> missing;
-  const sdf::Errors errors = root.LoadSdfString(xml, modelPathConfig(model_path, &missing));
+  sdf::Errors errors;
+  try {
+    errors = root.LoadSdfString(xml, modelPathConfig(model_path, &missing));
+  } catch (const std::exception& e) {
+    // libsdformat 12 throws std::invalid_argument ("stoi") on a version like "abc".
+    return rejected(std::string("invalid SDF: ") + e.what());
+  }
   if (!missing.empty())
     return rejected(missing.front() + " is not in the model path (" + joinedPath(model_path) +
                     ")");
   if (!errors.empty()) return rejected("invalid SDF: " + joinErrors(errors));
+  const Status version = checkSdfVersion(root);
+  if (!version.ok()) return version;
   // What gazebo_ros' spawn_model sends for -database: <world><include><uri>model://NAME, which
   // libsdformat has turned into the world's one model; its <pose> is the include's.
   const sdf::World* world = root.WorldCount() == 1 ? root.WorldByIndex(0) : nullptr;

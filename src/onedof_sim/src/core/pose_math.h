@@ -17,7 +17,8 @@ inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y +
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+// Without overflow: |(1e200, 0, 0)| is 1e200, where sqrt(dot) gives infinity.
+inline double norm(const Vec3& a) { return std::hypot(a.x, a.y, a.z); }
 
 inline Quat multiply(const Quat& a, const Quat& b) {
   return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,

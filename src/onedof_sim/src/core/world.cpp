@@ -43,6 +43,16 @@ constexpr double kMaxLinearSpeed = 100;
 // At most this many step warnings are kept between two takeWarnings() calls; a stuck model would
 // otherwise fill memory at the step rate.
 constexpr size_t kMaxWarnings = 100;
+// The step: below 1 us a second of sim time takes a million steps, hours of wall time for motion
+// no robot has; above 0.1 s the angular speed cap (0.1 rad per step) falls to 1 rad/s and the
+// tutorial's pendulum could no longer swing.
+constexpr double kMinStep = 1e-6, kMaxStep = 0.1;  // s
+// Sim time ends where ROS time does (32-bit seconds): /clock and every stamp would overflow.
+constexpr int64_t kEndOfTimeNs = int64_t(0xffffffff) * 1000000000;
+// Pending effort jobs per joint and wrench jobs per link. A controller keeps one or two pending
+// (the book's: 10 ms jobs at 100 Hz); 1000 leave room for a queued sequence, while each step
+// looks at every job, so an endless queue (50000 jobs: real-time factor 0.59) slows the world.
+constexpr size_t kMaxPendingJobs = 1000;
 
 // Engines integrate rotation linearly, so a link turning by more than about 0.1 rad per step
 // leaves its joints visibly apart (the chord error is r * angle^2 / 2 per step, and error
@@ -114,6 +124,19 @@ Matrix3 pointMassTensor(double m, const Vec3& d) {
   return out;
 }
 
+// The smallest eigenvalue of a symmetric matrix (the trigonometric closed form).
+double smallestEigenvalue(const Matrix3& m) {
+  const double off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
+  if (off == 0) return std::min({m[0][0], m[1][1], m[2][2]});
+  const double mean = (m[0][0] + m[1][1] + m[2][2]) / 3;
+  const double a = m[0][0] - mean, b = m[1][1] - mean, c = m[2][2] - mean;
+  const double p = std::sqrt((a * a + b * b + c * c + 2 * off) / 6);
+  const double det = a * (b * c - m[1][2] * m[1][2]) - m[0][1] * (m[0][1] * c - m[1][2] * m[0][2]) +
+                     m[0][2] * (m[0][1] * m[1][2] - b * m[0][2]);
+  const double r = std::clamp(det / (2 * p * p * p), -1.0, 1.0);
+  return mean + 2 * p * std::cos(std::acos(r) / 3 + 2 * M_PI / 3);
+}
+
 // Sylvester's criterion: what no rigid body violates.
 bool isPositiveDefinite(const Matrix3& m) {
   const double minor2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
@@ -160,6 +183,8 @@ struct ModelRecord {
   Pose frame_pose;  // world pose of the model frame, where joints to `world` are anchored
   Pose spawn_pose;
   bool velocity_capped = false;  // warned already, until a step passes without capping
+  bool blown_up = false;  // the last step left it non-finite: held, its jobs not applied
+  int64_t last_blow_up_warning_ns = -1;
 };
 
 ShapeSpec shapeSpec(const CollisionDescription& collision) {
@@ -173,8 +198,8 @@ const LinkRecord& referenceLink(const ModelRecord& model, int body) {
   throw std::logic_error("body without a reference link");
 }
 
-// Why the links welded into a body make no rigid body.
-enum class LumpFault { None, NoMass, NotPositiveDefinite };
+// Why the links welded into a body make no rigid body, or none the engines can step (Limits).
+enum class LumpFault { None, NoMass, NotPositiveDefinite, MomentOutOfRange };
 
 // One body from the inertials of the links welded into it: the lumped mass, the inertia about the
 // lumped centre of mass in the reference link's axes, the reference link's gravity mode and every
@@ -204,6 +229,9 @@ LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) inertia[i][j] = tensor[i][j] - to_com[i][j];
   if (!isPositiveDefinite(inertia)) return LumpFault::NotPositiveDefinite;
+  const double largest = std::max({inertia[0][0], inertia[1][1], inertia[2][2]});
+  if (smallestEigenvalue(inertia) < kMinMoment || largest > kMaxMoment)
+    return LumpFault::MomentOutOfRange;
   BodySpec spec;
   spec.mass = mass;
   spec.ixx = inertia[0][0], spec.iyy = inertia[1][1], spec.izz = inertia[2][2];
@@ -249,6 +277,13 @@ struct BodyState {
 
 bool isFinite(const Twist& t) { return core::isFinite(t.linear) && core::isFinite(t.angular); }
 
+Status outOfRange(std::string field, double min, double max) {
+  Status status{StatusCode::OutOfRange, std::move(field)};
+  status.min = min;
+  status.max = max;
+  return status;
+}
+
 Status validateParams(const PhysicsParams& p) {
   using Field = std::pair<const char*, double>;
   const Field numbers[] = {{"step", p.step},
@@ -263,33 +298,60 @@ Status validateParams(const PhysicsParams& p) {
                            {"erp", p.erp}};
   for (const auto& [field, value] : numbers)
     if (!std::isfinite(value)) return {StatusCode::NotFinite, field};
-  if (p.step <= 0 || std::llround(p.step * 1e9) < 1) return {StatusCode::InvalidParameter, "step"};
-  if (p.erp < 0 || p.erp > 1) return {StatusCode::InvalidParameter, "erp"};
-  const Field non_negative[] = {{"cfm", p.cfm},
-                                {"contact_surface_layer", p.contact_surface_layer},
-                                {"contact_max_correcting_vel", p.contact_max_correcting_vel},
-                                {"sor_pgs_rms_error_tol", p.sor_pgs_rms_error_tol}};
-  for (const auto& [field, value] : non_negative)
-    if (value < 0) return {StatusCode::InvalidParameter, field};
-  if (p.sor_pgs_w <= 0) return {StatusCode::InvalidParameter, "sor_pgs_w"};
-  if (p.sor_pgs_iters < 1) return {StatusCode::InvalidParameter, "sor_pgs_iters"};
-  // ODE's dCollide takes the contact count in 16 bits.
-  if (p.max_contacts > 0xffff) return {StatusCode::InvalidParameter, "max_contacts"};
+  struct Range {
+    const char* field;
+    double value, min, max;
+  };
+  // Besides the step (kMinStep), gazebo_ros' own ranges (its dynamic_reconfigure Physics.cfg),
+  // narrowed where a value means nothing: erp is a fraction of the error corrected per step; SOR
+  // converges only for a relaxation in (0, 2) and barely moves below 0.01; a step runs every
+  // solver iteration, so a billion of them would freeze the world; ODE's dCollide takes the
+  // contact count in 16 bits. Gravity: 10 g, beyond any planet a robot works on. cfm 10 already
+  // makes every constraint a soft spring; 1e308 makes the solver's matrix infinite.
+  const Range ranges[] = {
+      {"step", p.step, kMinStep, kMaxStep},
+      {"gravity", p.gravity.x, -100, 100},
+      {"gravity", p.gravity.y, -100, 100},
+      {"gravity", p.gravity.z, -100, 100},
+      {"erp", p.erp, 0, 1},
+      {"cfm", p.cfm, 0, 10},
+      {"contact_surface_layer", p.contact_surface_layer, 0, 10},
+      {"contact_max_correcting_vel", p.contact_max_correcting_vel, 0, 1e7},
+      {"sor_pgs_w", p.sor_pgs_w, 0.01, 5},
+      {"sor_pgs_rms_error_tol", p.sor_pgs_rms_error_tol, 0, 1e4},
+      {"sor_pgs_iters", double(p.sor_pgs_iters), 1, 1e4},
+      {"sor_pgs_precon_iters", double(p.sor_pgs_precon_iters), 0, 1e4},
+      {"max_contacts", double(p.max_contacts), 0, 0xffff}};
+  for (const Range& range : ranges)
+    if (!(range.value >= range.min && range.value <= range.max))
+      return outOfRange(range.field, range.min, range.max);
   return {};
+}
+
+bool withinPosition(const Vec3& v) {
+  return std::abs(v.x) <= kMaxPosition && std::abs(v.y) <= kMaxPosition &&
+         std::abs(v.z) <= kMaxPosition;
 }
 
 // A pose the world can place something at.
 Status checkPose(const Pose& pose) {
   if (!core::isFinite(pose)) return {StatusCode::NotFinite, "pose"};
   if (quatNorm(pose.orientation) < 1e-9) return {StatusCode::ZeroQuaternion, "pose"};
+  if (!withinPosition(pose.position))
+    return outOfRange("pose.position", -kMaxPosition, kMaxPosition);
   return {};
 }
 
-// A pose and twist to set a model or link to.
-Status checkState(const Pose& pose, const Twist& twist) {
+// A pose and twist to set a model or link to: speeds up to the caps the step holds every model
+// to (guardStates), which a larger one would only meet clipped.
+Status checkState(const Pose& pose, const Twist& twist, double step) {
   const Status status = checkPose(pose);
-  if (status.ok() && !isFinite(twist)) return {StatusCode::NotFinite, "twist"};
-  return status;
+  if (!status.ok()) return status;
+  if (!isFinite(twist)) return {StatusCode::NotFinite, "twist"};
+  if (norm(twist.linear) > kMaxLinearSpeed) return outOfRange("twist.linear", 0, kMaxLinearSpeed);
+  if (norm(twist.angular) > maxAngularSpeed(step))
+    return outOfRange("twist.angular", 0, maxAngularSpeed(step));
+  return {};
 }
 
 const EngineEntry& findEngine(const std::string& name) {
@@ -315,6 +377,7 @@ struct World::Impl {
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
   bool engine_struggled = false;  // warned already, until a step passes without a solver message
+  bool time_ended = false;        // warned already that sim time reached kEndOfTimeNs
   std::vector<std::string> model_path;  // absolute
 
   Impl(const std::string& name, const PhysicsParams& p)
@@ -507,6 +570,12 @@ struct World::Impl {
         return rejected("link '" + name + "' moves but has no mass (give it an <inertial>)");
       if (fault == LumpFault::NotPositiveDefinite)
         return rejected("link '" + name + "' has an inertia that no rigid body can have");
+      if (fault == LumpFault::MomentOutOfRange) {
+        std::ostringstream why;
+        why << "link '" << name << "' (with the links welded to it) has a principal moment of "
+            << "inertia outside [" << kMinMoment << ", " << kMaxMoment << "] kg m^2";
+        return rejected(why.str());
+      }
       spec->bodies.push_back(spec_body);
     }
     for (LinkRecord& link : model->links) {
@@ -625,6 +694,7 @@ struct World::Impl {
         joint.last_raw = model->engine_model->jointPosition(joint.engine_joint);
     }
     model->velocity_capped = false;
+    model->blown_up = false;
   }
 
   std::vector<Pose> currentLinkPoses(const ModelRecord& model) const {
@@ -648,6 +718,7 @@ struct World::Impl {
     const LumpFault fault = lumpBody(model, body, &spec);
     if (fault != LumpFault::None) {
       link.desc = previous;
+      if (fault == LumpFault::MomentOutOfRange) return outOfRange("inertia", kMinMoment, kMaxMoment);
       return {StatusCode::InvalidParameter, fault == LumpFault::NoMass ? "mass" : "inertia"};
     }
     model->bodies[body] = spec;
@@ -680,13 +751,36 @@ struct World::Impl {
 
   // --- stepping ------------------------------------------------------------------------------
 
+  // Overlapping jobs on a joint sum; the sum is held to what one job may be (applyJointEffort):
+  // the joint's effort limit and the bound on its bodies. Blown-up models are held (guardStates).
   void applyJobs(int64_t t) {
-    for (const JointEffortJob& job : joint_jobs)
-      if (job.start_ns <= t && t < job.end_ns)
-        job.model->engine_model->addJointEffort(job.model->joints[job.joint].engine_joint,
-                                                job.effort);
+    struct JointSum {
+      const ModelRecord* model;
+      size_t joint;
+      double effort;
+      int jobs;
+    };
+    std::vector<JointSum> sums;
+    for (const JointEffortJob& job : joint_jobs) {
+      if (job.start_ns > t || t >= job.end_ns || job.model->blown_up) continue;
+      auto sum = std::find_if(sums.begin(), sums.end(), [&](const JointSum& s) {
+        return s.model == job.model && s.joint == job.joint;
+      });
+      if (sum == sums.end()) sums.push_back({job.model, job.joint, job.effort, 1});
+      else sum->effort += job.effort, ++sum->jobs;
+    }
+    for (const JointSum& sum : sums) {
+      const JointRecord& joint = sum.model->joints[sum.joint];
+      double effort = sum.effort;
+      if (sum.jobs > 1) {  // a single job was clamped when it was queued
+        const double bound =
+            std::min(joint.desc.effort_limit, safeEffortBound(*sum.model, joint));
+        if (std::abs(effort) > bound) effort = std::copysign(bound, effort);
+      }
+      sum.model->engine_model->addJointEffort(joint.engine_joint, effort);
+    }
     for (const BodyWrenchJob& job : wrench_jobs) {
-      if (job.start_ns > t || t >= job.end_ns) continue;
+      if (job.start_ns > t || t >= job.end_ns || job.model->blown_up) continue;
       Pose frame;
       Twist unused;
       if (!resolveFrame(job.reference_frame, &frame, &unused)) continue;  // reference deleted
@@ -715,30 +809,66 @@ struct World::Impl {
       }
   }
 
-  // A non-finite state is unrecoverable for an engine, so the whole step is undone and the models
-  // that blew up are stopped; then every model's speed is capped (see kMaxLinearSpeed and
-  // maxAngularSpeed), scaling all its bodies alike so that its joints stay consistent.
-  void guardStates() {
-    std::vector<ModelRecord*> blown_up;
-    for (const auto& model : models)
-      for (size_t body = 0; body < model->bodies.size(); ++body) {
-        const Pose pose = model->engine_model->bodyPose(static_cast<int>(body));
-        if (!isFinite(pose) || !isFinite(model->engine_model->bodyTwist(static_cast<int>(body)))) {
-          blown_up.push_back(model.get());
-          break;
-        }
-      }
-    if (!blown_up.empty()) {
-      for (const BodyState& s : saved_states) s.model->setBodyState(s.body, s.pose, s.twist);
-      for (ModelRecord* model : blown_up) {
-        for (size_t body = 0; body < model->bodies.size(); ++body) {
-          const int b = static_cast<int>(body);
-          model->engine_model->setBodyState(b, model->engine_model->bodyPose(b), Twist());
-        }
-        warn("model '" + model->name +
-             "' reached a non-finite state: the step was undone and the model stopped");
-      }
+  bool isBlownUp(const ModelRecord& model) const {
+    for (size_t body = 0; body < model.bodies.size(); ++body) {
+      const int b = static_cast<int>(body);
+      if (!isFinite(model.engine_model->bodyPose(b)) || !isFinite(model.engine_model->bodyTwist(b)))
+        return true;
     }
+    return false;
+  }
+
+  // One engine step from the saved states. A non-finite state is unrecoverable for an engine,
+  // and a step moves all models at once, so a step that blows a model up is undone and redone
+  // with that model at rest and its jobs left out: the rest of the world runs on. A model the
+  // step leaves non-finite is held where the step started, at rest, and takes part in the next
+  // step again (as at first: a model that blew up once is usually only too fast); the first
+  // finite step releases it. Logged at most once per model per second of sim time: a model that
+  // keeps blowing up would otherwise log at the step rate.
+  void stepEngine() {
+    std::string solver_message;
+    applyJobs(time_ns);
+    applyDamping();
+    engine->step(params.step, &solver_message);
+    std::vector<ModelRecord*> newly_blown;
+    for (const auto& model : models)
+      if (!model->blown_up && isBlownUp(*model)) newly_blown.push_back(model.get());
+    if (!newly_blown.empty()) {
+      for (const BodyState& s : saved_states) s.model->setBodyState(s.body, s.pose, s.twist);
+      for (ModelRecord* model : newly_blown) {
+        model->blown_up = true;
+        holdAtSavedState(*model);
+      }
+      applyJobs(time_ns);
+      applyDamping();
+      engine->step(params.step, &solver_message);
+    }
+    if (!solver_message.empty() && !engine_struggled) warn(solver_message);
+    engine_struggled = !solver_message.empty();
+    for (const auto& model : models) {
+      const bool blown = isBlownUp(*model);
+      if (blown) holdAtSavedState(*model);
+      const bool stopped =
+          blown || std::count(newly_blown.begin(), newly_blown.end(), model.get()) > 0;
+      if (stopped && (model->last_blow_up_warning_ns < 0 ||
+                      time_ns - model->last_blow_up_warning_ns >= 1000000000)) {
+        warn("model '" + model->name +
+             "' reached a non-finite state: it was stopped where the step started while the "
+             "rest of the world ran on");
+        model->last_blow_up_warning_ns = time_ns;
+      }
+      model->blown_up = blown;
+    }
+  }
+
+  void holdAtSavedState(const ModelRecord& model) {
+    for (const BodyState& s : saved_states)
+      if (s.model == model.engine_model.get()) s.model->setBodyState(s.body, s.pose, Twist());
+  }
+
+  // After the engine step (stepEngine): every model's speed is capped (see kMaxLinearSpeed and maxAngularSpeed), scaling all its
+  // bodies alike so that its joints stay consistent.
+  void guardStates() {
     const double max_angular = maxAngularSpeed(params.step);
     for (const auto& model : models) {
       EngineModel& engine_model = *model->engine_model;
@@ -775,13 +905,15 @@ struct World::Impl {
   }
 
   void step() {
-    applyJobs(time_ns);
-    applyDamping();
+    if (time_ns > kEndOfTimeNs - step_ns) {
+      if (!time_ended)
+        warn("sim time reached the end of ROS time (2^32 s): the world stands still until "
+             "reset_simulation");
+      time_ended = true;
+      return;
+    }
     saveStates();
-    std::string solver_message;
-    engine->step(params.step, &solver_message);
-    if (!solver_message.empty() && !engine_struggled) warn(solver_message);
-    engine_struggled = !solver_message.empty();
+    stepEngine();
     guardStates();
     for (const auto& model : models) updateJointPositions(model.get());
     time_ns += step_ns;
@@ -828,13 +960,19 @@ std::ostream& operator<<(std::ostream& out, StatusCode code) {
     case StatusCode::LinkAnchored: return out << "LinkAnchored";
     case StatusCode::LengthMismatch: return out << "LengthMismatch";
     case StatusCode::InvalidParameter: return out << "InvalidParameter";
+    case StatusCode::OutOfRange: return out << "OutOfRange";
+    case StatusCode::InvalidModelName: return out << "InvalidModelName";
+    case StatusCode::TooManyJobs: return out << "TooManyJobs";
   }
   return out << "StatusCode(" << static_cast<int>(code) << ")";
 }
 
 std::ostream& operator<<(std::ostream& out, const Status& status) {
   out << status.code;
-  return status.subject.empty() ? out : out << " '" << status.subject << "'";
+  if (!status.subject.empty()) out << " '" << status.subject << "'";
+  if (status.code == StatusCode::OutOfRange) out << " [" << status.min << ", " << status.max << "]";
+  if (status.code == StatusCode::TooManyJobs) out << " (at most " << status.max << ")";
+  return out;
 }
 
 std::vector<std::string> World::engineNames() {
@@ -871,6 +1009,10 @@ Status World::spawn(const std::string& name, const std::string& xml, ModelFormat
   Status status = checkPose(pose);
   if (!status.ok()) return status;
   if (name.empty()) return {StatusCode::EmptyModelName, {}};
+  // Scoped names ("model::link") and reference frames must say one thing: a model called
+  // "robot::link2" would take over robot's link2 as a frame, one called "world" the world.
+  if (name.find("::") != std::string::npos || name == kWorldLink)
+    return {StatusCode::InvalidModelName, name};
   if (impl_->findModel(name)) return {StatusCode::ModelExists, name};
   Pose frame;
   Twist unused;
@@ -960,7 +1102,7 @@ Status World::modelState(const std::string& name, const std::string& reference_f
 
 Status World::setModelState(const std::string& name, const Pose& pose, const Twist& twist,
                             const std::string& reference_frame) {
-  const Status state = checkState(pose, twist);
+  const Status state = checkState(pose, twist, impl_->params.step);
   if (!state.ok()) return state;
   ModelRecord* model = impl_->findModel(name);
   if (!model) return {StatusCode::ModelNotFound, name};
@@ -990,8 +1132,12 @@ Status World::setModelConfiguration(const std::string& model_name,
                                     const std::vector<std::string>& joints,
                                     const std::vector<double>& positions) {
   if (joints.size() != positions.size()) return {StatusCode::LengthMismatch, {}};
-  for (size_t i = 0; i < joints.size(); ++i)
+  for (size_t i = 0; i < joints.size(); ++i) {
     if (!std::isfinite(positions[i])) return {StatusCode::NotFinite, joints[i]};
+    // Joint positions are kept unwrapped: past kMaxPosition a step's motion is lost in rounding.
+    if (std::abs(positions[i]) > kMaxPosition)
+      return outOfRange(joints[i], -kMaxPosition, kMaxPosition);
+  }
   ModelRecord* model = impl_->findModel(model_name);
   if (!model) return {StatusCode::ModelNotFound, model_name};
   std::vector<double> q = impl_->currentPositions(*model);
@@ -1041,7 +1187,7 @@ Status World::linkState(const std::string& scoped_link, const std::string& refer
 
 Status World::setLinkState(const std::string& scoped_link, const Pose& pose, const Twist& twist,
                            const std::string& reference_frame) {
-  const Status state = checkState(pose, twist);
+  const Status state = checkState(pose, twist, impl_->params.step);
   if (!state.ok()) return state;
   ModelRecord* model;
   size_t index;
@@ -1073,6 +1219,12 @@ Status World::setLinkProperties(const std::string& scoped_link, const LinkInfo& 
   for (double moment : moments)
     if (!std::isfinite(moment)) return {StatusCode::NotFinite, "inertia"};
   if (properties.mass < 0) return {StatusCode::InvalidParameter, "mass"};
+  if (properties.mass != 0 && (properties.mass < kMinMass || properties.mass > kMaxMass))
+    return outOfRange("mass", kMinMass, kMaxMass);
+  for (double moment : moments)
+    if (std::abs(moment) > kMaxMoment) return outOfRange("inertia", kMinMoment, kMaxMoment);
+  if (!withinPosition(properties.com.position))
+    return outOfRange("com.position", -kMaxPosition, kMaxPosition);
   ModelRecord* model;
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
@@ -1130,6 +1282,7 @@ Status World::setJointDamping(const std::string& joint_name, double damping) {
   if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
   if (!std::isfinite(damping)) return {StatusCode::NotFinite, "damping"};
   if (damping < 0) return {StatusCode::InvalidParameter, "damping"};
+  if (damping > kMaxJointDamping) return outOfRange("damping", 0, kMaxJointDamping);
   joint.desc.damping = damping;
   joint.desc.has_damping = true;
   return {};
@@ -1144,6 +1297,14 @@ Status World::applyJointEffort(const std::string& joint_name, double effort, int
   const JointRecord& joint = model->joints[index];
   if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
   if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
+  const size_t pending = std::count_if(
+      impl_->joint_jobs.begin(), impl_->joint_jobs.end(),
+      [&](const JointEffortJob& job) { return job.model == model && job.joint == index; });
+  if (pending >= kMaxPendingJobs) {
+    Status full{StatusCode::TooManyJobs, model->name + "::" + joint.desc.name};
+    full.max = kMaxPendingJobs;
+    return full;
+  }
   JobOutcome done;
   int64_t start = 0, end = 0;
   if (impl_->jobWindow(start_ns, duration_ns, &start, &end, &done)) {
@@ -1189,6 +1350,8 @@ Status World::applyBodyWrench(const std::string& scoped_link, const std::string&
   if (!isFinite(reference_point)) return {StatusCode::NotFinite, "reference_point"};
   if (!isFinite(force)) return {StatusCode::NotFinite, "force"};
   if (!isFinite(torque)) return {StatusCode::NotFinite, "torque"};
+  if (!withinPosition(reference_point))
+    return outOfRange("reference_point", -kMaxPosition, kMaxPosition);
   ModelRecord* model;
   size_t index;
   if (!impl_->findLink(scoped_link, &model, &index))
@@ -1199,6 +1362,14 @@ Status World::applyBodyWrench(const std::string& scoped_link, const std::string&
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
     return {StatusCode::ReferenceFrameNotFound, reference_frame};
+  const size_t pending = std::count_if(
+      impl_->wrench_jobs.begin(), impl_->wrench_jobs.end(),
+      [&](const BodyWrenchJob& job) { return job.model == model && job.link == index; });
+  if (pending >= kMaxPendingJobs) {
+    Status full{StatusCode::TooManyJobs, scoped_link};
+    full.max = kMaxPendingJobs;
+    return full;
+  }
   JobOutcome done;
   int64_t start = 0, end = 0;
   if (impl_->jobWindow(start_ns, duration_ns, &start, &end, &done)) {
@@ -1237,6 +1408,7 @@ void World::resetWorld() {
 void World::resetSimulation() {
   resetWorld();
   impl_->time_ns = 0;
+  impl_->time_ended = false;
   impl_->steps = 0;
 }
 

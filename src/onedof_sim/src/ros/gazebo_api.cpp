@@ -22,6 +22,7 @@ namespace {
 constexpr int64_t kNsPerS = 1000000000;
 // If the paced loop falls further behind than this, it drops the backlog instead of racing.
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
+constexpr std::chrono::milliseconds kPacingSlice(50);
 constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
 constexpr double kGroundMarkerSize = 10.0;           // m, the plane drawn as a thin square
 
@@ -135,13 +136,45 @@ const char* const kNotUrdfOrSdf =
     "GazeboRosApiPlugin SpawnModel Failure: input model_xml not SDF or URDF, or cannot be "
     "converted to Gazebo compatible format.";
 
-// The range World enforces on a field: PhysicsParams' (in ODEPhysics' names), a joint's
-// damping, a link's inertial.
+// The range World enforces on a field (OutOfRange: [min, max] from the world), in the request's
+// names: PhysicsParams' in ODEPhysics' names, a state's pose and twist, a link's inertial.
+std::string outOfRangeText(const Status& status) {
+  const std::string& field = status.subject;
+  std::ostringstream text;
+  const auto range = [&] { text << "[" << status.min << ", " << status.max << "]"; };
+  if (field == "step") {
+    text << "time_step must be in ";
+    range();
+    text << " s";
+  } else if (field == "gravity") {
+    text << "each gravity component must be in ";
+    range();
+    text << " m/s^2";
+  } else if (field == "twist.linear" || field == "twist.angular") {
+    text << "the speed |" << field << "| must be at most " << status.max
+         << (field == "twist.linear" ? " m/s" : " rad/s")
+         << ", the most the world lets a model move at this time_step";
+  } else if (field == "pose.position" || field == "com.position" || field == "reference_point") {
+    text << "each " << field << " component must be in ";
+    range();
+    text << " m";
+  } else if (field == "mass") {
+    text << "mass must be 0 (a link carried by the one it is welded to) or in ";
+    range();
+    text << " kg";
+  } else if (field == "inertia") {
+    text << "the principal moments of inertia must be in ";
+    range();
+    text << " kg m^2";
+  } else {
+    text << field << " must be in ";
+    range();
+  }
+  return text.str();
+}
+
+// The rule World enforces on a field besides its range: a joint's damping, a link's inertial.
 std::string parameterRange(const std::string& field) {
-  if (field == "step") return "time_step must be at least 1 ns";
-  if (field == "erp") return "erp must be in [0, 1]";
-  if (field == "sor_pgs_iters") return "sor_pgs_iters must be >= 1";
-  if (field == "max_contacts") return "max_contacts must be <= 65535";
   if (field == "damping") return "damping must be >= 0";
   if (field == "mass") return "mass must be >= 0, and > 0 for a link that moves (welded links: in sum)";
   if (field == "inertia")
@@ -149,8 +182,7 @@ std::string parameterRange(const std::string& field) {
            "products small enough)";
   if (field == "gravity_mode")
     return "links welded together by fixed joints move as one body and share one gravity_mode";
-  return "cfm, contact_surface_layer, contact_max_correcting_vel and sor_pgs_rms_error_tol must "
-         "be >= 0, sor_pgs_w > 0";
+  return field + " is invalid";
 }
 
 std::string statusText(const Wording& wording, const Status& status) {
@@ -189,6 +221,18 @@ std::string statusText(const Wording& wording, const Status& status) {
       text = "joint name and position list have different lengths";
       break;
     case StatusCode::InvalidParameter: text = parameterRange(subject); break;
+    case StatusCode::OutOfRange: text = outOfRangeText(status); break;
+    case StatusCode::InvalidModelName:
+      text = "model name '" + subject + "' is refused: a name may not hold \"::\" (it scopes a "
+             "link: model::link) nor be \"world\" (the world frame)";
+      break;
+    case StatusCode::TooManyJobs: {
+      std::ostringstream jobs;
+      jobs << "'" << subject << "' already has " << status.max
+           << " jobs pending, the most it takes; clear them or wait until some end";
+      text = jobs.str();
+      break;
+    }
   }
   return std::string(wording.service) + ": " + text;
 }
@@ -204,6 +248,12 @@ std::string wrenchText(const Status& status) {
 std::string configurationText(const Status& status) {
   if (status.code == StatusCode::JointNotFound)
     return "SetModelConfiguration: joint '" + status.subject + "' not found in model";
+  if (status.code == StatusCode::OutOfRange) {
+    std::ostringstream text;
+    text << "SetModelConfiguration: the position of joint '" << status.subject << "' must be in ["
+         << status.min << ", " << status.max << "] (rad or m)";
+    return text.str();
+  }
   return statusText(kSetModelConfiguration, status);
 }
 
@@ -346,8 +396,10 @@ dynamic_reconfigure::ConfigDescription physicsDescription(const PhysicsSettings&
   return description;
 }
 
-// What a job became, after the service's "effort set" or "wrench set".
-std::string jobNotes(const JobOutcome& job) {
+// What a job became, after the service's "effort set" or "wrench set". For a wrench, the force
+// and torque asked for (requested_wrench): each is named only if it was clamped.
+std::string jobNotes(const JobOutcome& job,
+                     const std::optional<std::pair<Vec3, Vec3>>& requested_wrench = {}) {
   if (!job.queued) return "; duration is 0, so nothing was applied";
   std::ostringstream notes;
   if (job.widened_to_one_step)
@@ -357,10 +409,15 @@ std::string jobNotes(const JobOutcome& job) {
     notes << "; clamped to " << *job.safe_effort
           << ", the most this joint takes without the simulation blowing up";
   }
-  if (job.safe_wrench) {
-    notes << "; clamped to |force| " << job.safe_wrench->force << ", |torque| "
-          << job.safe_wrench->torque
-          << ", the most this body takes without the simulation blowing up";
+  if (job.safe_wrench && requested_wrench) {
+    const auto magnitude = [](const Vec3& v) { return std::hypot(v.x, v.y, v.z); };
+    const bool force = magnitude(requested_wrench->first) > job.safe_wrench->force;
+    const bool torque = magnitude(requested_wrench->second) > job.safe_wrench->torque;
+    notes << "; ";
+    if (force) notes << "force clamped to |force| " << job.safe_wrench->force << " N";
+    if (force && torque) notes << " and ";
+    if (torque) notes << "torque clamped to |torque| " << job.safe_wrench->torque << " N m";
+    notes << " (same direction), the most this body takes without the simulation blowing up";
   }
   return notes.str();
 }
@@ -515,6 +572,19 @@ bool readCount(const ros::NodeHandle& nh, const std::string& name, uint32_t* val
   return true;
 }
 
+// Pacing below one step per wall second leaves the clock crawling (0.01: a step every 100 s, with
+// nothing to see); pause_physics is what stops the world.
+constexpr double kMinPacedRate = 1.0;
+
+// Empty if the node can pace at max_update_rate, else why not.
+std::string maxUpdateRateError(double rate) {
+  if (std::isfinite(rate) && (rate == 0 || rate >= kMinPacedRate)) return "";
+  std::ostringstream text;
+  text << "max_update_rate must be 0 (as fast as possible) or at least " << kMinPacedRate
+       << " step per wall second (pause_physics stops the world), got " << rate;
+  return text.str();
+}
+
 bool readRate(const ros::NodeHandle& nh, const std::string& name, double* value,
               std::string* error) {
   if (!readParam(nh, name, value, error)) return false;
@@ -523,6 +593,13 @@ bool readRate(const ros::NodeHandle& nh, const std::string& name, double* value,
     return false;
   }
   return true;
+}
+
+bool readMaxUpdateRate(const ros::NodeHandle& nh, double* value, std::string* error) {
+  if (!readRate(nh, "max_update_rate", value, error)) return false;
+  const std::string why = maxUpdateRateError(*value);
+  if (!why.empty()) *error = "parameter " + nh.resolveName("max_update_rate") + ": " + why;
+  return why.empty();
 }
 
 bool readLockstep(const ros::NodeHandle& nh, Lockstep::Options* lockstep, std::string* error) {
@@ -601,7 +678,7 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
   PhysicsParams& p = options->physics;
   if (!readParam(nh, "physics", &options->engine, error) ||
       !readParam(nh, "time_step", &p.step, error) ||
-      !readRate(nh, "max_update_rate", &options->max_update_rate, error) ||
+      !readMaxUpdateRate(nh, &options->max_update_rate, error) ||
       !readParam(nh, "paused", &options->paused, error) ||
       !readGravity(nh, &p.gravity, error) ||
       !readParam(nh, "quick_step", &p.quick_step, error) ||
@@ -904,7 +981,13 @@ void GazeboApi::pace(double max_update_rate, bool resumed) {
   deadline_ += std::chrono::duration_cast<steady_clock::duration>(
       std::chrono::duration<double>(1.0 / max_update_rate));
   if (deadline_ > now) {
-    std::this_thread::sleep_until(deadline_);
+    // In slices: a new max_update_rate takes effect at once (run() re-paces from the next step),
+    // and a shutdown (SIGINT) is noticed, however long the period.
+    while (ros::ok() && steady_clock::now() < deadline_) {
+      std::this_thread::sleep_until(std::min(deadline_, steady_clock::now() + kPacingSlice));
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (max_update_rate_ != max_update_rate) return;
+    }
   } else if (now - deadline_ > kMaxPacingLag) {
     deadline_ = now;  // far behind (a loaded machine): run on from now rather than race
   }
@@ -1013,7 +1096,10 @@ bool GazeboApi::applyBodyWrench(gazebo_msgs::ApplyBodyWrench::Request& req, gaze
                                      toNs(req.duration), &job);
   }
   const std::string text = wrenchText(applied);
-  return answer(res, applied, applied.ok() ? text + jobNotes(job) : text);
+  return answer(res, applied,
+                applied.ok() ? text + jobNotes(job, std::make_pair(toCore(req.wrench.force),
+                                                                   toCore(req.wrench.torque)))
+                             : text);
 }
 
 bool GazeboApi::clearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gazebo_msgs::BodyRequest::Response&) {
@@ -1261,12 +1347,9 @@ bool GazeboApi::getPhysicsProperties(gazebo_msgs::GetPhysicsProperties::Request&
 
 Status GazeboApi::applyPhysics(const PhysicsParams& params, double max_update_rate,
                                std::string* text) {
-  if (!std::isfinite(max_update_rate) || max_update_rate < 0) {
-    std::ostringstream message;
-    message << "SetPhysicsProperties: max_update_rate must be finite and >= 0 (0 = as fast as "
-               "possible), got "
-            << max_update_rate;
-    *text = message.str();
+  const std::string rate_error = maxUpdateRateError(max_update_rate);
+  if (!rate_error.empty()) {
+    *text = "SetPhysicsProperties: " + rate_error;
     return {StatusCode::InvalidParameter, "max_update_rate"};
   }
   Status set;

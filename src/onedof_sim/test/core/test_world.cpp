@@ -125,6 +125,7 @@ class Joints : public ::testing::TestWithParam<std::string> {};
 class LinkProperties : public ::testing::TestWithParam<std::string> {};
 class Models : public ::testing::TestWithParam<std::string> {};
 class Robustness : public ::testing::TestWithParam<std::string> {};
+class BadInput : public ::testing::TestWithParam<std::string> {};
 class State : public ::testing::TestWithParam<std::string> {};
 class TutorialRobot : public ::testing::TestWithParam<std::string> {};
 
@@ -518,17 +519,17 @@ TEST_P(Errors, RefusedCallsLeaveTheWorldUnchanged) {
   for (double step : {0.0, -0.001, 1e-10}) {
     PhysicsParams params;
     params.step = step;
-    refused(world.setParams(params), StatusCode::InvalidParameter, "step");
+    refused(world.setParams(params), StatusCode::OutOfRange, "step");
   }
   PhysicsParams params;
   params.gravity.z = std::numeric_limits<double>::infinity();
   refused(world.setParams(params), StatusCode::NotFinite, "gravity");
   params = PhysicsParams();
   params.sor_pgs_w = 0;
-  refused(world.setParams(params), StatusCode::InvalidParameter, "sor_pgs_w");
+  refused(world.setParams(params), StatusCode::OutOfRange, "sor_pgs_w");
   params = PhysicsParams();
   params.max_contacts = 0x10000;
-  refused(world.setParams(params), StatusCode::InvalidParameter, "max_contacts");
+  refused(world.setParams(params), StatusCode::OutOfRange, "max_contacts");
 }
 
 TEST_P(Errors, UnsupportedContentIsRefused) {
@@ -1135,6 +1136,257 @@ TEST_P(LinkProperties, WeldedLinksChangeTheirLumpedBodyAndShareOneGravityMode) {
   EXPECT_EQ(split.subject, "gravity_mode");
 }
 
+// --- bad input (issue 12's findings): refused up front with the range, never a crash -------------
+
+// A chain of `links` links welded by fixed joints: one rigid body.
+std::string fixedChainUrdf(int links) {
+  std::ostringstream s;
+  s << "<robot name=\"chain\"><link name=\"l0\">" << inertial(1, 1, 1, 1) << "</link>";
+  for (int i = 1; i < links; ++i)
+    s << "<link name=\"l" << i << "\"/><joint name=\"j" << i << "\" type=\"fixed\"><parent link=\"l"
+      << i - 1 << "\"/><child link=\"l" << i << "\"/><origin xyz=\"0 0 0.001\"/></joint>";
+  s << "</robot>";
+  return s.str();
+}
+
+// The tutorial robot with link2's inertial replaced.
+std::string tutorialUrdfWithLink2Inertial(const std::string& replacement) {
+  std::string urdf = tutorialUrdf();
+  const size_t link2 = urdf.find("<link name=\"link2\">");
+  const size_t begin = urdf.find("<inertial>", link2);
+  const size_t end = urdf.find("</inertial>", begin) + std::string("</inertial>").size();
+  urdf.replace(begin, end - begin, replacement);
+  return urdf;
+}
+
+void expectOutOfRange(const Status& status, const std::string& subject, double min, double max) {
+  EXPECT_EQ(status.code, StatusCode::OutOfRange) << status;
+  EXPECT_EQ(status.subject, subject) << status;
+  EXPECT_EQ(status.min, min) << status;
+  EXPECT_EQ(status.max, max) << status;
+}
+
+void expectRejected(const Status& status, const std::string& why) {
+  EXPECT_EQ(status.code, StatusCode::ModelRejected) << status;
+  EXPECT_NE(status.subject.find(why), std::string::npos) << status;
+}
+
+// The world still steps, finite, and the robot still swings.
+void expectStillRunning(World* world) {
+  const double before = jointPosition(*world, "joint1");
+  steps(world, 200);
+  EXPECT_TRUE(std::isfinite(jointPosition(*world, "joint1")));
+  EXPECT_NE(jointPosition(*world, "joint1"), before);
+}
+
+// Finding 1: 1e308 in a twist, a position, a reference point or an inertia killed the node.
+TEST_P(BadInput, HugeButFiniteStatesAndInertialsAreRefusedNamingTheRange) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {0.3}).ok());
+  const std::string before = snapshot(world);
+  Twist fast;
+  fast.linear.x = 1e308;
+  expectOutOfRange(world.setModelState("one_DOF_robot", Pose(), fast, ""), "twist.linear", 0, 100);
+  expectOutOfRange(world.setLinkState("one_DOF_robot::link2", Pose(), fast, ""), "twist.linear",
+                   0, 100);
+  Twist spinning;
+  spinning.angular.z = 1e308;
+  expectOutOfRange(world.setLinkState("one_DOF_robot::link2", Pose(), spinning, ""),
+                   "twist.angular", 0, 0.1 / kStep);
+  expectOutOfRange(world.setLinkState("one_DOF_robot::link2", at(0, 1e308, 0), Twist(), ""),
+                   "pose.position", -1e6, 1e6);
+  expectOutOfRange(world.setModelState("one_DOF_robot", at(0, 0, 1e308), Twist(), ""),
+                   "pose.position", -1e6, 1e6);
+  expectOutOfRange(world.spawn("box", boxUrdf(0.1), ModelFormat::Urdf, at(1e308, 0, 0)),
+                   "pose.position", -1e6, 1e6);
+  expectOutOfRange(world.applyBodyWrench("one_DOF_robot::link2", "", {1e308, 0, 0}, {0, 0, 1},
+                                         {}, 0, -1),
+                   "reference_point", -1e6, 1e6);
+  expectRejected(world.spawn("heavy", tutorialUrdfWithLink2Inertial(inertial(1, 1e308, 1, 1)),
+                             ModelFormat::Urdf, Pose()),
+                 "inertia component of 1e+308");
+  expectRejected(world.spawn("thin", tutorialUrdfWithLink2Inertial(inertial(1, 1e-300, 0.1, 0.1)),
+                             ModelFormat::Urdf, Pose()),
+                 "principal moment of inertia outside [1e-12, 1e+09]");
+  EXPECT_EQ(snapshot(world), before);
+  expectStillRunning(&world);
+  // The edge of each range is accepted and steps finite.
+  Twist edge;
+  edge.linear.x = 100;
+  ASSERT_TRUE(world.setLinkState("one_DOF_robot::link2", Pose(), edge, "").ok());
+  ASSERT_TRUE(world.applyBodyWrench("one_DOF_robot::link2", "", {1e6, 0, 0}, {0, 0, 1e200}, {}, 0,
+                                    -1).ok());
+  expectStillRunning(&world);
+}
+
+// Finding 2: a 20000-link fixed chain overflowed the stack while the URDF was walked.
+TEST_P(BadInput, ModelSizeIsLimitedAndRefusedBeyond) {
+  World world(GetParam());
+  expectRejected(world.spawn("chain", fixedChainUrdf(20000), ModelFormat::Urdf, Pose()),
+                 "the model has 20000 links; at most 1000 are accepted");
+  EXPECT_TRUE(world.modelNames().empty());
+  const Status largest = world.spawn("chain", fixedChainUrdf(1000), ModelFormat::Urdf, at(0, 0, 2));
+  ASSERT_TRUE(largest.ok()) << largest;
+  steps(&world, 10);
+}
+
+// Finding 3: time_step 1e6 ran sim time past ROS time's 32-bit seconds; 1e10 was refused as "under
+// 1 ns" (the nanosecond count overflowed).
+TEST_P(BadInput, StepOutsideItsRangeIsRefusedWithTheRange) {
+  World world(GetParam());
+  for (double step : {1e6, 1e10, 1e-7, 0.0}) {
+    PhysicsParams params;
+    params.step = step;
+    expectOutOfRange(world.setParams(params), "step", 1e-6, 0.1);
+  }
+  PhysicsParams params;
+  params.step = 0.1;
+  ASSERT_TRUE(world.setParams(params).ok());
+  EXPECT_EQ(world.params().step, 0.1);
+}
+
+// Finding 5: a force of 1e200 was answered "clamped" but |force| overflowed to infinity and the
+// clamp scaled it to nothing.
+TEST_P(BadInput, HugeWrenchIsClampedToItsBoundAndApplied) {
+  const auto risesAfter = [&](double force, JobOutcome* job) {
+    World world(GetParam(), withoutGravity());
+    EXPECT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(0, 0, 1)).ok());
+    EXPECT_TRUE(world.applyBodyWrench("box::box", "", {}, {0, 0, force}, {}, 0, kMs, job).ok());
+    world.step();
+    Pose pose;
+    Twist twist;
+    EXPECT_TRUE(world.linkState("box::box", "", &pose, &twist).ok());
+    return twist.linear.z;
+  };
+  JobOutcome huge, large;
+  const double huge_speed = risesAfter(1e200, &huge);
+  const double large_speed = risesAfter(1e9, &large);
+  ASSERT_TRUE(huge.safe_wrench && large.safe_wrench);
+  EXPECT_EQ(huge.safe_wrench->force, large.safe_wrench->force);
+  // The bound takes the box to 100 m/s in 10 steps: 10 m/s after one.
+  EXPECT_NEAR(huge_speed, huge.safe_wrench->force * kStep / 1.0, 1e-9);
+  EXPECT_NEAR(huge_speed, 10, 1e-9);
+  EXPECT_EQ(huge_speed, large_speed);
+}
+
+// Finding 6: joint1 = 1e17 was accepted and read back as 1e17 for ever while the link swung.
+TEST_P(BadInput, JointPositionOutOfRangeIsRefused) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  const std::string before = snapshot(world);
+  expectOutOfRange(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1e17}), "joint1",
+                   -1e6, 1e6);
+  EXPECT_EQ(snapshot(world), before);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1000.5}).ok());
+  EXPECT_EQ(jointPosition(world, "joint1"), 1000.5);
+  steps(&world, 100);
+  EXPECT_NE(jointPosition(world, "joint1"), 1000.5);
+}
+
+// Finding 7: a link of mass 1e308 (or z 1e308, cfm 1e308) spawned, then every step went
+// non-finite and was undone: the whole world froze.
+TEST_P(BadInput, InputThatWouldFreezeTheWorldIsRefused) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  expectRejected(world.spawn("heavy", tutorialUrdfWithLink2Inertial(inertial(1e308, 1, 1, 1)),
+                             ModelFormat::Urdf, at(3, 0, 0)),
+                 "link 'link2' has a mass of 1e+308 kg; a mass must be 0 or in [1e-06, 1e+06] kg");
+  PhysicsParams params;
+  params.cfm = 1e308;
+  expectOutOfRange(world.setParams(params), "cfm", 0, 10);
+  LinkInfo link = link2Properties(world);
+  link.mass = 1e308;
+  expectOutOfRange(world.setLinkProperties("one_DOF_robot::link2", link), "mass", 1e-6, 1e6);
+  link = link2Properties(world);
+  link.ixx = 1e-14;  // positive: a body, but one a torque would spin up without bound
+  expectOutOfRange(world.setLinkProperties("one_DOF_robot::link2", link), "inertia", 1e-12, 1e9);
+  expectOutOfRange(world.setJointDamping("joint1", 1e308), "damping", 0, 1e6);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {0.3}).ok());
+  expectStillRunning(&world);
+  EXPECT_TRUE(world.takeWarnings().empty());
+}
+
+// Finding 8: what the parsers dropped or only printed.
+TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
+  World world(GetParam());
+  const std::string body = inertial(1, 1, 1, 1);
+  expectRejected(world.spawn("r",
+                             "<robot name=\"r\"><link name=\"a\">" + body + "</link><link name=\"b\">" +
+                                 body + "</link><joint name=\"j\" type=\"continuous\"><parent "
+                                 "link=\"b\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/></joint></robot>",
+                             ModelFormat::Urdf, Pose()),
+                 "joint 'j' has link 'b' as both its parent and its child");
+  expectRejected(world.spawn("r",
+                             "<robot name=\"r\"><link name=\"a\">" + body +
+                                 "<collision><geometry><box size=\"nan 1 1\"/></geometry>"
+                                 "</collision></link></robot>",
+                             ModelFormat::Urdf, Pose()),
+                 "Could not parse collision element for Link [a]");
+  for (const char* version : {"99", "2.0", "abc"}) {
+    expectRejected(world.spawn("r",
+                               std::string("<sdf version=\"") + version +
+                                   "\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
+                               ModelFormat::Sdf, Pose()),
+                   "invalid SDF");
+  }
+  expectRejected(world.spawn("r",
+                             "<robot name=\"r\"><link name=\"a\">" + body +
+                                 "<collision><geometry><box size=\"1e6 1 1\"/></geometry>"
+                                 "</collision></link></robot>",
+                             ModelFormat::Urdf, Pose()),
+                 "link 'a': collision 'a_collision' is larger than 1000 m");
+  expectRejected(world.spawn("r", "<sdf version=\"99\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
+                             ModelFormat::Sdf, Pose()),
+                 "version '99' is not one this libsdformat reads");
+  EXPECT_TRUE(world.modelNames().empty());
+  ASSERT_TRUE(world.spawn("r", "<sdf version=\"1.6\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
+                          ModelFormat::Sdf, at(0, 0, 1)).ok());
+}
+
+// Finding 9: a model named "one_DOF_robot::link2" took over that frame for other requests.
+TEST_P(BadInput, ModelNamesThatMakeScopedNamesAmbiguousAreRefused) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  for (const std::string name : {"one_DOF_robot::link2", "a::b", "world"}) {
+    const Status status = world.spawn(name, boxUrdf(0.1), ModelFormat::Urdf, at(5, 0, 1));
+    EXPECT_EQ(status.code, StatusCode::InvalidModelName) << status;
+    EXPECT_EQ(status.subject, name);
+  }
+  EXPECT_EQ(world.modelNames(), std::vector<std::string>{"one_DOF_robot"});
+}
+
+// Finding 10: jobs accumulated without bound, and 500 jobs each clamped to the limit summed far
+// past it.
+TEST_P(EffortJobs, PendingJobsAreBoundedPerJoint) {
+  for (int i = 0; i < 1000; ++i)
+    ASSERT_TRUE(world.applyJointEffort("spin", 0.001, 1000 * kMs, -1).ok()) << i;
+  const Status full = world.applyJointEffort("spin", 0.001, 1000 * kMs, -1);
+  EXPECT_EQ(full.code, StatusCode::TooManyJobs) << full;
+  EXPECT_EQ(full.subject, "rotor::spin");
+  EXPECT_EQ(full.max, 1000);
+  world.clearJointForces("spin");
+  ASSERT_TRUE(world.applyJointEffort("spin", 0.001, 0, kMs).ok());
+}
+
+TEST_P(EffortJobs, TheEffortLimitHoldsTheSumOfOverlappingJobs) {
+  for (int i = 0; i < 500; ++i) ASSERT_TRUE(world.applyJointEffort("spin", 3.5, 0, 10 * kMs).ok());
+  steps(&world, 20);
+  EXPECT_NEAR(jointRate(world, "spin"), speedAfter(2.0, 10), 1e-12);
+}
+
+TEST_P(BodyWrench, PendingJobsAreBoundedPerLink) {
+  World world(GetParam(), withoutGravity());
+  ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(0, 0, 1)).ok());
+  for (int i = 0; i < 1000; ++i)
+    ASSERT_TRUE(world.applyBodyWrench("box::box", "", {}, {1, 0, 0}, {}, 1000 * kMs, -1).ok()) << i;
+  const Status full = world.applyBodyWrench("box::box", "", {}, {1, 0, 0}, {}, 1000 * kMs, -1);
+  EXPECT_EQ(full.code, StatusCode::TooManyJobs) << full;
+  EXPECT_EQ(full.subject, "box::box");
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, BadInput, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, BodyWrench, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, Contacts, ::testing::ValuesIn(World::engineNames()),
