@@ -101,10 +101,14 @@ class MinimalJointController:
         self.pos_cmd = 0.0
         self._get_properties = None
         self._apply_effort = None
-        self._pos_pub = rospy.Publisher('jnt_pos', Float64, queue_size=10)
-        self._vel_pub = rospy.Publisher('jnt_vel', Float64, queue_size=10)
-        self._trq_pub = rospy.Publisher('jnt_trq', Float64, queue_size=10)
-        self._joint_state_pub = rospy.Publisher('joint_states', JointState, queue_size=10)
+        # A lock-stepped simulator runs as fast as this loop: ten periods per wall millisecond
+        # at times. A second of samples queued per subscriber keeps a busy subscriber (a
+        # recorder, rqt_plot) from losing any.
+        queue = int(max(rate, 1000))
+        self._pos_pub = rospy.Publisher('jnt_pos', Float64, queue_size=queue)
+        self._vel_pub = rospy.Publisher('jnt_vel', Float64, queue_size=queue)
+        self._trq_pub = rospy.Publisher('jnt_trq', Float64, queue_size=queue)
+        self._joint_state_pub = rospy.Publisher('joint_states', JointState, queue_size=queue)
         self._cmd_sub = rospy.Subscriber('pos_cmd', Float64, self._on_pos_cmd, queue_size=10)
 
     def _on_pos_cmd(self, msg):
