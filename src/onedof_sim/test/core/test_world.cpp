@@ -1311,34 +1311,31 @@ TEST_P(BadInput, InputThatWouldFreezeTheWorldIsRefused) {
 TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
   World world(GetParam());
   const std::string body = inertial(1, 1, 1, 1);
-  expectRejected(world.spawn("r",
-                             "<robot name=\"r\"><link name=\"a\">" + body + "</link><link name=\"b\">" +
-                                 body + "</link><joint name=\"j\" type=\"continuous\"><parent "
-                                 "link=\"b\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/></joint></robot>",
-                             ModelFormat::Urdf, Pose()),
-                 "joint 'j' has link 'b' as both its parent and its child");
-  expectRejected(world.spawn("r",
-                             "<robot name=\"r\"><link name=\"a\">" + body +
-                                 "<collision><geometry><box size=\"nan 1 1\"/></geometry>"
-                                 "</collision></link></robot>",
-                             ModelFormat::Urdf, Pose()),
-                 "Could not parse collision element for Link [a]");
+  struct Case {
+    std::string xml;
+    ModelFormat format;
+    std::string reason;
+  };
+  std::vector<Case> cases = {
+      {"<robot name=\"r\"><link name=\"a\">" + body + "</link><link name=\"b\">" + body +
+           "</link><joint name=\"j\" type=\"continuous\"><parent link=\"b\"/><child link=\"b\"/>"
+           "<axis xyz=\"0 0 1\"/></joint></robot>",
+       ModelFormat::Urdf, "joint 'j' has link 'b' as both its parent and its child"},
+      {"<robot name=\"r\"><link name=\"a\">" + body +
+           "<collision><geometry><box size=\"nan 1 1\"/></geometry></collision></link></robot>",
+       ModelFormat::Urdf, "Could not parse collision element for Link [a]"},
+      {"<robot name=\"r\"><link name=\"a\">" + body +
+           "<collision><geometry><box size=\"1e6 1 1\"/></geometry></collision></link></robot>",
+       ModelFormat::Urdf, "link 'a': collision 'a_collision' is larger than 1000 m"},
+      {"<sdf version=\"99\"><model name=\"m\"><link name=\"l\"/></model></sdf>", ModelFormat::Sdf,
+       "version '99' is not one this libsdformat reads"},
+  };
   for (const char* version : {"99", "2.0", "abc"}) {
-    expectRejected(world.spawn("r",
-                               std::string("<sdf version=\"") + version +
-                                   "\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
-                               ModelFormat::Sdf, Pose()),
-                   "invalid SDF");
+    cases.push_back({std::string("<sdf version=\"") + version +
+                         "\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
+                     ModelFormat::Sdf, "invalid SDF"});
   }
-  expectRejected(world.spawn("r",
-                             "<robot name=\"r\"><link name=\"a\">" + body +
-                                 "<collision><geometry><box size=\"1e6 1 1\"/></geometry>"
-                                 "</collision></link></robot>",
-                             ModelFormat::Urdf, Pose()),
-                 "link 'a': collision 'a_collision' is larger than 1000 m");
-  expectRejected(world.spawn("r", "<sdf version=\"99\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
-                             ModelFormat::Sdf, Pose()),
-                 "version '99' is not one this libsdformat reads");
+  for (const Case& bad : cases) expectRejected(world.spawn("r", bad.xml, bad.format, Pose()), bad.reason);
   EXPECT_TRUE(world.modelNames().empty());
   ASSERT_TRUE(world.spawn("r", "<sdf version=\"1.6\"><model name=\"m\"><link name=\"l\"/></model></sdf>",
                           ModelFormat::Sdf, at(0, 0, 1)).ok());
