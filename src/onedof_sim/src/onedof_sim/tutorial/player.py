@@ -17,7 +17,7 @@ import yaml
 
 from onedof_sim.tools.plot import held_window
 from onedof_sim.tutorial import physics
-from onedof_sim.private_ros import PrivateRos, wait_until
+from onedof_sim.private_ros import PrivateRos
 
 Phase = collections.namedtuple('Phase', 'name command before')
 
@@ -90,8 +90,8 @@ class RvizView:
             number = free_display()
             self.xvfb = ros.start(['Xvfb', ':%d' % number, '-screen', '0', '1000x720x24',
                                    '-nolisten', 'tcp'], name='xvfb')
-            wait_until(lambda: os.path.exists('/tmp/.X11-unix/X%d' % number), 20,
-                       what='Xvfb on :%d' % number)
+            ros.wait_until(lambda: os.path.exists('/tmp/.X11-unix/X%d' % number), 20,
+                           what='Xvfb on :%d' % number)
             self.env['DISPLAY'] = ':%d' % number
         self.display = self.env.get('DISPLAY', os.environ.get('DISPLAY'))
         self.config = os.path.join(work_dir, 'tutorial.rviz')
@@ -117,11 +117,8 @@ class RvizView:
         return result.returncode == 0
 
     def wait_until_up(self, timeout=90):
-        def subscribed():
-            if self.rviz.poll() is not None:
-                raise RuntimeError('rviz exited: ' + self.ros.log_text(self.rviz)[-2000:])
-            return self._subscribed('/gazebo/collision_markers')
-        wait_until(subscribed, timeout, what='rviz to subscribe to /gazebo/collision_markers')
+        self.ros.wait_until(lambda: self._subscribed('/gazebo/collision_markers'), timeout,
+                            what='rviz to subscribe to /gazebo/collision_markers')
 
     def screenshot(self, path, timeout=90):
         """Waits for rviz to subscribe to the markers, then grabs frames until two in a row are
@@ -136,7 +133,7 @@ class RvizView:
                 return False
             return differing_pixels(path, previous) < STEADY_PIXELS
 
-        wait_until(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
+        self.ros.wait_until(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
         os.remove(previous)
 
     def _subscribed(self, topic):
@@ -232,10 +229,10 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)
         from gazebo_msgs.srv import GetModelState
-        rospy.wait_for_service('/gazebo/get_model_state', timeout=60)
+        ros.wait_for_service('/gazebo/get_model_state', timeout=60)
         model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
-        wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
-                   what='one_DOF_robot to be spawned')
+        ros.wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
+                       what='one_DOF_robot to be spawned')
         # rviz (software rendering) starts while the simulator is paused and is up before the
         # phases run, so its start-up never takes the CPU from the controller.
         rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
@@ -248,12 +245,12 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
         # Paused, sim time stands still, so the controller's first sample may come before this
         # subscription connects and the next only after unpausing: wait for the connection and
         # for the controller's persistent service connections (one per service on the sim).
-        wait_until(lambda: recorder.connected('jnt_pos') and recorder.connected('jnt_trq'), 60,
-                   what='the controller to publish jnt_pos and jnt_trq')
+        ros.wait_until(lambda: recorder.connected('jnt_pos') and recorder.connected('jnt_trq'), 60,
+                       what='the controller to publish jnt_pos and jnt_trq')
         say('rosservice call /gazebo/unpause_physics')
         from std_srvs.srv import Empty
         rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
-        wait_until(lambda: recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
+        ros.wait_until(lambda: recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
 
         from std_msgs.msg import Float64
         pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
@@ -270,8 +267,8 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True,
             start = rospy.get_time()
             pos_cmd.publish(Float64(phase.command))
             end = start + phase_duration
-            wait_until(lambda: rospy.get_time() >= end, phase_duration * 20 + 30,
-                       what='%.0f s of sim time' % phase_duration)
+            ros.wait_until(lambda: rospy.get_time() >= end, phase_duration * 20 + 30,
+                           what='%.0f s of sim time' % phase_duration)
             row = phase_summary(phase, recorder, start, end)
             say('  settled at %.4f rad (predicted %.4f), holding %.3f N m'
                 % (row['settled'], row['predicted'], row['holding_torque']))
