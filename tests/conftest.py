@@ -202,3 +202,10 @@ def shared_sim(ros, rospy_client, engine):
     world = api.get_world_properties()
     assert (world.sim_time, world.model_names) == (0.0, []), world
     return api
+
+
+@pytest.fixture
+def running_sim(shared_sim):
+    """The module's simulator of each engine, running from sim time 0 as a fresh node does."""
+    shared_sim.unpause_physics()
+    return shared_sim
