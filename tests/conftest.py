@@ -49,9 +49,10 @@ class SharedGraphs:
     pytest-forked runs a test's fixtures in the forked child and tears them all down there, module
     scope included, so a module-scoped fixture would still start a simulator per test. These graphs
     are started in the pytest (xdist worker) process before it forks a test that uses shared_sim,
-    and stopped when that process moves on to another module or ends; the test's child attaches to
-    its graph (PrivateRos.view) and stops only what it started itself. A graph whose test failed
-    is replaced, so one failure never leaves a strange world to the next test."""
+    and stopped when that process moves on to another module or ends. The test's child attaches to
+    its graph (view: a PrivateRos on the same roscore owning none of its processes), so it stops
+    only what it started itself, and it must not poll the simulator (not its child). A graph whose
+    test failed is replaced, so one failure never leaves a strange world to the next test."""
 
     def __init__(self):
         self._graphs = {}  # key -> (PrivateRos, simulator process) or the exception starting it
