@@ -80,6 +80,8 @@ def main(argv=None):
     print('busy_machine: %d CPU spinners beside: %s' % (args.processes, ' '.join(command)),
           flush=True)
     status = run_beside_spinners(command, args.processes, args.max_seconds)
+    if status < 0:  # killed by a signal: the status a shell gives
+        status = 128 - status
     print('busy_machine: spinners stopped; the command exited with %d' % status, flush=True)
     return status
 

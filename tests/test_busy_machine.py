@@ -12,9 +12,9 @@ from onedof_sim.private_ros import wait_until
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'busy_machine.py')
 
 
-def spinners_of(pid):
-    """Pids of the processes whose parent is pid, but for the command (`sleep`/`sh`)."""
-    children = []
+def children_of(pid):
+    """{child pid: command name} of the processes whose parent is pid."""
+    children = {}
     for entry in os.listdir('/proc'):
         if not entry.isdigit():
             continue
@@ -24,9 +24,18 @@ def spinners_of(pid):
         except OSError:
             continue
         name, fields = stat.split('(', 1)[1].rsplit(')', 1)
-        if int(fields.split()[1]) == pid and name not in ('sleep', 'sh'):
-            children.append(int(entry))
+        if int(fields.split()[1]) == pid:
+            children[int(entry)] = name
     return children
+
+
+def child_names(pid):
+    return children_of(pid).values()
+
+
+def spinners_of(pid):
+    """Pids of the children of pid but the command (`sleep`/`sh`)."""
+    return [child for child, name in children_of(pid).items() if name not in ('sleep', 'sh')]
 
 
 def alive(pid):
@@ -52,11 +61,17 @@ def test_the_exit_status_is_the_commands_and_the_spinners_ran_beside_it():
 
 def test_ctrl_c_stops_the_command_and_the_spinners():
     runner = subprocess.Popen([sys.executable, SCRIPT, '--processes', '2', '--', 'sleep', '60'],
-                              start_new_session=True, stdout=subprocess.DEVNULL)
+                              start_new_session=True, stdout=subprocess.PIPE, text=True)
+    assert runner.stdout.readline().startswith('busy_machine: 2 CPU spinners beside: sleep 60')
     spinners = wait_until(lambda: len(spinners_of(runner.pid)) == 2 and spinners_of(runner.pid),
                           30, what='2 spinners')
+    wait_until(lambda: any(name == 'sleep' for name in child_names(runner.pid)), 30,
+               what='the command to start')
     os.killpg(runner.pid, signal.SIGINT)  # what the terminal does on Ctrl-C
-    assert runner.wait(timeout=30) != 0
+    out, _ = runner.communicate(timeout=30)
+    assert out == 'busy_machine: spinners stopped; the command exited with %d\n' % (
+        128 + signal.SIGINT)
+    assert runner.returncode == 128 + signal.SIGINT
     wait_until(lambda: not any(alive(pid) for pid in spinners), 10, what='the spinners to stop')
 
 
