@@ -3,6 +3,7 @@
 #
 #   make tutorial   set up, then play the tutorial headless into output/ (the main job)
 #   make test       set up, then run every test (unit, gtest, end-to-end)
+#   make test-under-load   the same tests with 8 CPU spinners beside them (a busy machine)
 #   make bench      set up, then run the side-by-side benchmarks into output/bench/
 #   make setup      Debian packages + venv + catkin build only
 #
@@ -35,10 +36,20 @@ APT_PACKAGES := \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
   catkin-lint xvfb xauth imagemagick procps python3-tk linux-perf
 
+# Set-up steps print one line each (what, how long); their full output goes to SETUP_LOG, and a
+# failing step prints its own in full (scripts/step).
+SETUP_LOG := $(WS)/.make/setup.log
+STEP := $(WS)/scripts/step $(SETUP_LOG)
+# The suite, as `make test` and `make test-under-load` run it.
+PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -n 2 --forked --timeout=900 $(PYTEST_ARGS) tests src
+# test-under-load: this many CPU spinners beside the suite, stopped after it (bounded anyway).
+LOAD_PROCESSES ?= 8
+LOAD_MAX_SECONDS ?= 3600
+
 # Rebuild when any source file changes (generated and cached files excluded).
 SOURCES := $(shell find $(WS)/src -type f -not -name '*.pyc' -not -path '*/__pycache__/*' 2>/dev/null)
 
-.PHONY: setup deps venv build tutorial test bench lint clean
+.PHONY: setup deps venv build tutorial test test-under-load bench lint clean
 
 setup: deps venv build
 
@@ -47,26 +58,28 @@ deps:
 	@missing=$$( { dpkg-query -W -f='$${Package} $${db:Status-Status}\n' $(APT_PACKAGES) 2>/dev/null || true; } \
 	  | awk '$$2 == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(APT_PACKAGES)" | grep . | sort)); \
 	if [ -n "$$missing" ]; then \
-	  echo "deps: installing Debian packages:" $$missing; \
 	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo=sudo; \
-	  $$sudo apt-get update -qq; \
-	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	  $(STEP) "deps: apt-get update" $$sudo apt-get update; \
+	  $(STEP) "deps: installing $$(wc -w <<< "$$missing") Debian packages ($$(echo $$missing))" \
+	    $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
 	fi
 
 venv: $(WS)/.make/venv
 
 $(WS)/.make/venv: $(WS)/requirements.txt | deps
-	@[ -x $(VENV_PYTHON) ] || $(SYSTEM_PYTHON) -m venv --system-site-packages $(VENV)
-	$(VENV_PYTHON) -m pip install -q --disable-pip-version-check -r $(WS)/requirements.txt
+	@[ -x $(VENV_PYTHON) ] || $(STEP) "venv: creating $(VENV)" \
+	  $(SYSTEM_PYTHON) -m venv --system-site-packages $(VENV)
+	@$(STEP) "venv: pip install -r requirements.txt" \
+	  $(VENV_PYTHON) -m pip install --disable-pip-version-check -r $(WS)/requirements.txt
 	@mkdir -p $(STAMPS) && touch $@
 
 build: $(STAMPS)/build
 
 $(STAMPS)/build: $(SOURCES) $(WS)/Makefile | deps venv
-	cd $(WS) && env -u PYTHONPATH catkin_make -j2 --build $(BUILD) -DCATKIN_DEVEL_PREFIX=$(WS)/$(DEVEL) \
-	  -DPYTHON_EXECUTABLE=$(SYSTEM_PYTHON) \
-	  -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON
-	cd $(WS) && $(MAKE) -C $(BUILD) -j2 tests
+	@$(STEP) "build: catkin_make (the nodes, messages and gtests, into $(BUILD)/ and $(DEVEL)/)" \
+	  env -u PYTHONPATH -C $(WS) catkin_make -j2 --build $(BUILD) -DCATKIN_DEVEL_PREFIX=$(WS)/$(DEVEL) \
+	  -DPYTHON_EXECUTABLE=$(SYSTEM_PYTHON) -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON \
+	  all tests
 	@mkdir -p $(STAMPS) && touch $@
 
 # The main job: the whole tutorial, headless, into $(OUTPUT).
@@ -74,10 +87,16 @@ tutorial: setup
 	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim play_tutorial --output $(OUTPUT) --physics $(PHYSICS)
 
 # Every test: Python unit tests in the packages, the gtests (collected by tests/conftest.py) and
-# the end-to-end tests over real nodes. Each test starts its own roscore on a free port.
+# the end-to-end tests over real nodes, on private roscores (README, Testing).
 test: setup
-	source $(WS)/$(DEVEL)/setup.bash && cd $(WS) && \
-	  $(VENV_PYTHON) -m pytest -p no:cacheprovider -n 2 --forked --timeout=900 $(PYTEST_ARGS) tests src
+	source $(WS)/$(DEVEL)/setup.bash && cd $(WS) && $(PYTEST_SUITE)
+
+# The same suite with $(LOAD_PROCESSES) CPU spinners beside it (tests/busy_machine.py): a machine
+# as busy as a shared runner. The spinners stop when the suite ends, fails or is interrupted; the
+# exit status is the suite's.
+test-under-load: setup
+	source $(WS)/$(DEVEL)/setup.bash && cd $(WS) && $(VENV_PYTHON) tests/busy_machine.py \
+	  --processes $(LOAD_PROCESSES) --max-seconds $(LOAD_MAX_SECONDS) -- $(PYTEST_SUITE)
 
 bench: setup
 	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim benchmark --output $(OUTPUT)/bench

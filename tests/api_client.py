@@ -125,12 +125,19 @@ class GazeboApi:
         """Sim time on the step grid (get_world_properties answers in float seconds)."""
         return int(round(self.get_world_properties().sim_time * 1e9))
 
-    def set_gravity(self, x, y, z):
+    def set_physics(self, max_update_rate=None, gravity=None):
+        """Sets the physics properties given, keeping the others."""
         physics = self.get_physics_properties()
-        physics.gravity.x, physics.gravity.y, physics.gravity.z = x, y, z
+        if max_update_rate is not None:
+            physics.max_update_rate = max_update_rate
+        if gravity is not None:
+            physics.gravity.x, physics.gravity.y, physics.gravity.z = gravity
         res = self.set_physics_properties(physics.time_step, physics.max_update_rate,
                                           physics.gravity, physics.ode_config)
         assert res.success, res.status_message
+
+    def set_gravity(self, x, y, z):
+        self.set_physics(gravity=(x, y, z))
 
     def run_until(self, sim_ns, timeout=120):
         """Unpauses, waits until sim time reaches sim_ns, pauses; returns the sim time paused at."""

@@ -1,16 +1,20 @@
-"""Fixtures for the end-to-end tests: a private roscore per test, the simulator, a rospy client.
+"""Fixtures for the end-to-end tests: a private roscore per test, the simulator, a rospy client,
+and a simulator shared by a module's tests (shared_sim).
 
 Run under pytest-forked (the Makefile passes --forked): each test runs in its own process, so it can
 init its own rospy node against its own roscore. Logs of every process a test started are printed
 when the test fails.
 
-A module whose tests only need a simulator in a known state takes `shared_sim` instead: one roscore
-and simulator per engine for all of the module's tests that a worker runs in a row (started in the
-worker before pytest-forked forks the test, so that it outlives each test); the module resets the
-world between tests.
+Starting a roscore and a simulator takes seconds (many on a busy machine) where most API tests take
+a fraction of one, so tests that ask for shared_sim run against one roscore and simulator per
+module and engine, reset to a known world before each test (see SharedGraphs). A test that checks
+start-up itself still starts its own node on its own roscore (the ros and sim fixtures).
 """
 import os
+import pickle
+import shutil
 import sys
+import tempfile
 
 import pytest
 
@@ -31,10 +35,97 @@ def pytest_runtest_makereport(item, call):
     setattr(item, 'report_' + report.when, report)
 
 
-def running_graph(request, graph):
-    """Starts graph's roscore and yields graph; at the end stops every process it started, and
-    prints their logs if the test failed. For fixtures: `yield from running_graph(...)`."""
-    graph.start_master()
+def uses_shared_sim(item):
+    return 'shared_sim' in getattr(item, 'fixturenames', ())
+
+
+def shared_key(item):
+    return item.module.__name__, item.callspec.params['engine']
+
+
+class SharedGraphs:
+    """The roscores and simulators shared by a module's tests, one per (module, engine).
+
+    pytest-forked runs a test's fixtures in the forked child and tears them all down there, module
+    scope included, so a module-scoped fixture would still start a simulator per test. These graphs
+    are started in the pytest (xdist worker) process before it forks a test that uses shared_sim,
+    and stopped when that process moves on to another module or ends. The test's child attaches to
+    its graph (view: a PrivateRos on the same roscore owning none of its processes), so it stops
+    only what it started itself, and it must not poll the simulator (not its child). A graph whose
+    test failed is replaced, so one failure never leaves a strange world to the next test."""
+
+    def __init__(self):
+        self._graphs = {}  # key -> (PrivateRos, simulator process) or the exception starting it
+
+    def ensure(self, item):
+        key = shared_key(item)
+        entry = self._graphs.get(key)
+        if isinstance(entry, tuple) and entry[1].poll() is None:
+            return
+        self.stop(key)
+        graph = PrivateRos(log_dir=tempfile.mkdtemp(prefix='onedof_shared_%s_' % key[1]))
+        try:
+            graph.start_master()
+            proc = start_sim(graph, key[1], ['-u'])
+            graph.params_at_start = graph.master().getParam('/conftest', '/')[2]
+            self._graphs[key] = graph, proc
+        except Exception as failure:  # reported by the test that needs it, not the worker
+            graph.stop()
+            self._graphs[key] = failure
+
+    def view(self, item):
+        entry = self._graphs.get(shared_key(item))
+        if entry is None:
+            pytest.fail('no shared simulator: the pytest process starts it before each test')
+        if isinstance(entry, Exception):
+            raise entry
+        graph = entry[0]
+        view = PrivateRos(log_dir=graph.log_dir)
+        view.port, view.env, view.params_at_start = graph.port, graph.env, graph.params_at_start
+        return view
+
+    def stop(self, key):
+        entry = self._graphs.pop(key, None)
+        if isinstance(entry, tuple):
+            entry[0].stop()
+            shutil.rmtree(entry[0].log_dir, ignore_errors=True)
+
+    def stop_all(self, unless_module=None):
+        for key in list(self._graphs):
+            if key[0] != unless_module:
+                self.stop(key)
+
+
+SHARED = SharedGraphs()
+FAILED_TESTS = set()
+
+
+@pytest.hookimpl(hookwrapper=True, tryfirst=True)
+def pytest_runtest_protocol(item, nextitem):
+    # Runs in the pytest process, before pytest-forked forks the test.
+    if uses_shared_sim(item):
+        SHARED.ensure(item)
+    yield
+    if uses_shared_sim(item) and item.nodeid in FAILED_TESTS:
+        SHARED.stop(shared_key(item))
+    SHARED.stop_all(unless_module=getattr(getattr(nextitem, 'module', None), '__name__', None))
+
+
+def pytest_runtest_logreport(report):
+    if report.failed:
+        FAILED_TESTS.add(report.nodeid)
+
+
+def pytest_sessionfinish(session):
+    SHARED.stop_all()
+
+
+def running_graph(request, graph, start=True):
+    """Yields graph, its roscore started first unless it is attached to a running one; at the end
+    stops every process the test started through it, and prints their logs if the test failed.
+    For fixtures: `yield from running_graph(...)`."""
+    if start:
+        graph.start_master()
     try:
         yield graph
     finally:
@@ -51,8 +142,12 @@ def running_graph(request, graph):
 
 @pytest.fixture
 def ros(request, tmp_path):
-    """A private roscore on a free port; stops every process it started."""
-    yield from running_graph(request, PrivateRos(log_dir=str(tmp_path / 'ros')))
+    """This test's ROS graph: the module's shared one (attached, not owned) when the test uses
+    shared_sim, else a private roscore on a free port. Stops every process the test started."""
+    if uses_shared_sim(request.node):
+        yield from running_graph(request, SHARED.view(request.node), start=False)
+    else:
+        yield from running_graph(request, PrivateRos(log_dir=str(tmp_path / 'ros')))
 
 
 def init_rospy(graph):
@@ -94,49 +189,36 @@ def sim(ros, engine):
     return start_sim(ros, engine)
 
 
-# --- one simulator per engine shared by a module's tests --------------------------------------
-
-# Started simulators by (module, engine), in this worker: {key: PrivateRos, or the start failure}.
-_shared_sims = {}
-
-
-def _shared_sim_key(item):
-    if item is None or 'shared_sim' not in getattr(item, 'fixturenames', ()):
-        return None
-    return item.module.__name__, item.callspec.params['engine']
-
-
-@pytest.hookimpl(hookwrapper=True)
-def pytest_runtest_protocol(item, nextitem):
-    """Starts the shared simulator before the test is forked, and stops it once the worker's next
-    test needs another one (or none)."""
-    key = _shared_sim_key(item)
-    if key is not None and key not in _shared_sims:
-        graph = PrivateRos()
-        try:
-            graph.start_master()
-            start_sim(graph, key[1], getattr(item.module, 'SHARED_SIM_ARGS', ()))
-            _shared_sims[key] = graph
-        except Exception as failure:  # reported by the test's set-up, in shared_sim
-            graph.stop()
-            _shared_sims[key] = failure
-    yield
-    if key is not None and _shared_sim_key(nextitem) != key:
-        shared = _shared_sims.pop(key)
-        if isinstance(shared, PrivateRos):
-            shared.stop()
+@pytest.fixture
+def shared_sim(ros, rospy_client, engine):
+    """The module's simulator of each engine, reset to what a fresh `-u` node has: paused at sim
+    time 0, no models, the start-up physics and parameters. Returns a GazeboApi on it."""
+    from api_client import GazeboApi
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    for name in api.get_world_properties().model_names:
+        res = api.delete_model(name)
+        assert res.success, res.status_message
+    api.reset_simulation()
+    # The first test on a fresh simulator records its start-up physics for the others.
+    start_up = os.path.join(ros.log_dir, 'start_up_physics.pickle')
+    if os.path.exists(start_up):
+        with open(start_up, 'rb') as f:
+            physics = pickle.load(f)
+        res = api.set_physics_properties(physics.time_step, physics.max_update_rate,
+                                         physics.gravity, physics.ode_config)
+        assert res.success, res.status_message
+    else:
+        with open(start_up, 'wb') as f:
+            pickle.dump(api.get_physics_properties(), f)
+    ros.master().setParam('/conftest', '/', ros.params_at_start)
+    world = api.get_world_properties()
+    assert (world.sim_time, world.model_names) == (0.0, []), world
+    return api
 
 
 @pytest.fixture
-def shared_sim(request, engine):
-    """The module's simulator of `engine` (args: the module's SHARED_SIM_ARGS), a PrivateRos; its
-    log is printed when the test fails."""
-    shared = _shared_sims.get(_shared_sim_key(request.node))
-    if not isinstance(shared, PrivateRos):
-        pytest.fail('the shared %s simulator did not start: %s' % (engine, shared))
-    yield shared
-    call = getattr(request.node, 'report_call', None)
-    if call is not None and call.failed:
-        for proc in shared.processes:
-            sys.stderr.write('----- %s (last 3000 chars) -----\n%s\n'
-                             % (proc.log_name, shared.log_text(proc)[-3000:]))
+def running_sim(shared_sim):
+    """The module's simulator of each engine, running from sim time 0 as a fresh node does."""
+    shared_sim.unpause_physics()
+    return shared_sim

@@ -8,29 +8,17 @@ import pytest
 
 from api_client import (BOX_SDF, ROBOT, STEP_NS, GazeboApi, pose, ros_duration, ros_time,
                         tutorial_urdf)
-from conftest import init_rospy
 
-SHARED_SIM_ARGS = ['-u']
 DEFAULT_RATE = 1000.0
 BOX_MASS = 1.0
 
 
 @pytest.fixture
 def api(shared_sim):
-    """A client of the shared simulator, whose world is the tutorial robot alone at rest, paused,
-    with the default physics."""
-    rospy = init_rospy(shared_sim)
-    client = GazeboApi(rospy)
-    client.pause_physics()
-    for name in client.get_world_properties().model_names:
-        if name != ROBOT:
-            assert client.delete_model(name).success
-    if ROBOT not in client.get_world_properties().model_names:
-        client.spawn_robot()
-    set_physics(client, time_step=0.001, max_update_rate=DEFAULT_RATE, cfm=0.0)
-    client.reset_simulation()
-    yield client
-    rospy.signal_shutdown('test finished')
+    """The module's simulator (conftest's shared_sim: paused at 0, empty, the start-up physics)
+    with the tutorial robot alone at rest."""
+    shared_sim.spawn_robot()
+    return shared_sim
 
 
 def set_physics(api, time_step=None, max_update_rate=None, cfm=None, gravity_z=-9.8):

@@ -18,8 +18,10 @@ def table_rows(text):
 
 def test_quick_benchmark_writes_every_row_with_its_comparison(tmp_path):
     output = tmp_path / 'bench'
-    result = subprocess.run(['rosrun', 'onedof_sim', 'benchmark', '--quick', '--output',
-                             str(output), '--engines', ','.join(ENGINES)],
+    # Without profiles: an aim missed only because the machine is busy must not send this test
+    # down another path (the profilers are tested on their own, test_profilers.py).
+    result = subprocess.run(['rosrun', 'onedof_sim', 'benchmark', '--quick', '--no-profiles',
+                             '--output', str(output), '--engines', ','.join(ENGINES)],
                             capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
 

@@ -100,7 +100,7 @@ def test_spawn_model_is_the_onedof_sim_program(ros):
     assert 'standing in for Gazebo' in ' '.join(ours.stdout.split())
 
 
-def test_books_table_command_through_gazebo_ros(ros, rospy_client, sim):
+def test_books_table_command_through_gazebo_ros(ros, rospy_client, running_sim):
     result = run(ros, 'rosrun', 'gazebo_ros', 'spawn_model', '-database', 'cafe_table', '-sdf',
                  '-model', 'cafe_table', '-x', '0.85')
     assert result.returncode == 0, output(result)
@@ -187,7 +187,7 @@ def test_books_launch_file_shape_works(ros, rospy_client, tmp_path):
     assert roslaunch.poll() is None, ros.log_text(roslaunch)
 
 
-def test_gazebo_interface_calls_the_simulator(ros, rospy_client, sim):
+def test_gazebo_interface_calls_the_simulator(ros, rospy_client, running_sim):
     from gazebo_ros import gazebo_interface
     with open(TUTORIAL_URDF) as f:
         urdf = f.read()

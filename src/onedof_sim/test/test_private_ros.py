@@ -1,16 +1,18 @@
 """The private roscore never takes someone else's port for its own (issue 12, finding 1): the port
-it chose can be taken between choosing and binding it."""
+it chose can be taken between choosing and binding it. A wait notices at once when a process the
+graph started dies (issue 12, item 5)."""
 import os
 import socket
 import subprocess
 import sys
 import threading
+import time
 import xmlrpc.server
 
 import pytest
 
 from onedof_sim import private_ros
-from onedof_sim.private_ros import PrivateRos, free_port, is_descendant
+from onedof_sim.private_ros import PrivateRos, ProcessExited, free_port, is_descendant
 
 
 def ports_taken_first(monkeypatch, taken):
@@ -108,3 +110,35 @@ def test_a_port_held_by_a_program_that_never_answers_is_left_for_another(monkeyp
     finally:
         graph.stop()
         silent.close()
+
+def test_a_wait_fails_at_once_naming_a_started_process_that_died_with_its_log_tail(tmp_path):
+    graph = PrivateRos(log_dir=str(tmp_path))
+    graph.env = dict(os.environ)  # no roscore: only start() and the wait are under test
+    graph.start(['sh', '-c', 'sleep 60'], name='long_runner')
+    graph.start(['sh', '-c', 'echo starting; echo "cannot resolve localhost" >&2; exit 3'],
+                name='launch_simulator')
+    started = time.monotonic()
+    try:
+        with pytest.raises(ProcessExited) as failure:
+            graph.wait_until(lambda: False, 60, what='service /gazebo/get_model_state')
+    finally:
+        graph.stop()
+    assert time.monotonic() - started < 5
+    message = str(failure.value)
+    assert 'launch_simulator exited (status 3)' in message
+    assert 'service /gazebo/get_model_state' in message
+    assert message.endswith('starting\ncannot resolve localhost')
+    assert 'long_runner' not in message
+
+
+def test_a_wait_ignores_processes_that_may_exit_or_were_stopped(tmp_path):
+    graph = PrivateRos(log_dir=str(tmp_path))
+    graph.env = dict(os.environ)
+    one_shot = graph.start(['true'], name='one_shot', may_exit=True)
+    stopped = graph.start(['sleep', '60'], name='stopped')
+    graph.terminate(stopped)
+    try:
+        one_shot.wait(timeout=30)
+        assert graph.wait_until(lambda: 'done', 5) == 'done'
+    finally:
+        graph.stop()

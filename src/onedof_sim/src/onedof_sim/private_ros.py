@@ -75,6 +75,17 @@ MASTER_TIMEOUT = 60
 ANSWER_TIMEOUT = 2  # per try while waiting for our roscore to answer: the wait retries
 
 
+class ProcessExited(RuntimeError):
+    """A process started through PrivateRos.start() ended while something waited for a condition."""
+
+
+LOG_TAIL_LINES = 25
+
+
+def log_tail(text, lines=LOG_TAIL_LINES):
+    return '\n'.join(text.rstrip('\n').split('\n')[-lines:])
+
+
 def bind_library():
     """The path of the preloaded bind library, from the workspace's library path (devel/lib)."""
     for directory in os.environ.get('LD_LIBRARY_PATH', '').split(os.pathsep):
@@ -178,19 +189,40 @@ class PrivateRos:
         return code == 1
 
     def wait_for_service(self, name, timeout=30):
-        wait_until(lambda: self.has_service(name), timeout, what='service %s' % name)
+        self.wait_until(lambda: self.has_service(name), timeout, what='service %s' % name)
+
+    def check_running(self, what='condition'):
+        """Raises ProcessExited for the first process started here that has ended although
+        nothing stopped it (and it was not started with may_exit)."""
+        for proc in self.processes:
+            if proc.may_exit or proc.stopped or proc.poll() is None:
+                continue
+            raise ProcessExited(
+                '%s exited (status %s) while waiting for %s; the end of its log %s:\n%s'
+                % (proc.log_name, proc.returncode, what, self.log_path(proc.log_name),
+                   log_tail(self.log_text(proc))))
+
+    def wait_until(self, condition, timeout, interval=0.05, what='condition'):
+        """wait_until() that also fails as soon as a process started here dies (check_running)."""
+        def watched():
+            self.check_running(what)
+            return condition()
+        return wait_until(watched, timeout, interval=interval, what=what)
 
     def log_path(self, name):
         return os.path.join(self.log_dir, name + '.log')
 
-    def start(self, args, name=None, env=None):
-        """Starts args in its own process group, output to <log_dir>/<name>.log."""
+    def start(self, args, name=None, env=None, may_exit=False):
+        """Starts args in its own process group, output to <log_dir>/<name>.log. Unless may_exit,
+        the process is meant to run until stopped, and wait_until() fails if it ends."""
         name = name or os.path.basename(args[0])
         log = open(self.log_path(name), 'ab')
         proc = subprocess.Popen(args, env=dict(self.env, **(env or {})), stdout=log,
                                 stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                 start_new_session=True)
         proc.log_name = name
+        proc.may_exit = may_exit
+        proc.stopped = False
         log.close()
         self.processes.append(proc)
         return proc
@@ -210,6 +242,7 @@ class PrivateRos:
 
     @staticmethod
     def terminate(proc, timeout=10):
+        proc.stopped = True
         if proc.poll() is not None:
             return
         for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):

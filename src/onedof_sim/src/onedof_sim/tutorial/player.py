@@ -25,7 +25,7 @@ import yaml
 
 from onedof_sim.tools.plot import held_window
 from onedof_sim.tutorial import physics
-from onedof_sim.private_ros import PrivateRos, wait_until
+from onedof_sim.private_ros import PrivateRos
 
 Phase = collections.namedtuple('Phase', 'name command before')
 
@@ -112,8 +112,9 @@ class Rosout:
     COMMAND_TAKEN = 'received value of pos_cmd is: '
     JOINED = 'lock-step: %s is commanded by %s' % (JOINT, CONTROLLER_NODE)
 
-    def __init__(self, rospy):
+    def __init__(self, ros, rospy):
         from rosgraph_msgs.msg import Log
+        self.wait_until = ros.wait_until
         self.lines = []
         self.subscriber = rospy.Subscriber('/rosout', Log, self._on_log, queue_size=1000)
 
@@ -133,10 +134,11 @@ class Rosout:
         def taken():
             commands = self.commands_taken()
             return len(commands) > taken_before and abs(commands[-1] - value) < 1e-9
-        wait_until(taken, timeout, what='the controller to log that it took pos_cmd %g' % value)
+        self.wait_until(taken, timeout,
+                        what='the controller to log that it took pos_cmd %g' % value)
 
     def wait_for_join(self, timeout=60):
-        wait_until(lambda: any(node == '/gazebo' and line.startswith(self.JOINED)
+        self.wait_until(lambda: any(node == '/gazebo' and line.startswith(self.JOINED)
                                for node, line in list(self.lines)), timeout,
                    what='the controller to join the lock-step')
 
@@ -161,8 +163,8 @@ class RvizView:
             number = free_display()
             self.xvfb = ros.start(['Xvfb', ':%d' % number, '-screen', '0', '1000x720x24',
                                    '-nolisten', 'tcp'], name='xvfb')
-            wait_until(lambda: os.path.exists('/tmp/.X11-unix/X%d' % number), 20,
-                       what='Xvfb on :%d' % number)
+            ros.wait_until(lambda: os.path.exists('/tmp/.X11-unix/X%d' % number), 20,
+                           what='Xvfb on :%d' % number)
             self.env['DISPLAY'] = ':%d' % number
         self.display = self.env.get('DISPLAY', os.environ.get('DISPLAY'))
         self.config = os.path.join(work_dir, 'tutorial.rviz')
@@ -188,11 +190,8 @@ class RvizView:
         return result.returncode == 0
 
     def wait_until_up(self, timeout=90):
-        def subscribed():
-            if self.rviz.poll() is not None:
-                raise RuntimeError('rviz exited: ' + self.ros.log_text(self.rviz)[-2000:])
-            return self._subscribed('/gazebo/collision_markers')
-        wait_until(subscribed, timeout, what='rviz to subscribe to /gazebo/collision_markers')
+        self.ros.wait_until(lambda: self._subscribed('/gazebo/collision_markers'), timeout,
+                            what='rviz to subscribe to /gazebo/collision_markers')
 
     def screenshot(self, path, timeout=90):
         """Waits for rviz to subscribe to the markers, then grabs frames until two in a row are
@@ -207,7 +206,7 @@ class RvizView:
                 return False
             return differing_pixels(path, previous) < STEADY_PIXELS
 
-        wait_until(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
+        self.ros.wait_until(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
         os.remove(previous)
 
     def _subscribed(self, topic):
@@ -291,13 +290,14 @@ class LockstepRun:
     the controller holds its command: from the period after the world stood to the one at the
     phase's end, times in integer nanoseconds so that every run draws the same edges."""
 
-    def __init__(self, rospy, recorder, pos_cmd):
+    def __init__(self, ros, rospy, recorder, pos_cmd):
         from onedof_sim.srv import StepSimulation
+        self.wait_until = ros.wait_until
         from gazebo_msgs.srv import GetPhysicsProperties
         self.rospy = rospy
         self.recorder = recorder
         self.pos_cmd = pos_cmd
-        self.rosout = Rosout(rospy)
+        self.rosout = Rosout(ros, rospy)
         self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation)
         self.time_step = rospy.ServiceProxy('/gazebo/get_physics_properties',
                                             GetPhysicsProperties)().time_step
@@ -305,7 +305,8 @@ class LockstepRun:
         self.period_ns = int(round(CONTROL_PERIOD * 1e9))
 
     def before_controller(self):
-        wait_until(lambda: self.rosout.connected('/gazebo'), 60, what='the simulator\'s /rosout')
+        self.wait_until(lambda: self.rosout.connected('/gazebo'), 60,
+                        what='the simulator\'s /rosout')
         # One period without a controller (the arm upright and at rest, no torque): ROS clients
         # have no valid time at sim time 0, so the controller starts on a time the world holds.
         self.now_ns = self.step(int(round(CONTROL_PERIOD / self.time_step)))
@@ -314,7 +315,7 @@ class LockstepRun:
         # The controller's first period, on its initial command: with it the controller joins
         # the lock-step (the simulator says so), and the world waits for it from then on.
         self.rosout.wait_for_join()
-        wait_until(lambda: self.rosout.connected(CONTROLLER_NODE), 60,
+        self.wait_until(lambda: self.rosout.connected(CONTROLLER_NODE), 60,
                    what='the controller\'s /rosout')
 
     def step(self, steps):
@@ -334,7 +335,7 @@ class LockstepRun:
         self.now_ns = self.step(int(round(duration / self.time_step)))
         end = seconds(self.now_ns + self.period_ns)
         # Every sample of the phase is in once the one taken at its end is.
-        wait_until(lambda: self.recorder.latest() >= seconds(self.now_ns), 60,
+        self.wait_until(lambda: self.recorder.latest() >= seconds(self.now_ns), 60,
                    what='the controller\'s samples up to %.2f s' % seconds(self.now_ns))
         return start, end
 
@@ -343,7 +344,8 @@ class FreeRun:
     """Lets the simulator run at its pace; a phase is the sim time between a command and the end
     of its duration, as a student lives it."""
 
-    def __init__(self, rospy, recorder, pos_cmd):
+    def __init__(self, ros, rospy, recorder, pos_cmd):
+        self.wait_until = ros.wait_until
         self.rospy = rospy
         self.recorder = recorder
         self.pos_cmd = pos_cmd
@@ -355,14 +357,15 @@ class FreeRun:
         from std_srvs.srv import Empty
         say('rosservice call /gazebo/unpause_physics')
         self.rospy.ServiceProxy('/gazebo/unpause_physics', Empty)()
-        wait_until(lambda: self.recorder.samples['jnt_pos'], 60, what='the controller on jnt_pos')
+        self.wait_until(lambda: self.recorder.samples['jnt_pos'], 60,
+                        what='the controller on jnt_pos')
 
     def phase(self, command, duration):
         start = self.rospy.get_time()
         self.pos_cmd.publish(self.pos_cmd.data_class(command))
         self.recorder.command(start, command)
         end = start + duration
-        wait_until(lambda: self.rospy.get_time() >= end, duration * 20 + 30,
+        self.wait_until(lambda: self.rospy.get_time() >= end, duration * 20 + 30,
                    what='%.0f s of sim time' % duration)
         return start, end
 
@@ -395,10 +398,10 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         import rospy
         rospy.init_node('tutorial_player', disable_signals=True)
         from gazebo_msgs.srv import GetModelState
-        rospy.wait_for_service('/gazebo/get_model_state', timeout=60)
+        ros.wait_for_service('/gazebo/get_model_state', timeout=60)
         model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
-        wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
-                   what='one_DOF_robot to be spawned')
+        ros.wait_until(lambda: model_state('one_DOF_robot', '').success, 60,
+                       what='one_DOF_robot to be spawned')
         # rviz (software rendering) starts while the simulator is paused and is up before the
         # phases run, so its start-up never takes the CPU from the controller.
         rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
@@ -407,13 +410,13 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         from std_msgs.msg import Float64
         pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
         recorder = Recorder(rospy)
-        run = (FreeRun if free_run else LockstepRun)(rospy, recorder, pos_cmd)
+        run = (FreeRun if free_run else LockstepRun)(ros, rospy, recorder, pos_cmd)
         run.before_controller()
         say('rosrun minimal_joint_controller minimal_joint_controller')
         ros.start(['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],
                   name='controller')
         # Paused, sim time stands still: wait for the controller's topics before it runs.
-        wait_until(lambda: recorder.connected() and pos_cmd.get_num_connections() > 0, 60,
+        ros.wait_until(lambda: recorder.connected() and pos_cmd.get_num_connections() > 0, 60,
                    what='the controller to publish joint_states and subscribe pos_cmd')
         run.start()
         rows = []

@@ -1,0 +1,90 @@
+"""Runs a command with CPU spinners beside it: the machine as busy as a shared CI runner or a
+student's laptop with other work on it (`make test-under-load` runs the suite this way).
+
+    python tests/busy_machine.py [--processes 8] [--max-seconds 3600] -- COMMAND [ARG...]
+
+The spinners start before the command and stop when it ends, also when it fails, on Ctrl-C or on
+SIGTERM; each also stops by itself after --max-seconds or when this process is gone (killed), so
+none outlives its purpose. The exit status is the command's.
+"""
+import argparse
+import multiprocessing
+import os
+import signal
+import subprocess
+import sys
+import time
+
+
+def spin(deadline, parent):
+    """Burns one CPU until the deadline (time.monotonic()) or until the parent process is gone."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    while time.monotonic() < deadline and os.getppid() == parent:
+        for _ in range(200000):
+            pass
+
+
+def start_spinners(count, max_seconds):
+    deadline = time.monotonic() + max_seconds
+    spinners = [multiprocessing.Process(target=spin, args=(deadline, os.getpid()), daemon=True,
+                                        name='busy_machine spinner %d' % i)
+                for i in range(count)]
+    for spinner in spinners:
+        spinner.start()
+    return spinners
+
+
+def stop_spinners(spinners):
+    for spinner in spinners:
+        spinner.terminate()
+    for spinner in spinners:
+        spinner.join(timeout=10)
+        if spinner.is_alive():
+            spinner.kill()
+            spinner.join()
+
+
+def run_beside_spinners(command, processes, max_seconds):
+    """Runs command with `processes` spinners beside it; returns the command's exit status."""
+    spinners = start_spinners(processes, max_seconds)
+    child = None
+
+    def forward_sigterm(signum, frame):
+        if child is not None and child.poll() is None:
+            child.send_signal(signum)
+    previous = signal.signal(signal.SIGTERM, forward_sigterm)
+    try:
+        child = subprocess.Popen(command)
+        while True:
+            try:
+                return child.wait()
+            except KeyboardInterrupt:
+                # Ctrl-C reached the whole process group: the command ends on its own terms
+                # (pytest reports what ran); wait for it and report its status.
+                continue
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+        stop_spinners(spinners)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--processes', type=int, default=8, help='CPU spinners (default 8)')
+    parser.add_argument('--max-seconds', type=float, default=3600,
+                        help='the spinners stop by themselves after this long (default 3600)')
+    parser.add_argument('command', nargs=argparse.REMAINDER, help='-- COMMAND [ARG...]')
+    args = parser.parse_args(argv)
+    command = args.command[1:] if args.command[:1] == ['--'] else args.command
+    if not command:
+        parser.error('no command given')
+    print('busy_machine: %d CPU spinners beside: %s' % (args.processes, ' '.join(command)),
+          flush=True)
+    status = run_beside_spinners(command, args.processes, args.max_seconds)
+    if status < 0:  # killed by a signal: the status a shell gives
+        status = 128 - status
+    print('busy_machine: spinners stopped; the command exited with %d' % status, flush=True)
+    return status
+
+
+if __name__ == '__main__':
+    sys.exit(main())
