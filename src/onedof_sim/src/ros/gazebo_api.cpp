@@ -24,6 +24,10 @@ constexpr int64_t kNsPerS = 1000000000;
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
 constexpr std::chrono::milliseconds kPacingSlice(50);
 constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
+// A client's two clock readings after a call are microseconds apart; a millisecond leaves them
+// room on a busy machine and bounds a lock-stepped 1 kHz controller to real time, about what
+// roscpp's sim-time sleep (it polls every millisecond) allows anyway.
+constexpr std::chrono::milliseconds kLockstepClockDelay(1);
 constexpr double kGroundMarkerSize = 10.0;           // m, the plane drawn as a thin square
 
 // --- conversions between ROS messages and the core's types -------------------------------------
@@ -715,6 +719,7 @@ struct GazeboApi::StepOutput {
   bool on_request = false;     // a step of step_simulation: not paced
   bool publish_clock = false;  // whatever pub_clock_frequency says: the world stops here
   bool hold_clock = false;     // lock-stepped controllers' efforts run: only stops are published
+  Lockstep::Clock::time_point clock_not_before;  // of a lock-step stop (see stepOnce)
   bool resumed = false;  // the pacing must restart (after a pause or a rate change)
   int64_t time_ns = 0;
   double max_update_rate = 0;
@@ -881,6 +886,11 @@ void GazeboApi::stepOnce(StepOutput* out) {
                     (lockstep_.enabled() && !lockstep_.awaited(world_, out->time_ns).empty());
   out->publish_clock = stop;
   out->hold_clock = !stop && lockstep_.enabled() && lockstep_.holding();
+  // And a stop's clock goes out no sooner than kLockstepClockDelay after the latest command: a
+  // roscpp client reads the clock twice right after its call returns, and the next stop's clock
+  // must not land between the two readings (as fast as possible it would, about once in a few
+  // hundred 1 kHz periods, and the client would sleep past the stop).
+  if (stop && lockstep_.enabled()) out->clock_not_before = last_command_at_ + kLockstepClockDelay;
 
   const bool states_due = isDue(out->time_ns, last_states_ns_, states_publish_frequency_);
   if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
@@ -936,6 +946,7 @@ bool GazeboApi::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput*
 
 void GazeboApi::publish(const StepOutput& out) {
   refreshClockFrequency();
+  if (out.publish_clock) std::this_thread::sleep_until(out.clock_not_before);
   if (out.publish_clock ||
       (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
     last_clock_ns_ = out.time_ns;
@@ -1023,9 +1034,11 @@ bool GazeboApi::applyJointEffort(
     WorldLock lock(*this);
     applied = world_.applyJointEffort(req.joint_name, req.effort, toNs(req.start_time),
                                       toNs(req.duration), &job);
-    if (applied.ok() && job.queued)
+    if (applied.ok() && job.queued) {
+      last_command_at_ = Lockstep::Clock::now();
       joined = lockstep_.heard(req.joint_name, event.getCallerName(),
                                req.duration < ros::Duration(0), world_.timeNs());
+    }
   }
   if (lockstep_.enabled()) wake_loop_.notify_all();
   if (joined) ROS_INFO_STREAM(lockstepJoinText(req.joint_name, event.getCallerName()));

@@ -165,6 +165,7 @@ class GazeboApi {
   bool paused_;
   double max_update_rate_;
   Lockstep lockstep_;
+  Lockstep::Clock::time_point last_command_at_;  // the latest accepted apply_joint_effort
   struct StepRequest {
     bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
     uint64_t remaining = 0;
