@@ -5,18 +5,13 @@ import os
 import shutil
 import subprocess
 
-import rospkg
+from onedof_sim.tools import workspace_root
 
 PACKAGE = 'book_cpp_client'
 # Its executables by control rate (Hz): the book's at 100 Hz, and the same source compiled for
 # 1 kHz (CONTROL_RATE_HZ in its CMakeLists.txt).
 EXECUTABLES = {100: 'book_controller', 1000: 'book_controller_1khz'}
 NODE = '/book_controller'
-
-
-def workspace_root():
-    """The catkin workspace this package is built from (<workspace>/src/onedof_sim)."""
-    return os.path.dirname(os.path.dirname(rospkg.RosPack().get_path('onedof_sim')))
 
 
 def build_overlay(directory):
