@@ -921,9 +921,8 @@ class Bench:
         code, _, uri = self.ros.master().lookupNode('/benchmark', '/gazebo')
         if code != 1:
             return False
-        code, _, connections = xmlrpc.client.ServerProxy(uri).getBusInfo('/benchmark')
-        # Each connection: [id, the other node, direction, transport, topic, ...].
-        return code == 1 and any(c[1] == node and c[4] == '/clock' for c in connections)
+        code, _, bus_info = xmlrpc.client.ServerProxy(uri).getBusInfo('/benchmark')
+        return code == 1 and bm.connected_to(bus_info, node, '/clock')
 
     def stepped(self, step, steps):
         """Sim seconds after /gazebo/step_simulation of `steps` (0: once the controllers have
