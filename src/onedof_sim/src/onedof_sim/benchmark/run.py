@@ -865,6 +865,10 @@ class Bench:
                          % (run['rtf'], run['timeouts']),
                          'real time: the free-running tutorial\'s real-time factor', '1.0',
                          run['rtf'])
+                if run['timeouts']:
+                    self.notes.append('8: %s at %d Hz: the simulator gave up waiting %d times; '
+                                      'the first: %s' % (label, rate, run['timeouts'],
+                                                         run['timeout_lines'][0]))
                 self.results.setdefault('lockstep_speed', {})['%s at %d Hz' % (label, rate)] = run
 
     def lockstep_run(self, engine, controller_command, node, name, pos_cmd):
@@ -913,8 +917,9 @@ class Bench:
             for proc in (controller, sim):
                 if proc:
                     self.stop(proc)
+        timeouts = [line for line in sim_log().splitlines() if LOCKSTEP_TIMEOUT_TEXT in line]
         return dict(rtf=(sim_end - sim_start) / wall, sim_s=sim_end - sim_start, wall_s=wall,
-                    timeouts=sim_log().count(LOCKSTEP_TIMEOUT_TEXT))
+                    timeouts=len(timeouts), timeout_lines=timeouts)
 
     def hears_clock(self, node):
         """Whether the simulator's /clock has a connection to `node` (from its bus information)."""
