@@ -36,9 +36,9 @@ def test_quick_benchmark_writes_every_row_with_its_comparison(tmp_path):
         assert against and against_figure, measured
         assert (aim == '—') == (met == '—'), measured
     # Every item on every engine (the node's _physics:=, the launch's physics:=, the bare loop's
-    # --physics), the control loop (4) on the default engine.
+    # --physics), the control loop (4) and lock-step (8, 9) on the default engine.
     expected = {(item, engine) for item in '123567' for engine in ENGINES}
-    expected.add(('4', ENGINES[0]))
+    expected |= {(item, ENGINES[0]) for item in '489'}
     covered = {(row[0], engine) for row in rows for engine in ENGINES
                if re.search(r'physics(:=| )%s\b' % engine, row[1])}
     assert expected <= covered, expected - covered
@@ -48,6 +48,16 @@ def test_quick_benchmark_writes_every_row_with_its_comparison(tmp_path):
     for aim in ('>= 0.5', '>= 0.3', 'p50 <= 1.3x', '0 missed', 'within 1 %',
                 'flat: anonymous growth < 2 %'):
         assert aim in aims, aim
+
+    # Lock-step (issue 11): the tutorial with each controller at each rate, with the times the
+    # world gave up waiting for it (to be seen, not asserted here: the lock-step tests do).
+    lockstep = [row for row in rows if row[0] == '8']
+    assert [re.search(r'(rospy|C\+\+) .* at (\d+) Hz', row[1]).groups() for row in lockstep] == [
+        ('rospy', '100'), ('C++', '100'), ('rospy', '1000'), ('C++', '1000')], lockstep
+    for row in lockstep:
+        assert re.search(r"\(lock-step timeouts in the simulator's log: \d+\)$", row[2]), row
+    busy = [row[1] for row in rows if row[0] == '9']
+    assert len(busy) == 2 and 'lock-stepped' in busy[0] and 'free-running' in busy[1], busy
 
     plots = ['scaling.png', 'control_loop.png', 'pacing_%s.png' % ENGINES[0]] + [
         'latency_%s.png' % engine for engine in ENGINES]

@@ -11,40 +11,20 @@ command at the end of every period, so the client misses none however busy the m
 rest angle is the physics' to the last micro-radian: that of the rospy controller on the same
 simulator, and that of the in-process run of the tutorial's controller law.
 """
-import os
-import shutil
-import subprocess
-
 import pytest
 
 from api_client import GazeboApi
-from conftest import WORKSPACE, start_sim
+from conftest import start_sim
 from onedof_sim.private_ros import wait_until
+from onedof_sim.tools import book_client
 from onedof_sim.tutorial import physics
 
-PACKAGE = 'book_cpp_client'
 LOCKSTEP = ['_lockstep:=true']
 COMMAND = 1.0
 # Sim seconds from the command to the reading: the step response decays as exp(-Kv t / 2 I), to
 # well under 1e-7 rad in 5 s.
 SETTLE_S = 5.0
 SAME = 1e-6  # rad
-
-
-def build_overlay(tmp_path):
-    """catkin_make of the client in tmp_path/overlay, under this workspace's devel (the test's
-    environment); returns the overlay's devel/setup.bash."""
-    overlay = tmp_path / 'overlay'
-    shutil.copytree(os.path.join(WORKSPACE, 'tests', PACKAGE), overlay / 'src' / PACKAGE)
-    env = dict(os.environ)
-    env.pop('PYTHONPATH', None)  # as the Makefile builds: catkin_make sets its own
-    # -C: catkin_make takes the workspace from $PWD (inherited: this workspace's), not the cwd.
-    result = subprocess.run(['catkin_make', '-C', str(overlay), '-j2',
-                             '-DPYTHON_EXECUTABLE=/usr/bin/python3'],
-                            cwd=overlay, env=dict(env, PWD=str(overlay)), capture_output=True,
-                            text=True, timeout=600)
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    return overlay / 'devel' / 'setup.bash'
 
 
 @pytest.fixture
@@ -93,14 +73,13 @@ def in_process_rest_angle(engine):
 def test_book_shaped_cpp_controller_rests_where_the_rospy_controller_does(
         ros, engine, sim_time_client, tmp_path):
     rospy = sim_time_client
-    setup = build_overlay(tmp_path)
+    setup = book_client.build_overlay(tmp_path)
     sim = start_sim(ros, engine, LOCKSTEP)
     api = GazeboApi(rospy)
     from std_msgs.msg import Float64
     pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
     q_cpp = rest_angle(ros, api, sim, pos_cmd, COMMAND,
-                       ['bash', '-c', 'source %s && rosrun %s book_controller' % (setup, PACKAGE)],
-                       'book_controller')
+                       book_client.command(setup), 'book_controller')
     pos_cmd.publish(Float64(0.0))
     q_rospy = rest_angle(ros, api, sim, pos_cmd, COMMAND,
                          ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller'],

@@ -2,16 +2,15 @@
 writes every output; its figures are those of the in-process run of the same controller law to a
 micro-radian, the same again with 8 busy processes beside it, and agree with the closed-form
 physics; its rviz screenshot shows the robot and the table."""
-import contextlib
 import fcntl
 import json
 import os
-import signal
 import subprocess
 import time
 
 import pytest
 
+from onedof_sim.tools.busy import busy_processes
 from onedof_sim.tutorial import physics
 
 PHASE_DURATION = 5.0
@@ -91,21 +90,6 @@ def test_link_rests_on_the_table_pressing_with_the_remaining_error(tutorial):
     assert phase['settled'] == pytest.approx(physics.table_contact_angle(0.85), abs=0.02)
     assert phase['holding_torque'] == pytest.approx(physics.KP * (2.5 - phase['settled']),
                                                     rel=0.02)
-
-
-@contextlib.contextmanager
-def busy_processes(count, seconds=600):
-    """count CPU-bound processes, each ended by itself after `seconds` at the latest and by this
-    context's exit in any case."""
-    procs = [subprocess.Popen(['timeout', str(seconds), 'sh', '-c', 'while :; do :; done'],
-                              start_new_session=True) for _ in range(count)]
-    try:
-        yield
-    finally:
-        for proc in procs:
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
 
 
 def in_process_settled_angles(engine):

@@ -4,8 +4,8 @@ import xml.etree.ElementTree as ElementTree
 
 import pytest
 
-from onedof_sim.benchmark.report import (Row, chain_urdf, collapsed_stack_shares, cpu_model,
-                                         markdown_cell, mean_rtf, missed_periods, one_line,
+from onedof_sim.benchmark.report import (Row, chain_urdf, collapsed_stack_shares,
+                                         connected_to, cpu_model, markdown_cell, mean_rtf, missed_periods, one_line,
                                          percentile, perf_report_shares, period_jitter,
                                          power_law_exponent, rate, render_table, windowed_rtf)
 
@@ -154,3 +154,13 @@ def test_collapsed_stack_shares_counts_self_and_inclusive_once_per_stack():
     recursive = collapsed_stack_shares('f (x.py:1);f (x.py:2);g (x.py:9) 4\n')
     assert recursive['f (x.py)'] == pytest.approx((0.0, 1.0))
     assert collapsed_stack_shares('') == {}
+
+
+def test_connected_to_reads_bus_info_rows():
+    # As roscpp's getBusInfo answers: [id, other node, direction, transport, topic, connected, ...]
+    bus_info = [[1, '/book_controller', 'o', 'TCPROS', '/clock', True, 'c1'],
+                [2, '/benchmark', 'o', 'TCPROS', '/rosout', True, 'c2']]
+    assert connected_to(bus_info, '/book_controller', '/clock')
+    assert not connected_to(bus_info, '/benchmark', '/clock')
+    assert not connected_to(bus_info, '/book_controller', '/rosout')
+    assert not connected_to([], '/book_controller', '/clock')

@@ -8,6 +8,11 @@
 #include <gazebo_msgs/ApplyJointEffort.h>
 #include <gazebo_msgs/GetJointProperties.h>
 
+// The book's 100 Hz; the CMakeLists builds a second executable at 1 kHz from this source.
+#ifndef CONTROL_RATE_HZ
+#define CONTROL_RATE_HZ 100
+#endif
+
 double g_pos_cmd = 0.0;
 
 void posCmdCB(const std_msgs::Float64& pos_cmd_msg) {
@@ -39,13 +44,13 @@ int main(int argc, char** argv) {
   gazebo_msgs::ApplyJointEffort effort_cmd_srv;
   effort_cmd_srv.request.joint_name = "joint1";
   effort_cmd_srv.request.start_time.fromSec(0);  // 0: start now
-  effort_cmd_srv.request.duration.fromSec(0.01);  // one period's job
+  effort_cmd_srv.request.duration.fromSec(1.0 / CONTROL_RATE_HZ);  // one period's job
   gazebo_msgs::GetJointProperties get_joint_state_srv;
   get_joint_state_srv.request.joint_name = "joint1";
 
   const double Kp = 10.0;
   const double Kv = 3.0;
-  ros::Rate rate_timer(100);  // ROS time: sim time when /use_sim_time is true
+  ros::Rate rate_timer(CONTROL_RATE_HZ);  // ROS time: sim time when /use_sim_time is true
   std_msgs::Float64 q_msg, qdot_msg, trq_msg;
   while (ros::ok()) {
     ros::spinOnce();

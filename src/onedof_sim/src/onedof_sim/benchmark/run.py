@@ -3,7 +3,9 @@ references on one private ROS graph, and writes the table (README-table.md), the
 results.json.
 
 Items (issue 6), short ones first so that a failure shows early:
-  6 start-up, 1 throughput + 7 memory, 2 scaling, 3 service latency, 4 control loop, 5 pacing.
+  6 start-up, 1 throughput + 7 memory, 2 scaling, 3 service latency, 4 control loop, 5 pacing;
+and of issue 11 (lock-step): 8 the real-time factor of the lock-stepped tutorial with each
+controller, 9 the tutorial's settled angle on a busy machine, lock-step against free-running.
 What is compared runs alternately in short windows (never at the same time: two cores), and the
 ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
 built, crashed) gets its rows marked as not measured and the run goes on, and a missing profiler
@@ -27,6 +29,9 @@ import rospkg
 from onedof_sim.benchmark import report as bm
 from onedof_sim.engines import engine_names, node_command
 from onedof_sim.private_ros import PrivateRos, wait_until
+from onedof_sim.tools import book_client, workspace_root
+from onedof_sim.tools.busy import busy_processes
+from onedof_sim.tutorial import player
 
 # The engine whose physics library pybullet wraps: its node is also set against bare pybullet.
 PYBULLET_COUNTERPART = 'bullet'
@@ -43,6 +48,9 @@ CLOCK_FREQUENCY = '/gazebo/pub_clock_frequency'
 MEMORY_CLOCK_FREQUENCY = 100.0
 THROTTLED_CLOCK_HZ = 100.0
 SETTLE_S = 0.25  # wall seconds after an unpause before a window opens
+LOCKSTEP_COMMAND = 1.0  # the tutorial's first command step, rad
+LOCKSTEP_TIMEOUT_TEXT = 'lock-step: the world waited'  # the simulator's line when it gives up
+BUSY_PROCESSES = 8  # as the tutorial's test under load
 
 
 @dataclasses.dataclass
@@ -64,13 +72,18 @@ class Sizes:
     # The default engine's pacing is measured during its control_s control run; the other
     # engines' (no control run) over pacing_s.
     pacing_s: float = 10.0
+    # Sim seconds the lock-stepped tutorial is stepped through with each controller (item 8),
+    # and the tutorial phase played for the comparison on a busy machine (item 9).
+    lockstep_s: float = 10.0
+    comparison_phase_s: float = 5.0
 
 
 FULL = Sizes()
 QUICK = Sizes(startup_repeats=1, throughput_windows=2, throughput_window_s=0.3, memory_steps=20000,
               chain_links=(1, 10), chain_windows=1, chain_window_s=0.2, chain_min_steps=2,
               latency_batches=1, persistent_calls=20, fresh_calls=5, control_s=2.0,
-              sweep_rates=(200,), sweep_s=1.0, pacing_s=2.0)
+              sweep_rates=(200,), sweep_s=1.0, pacing_s=2.0, lockstep_s=0.5,
+              comparison_phase_s=1.0)
 
 
 def say(text):
@@ -138,8 +151,7 @@ def engine_loop_command(engine, quick_step=False):
 def workspace_venv_bin():
     """bin/ of the workspace venv (make venv), where pybullet's python and py-spy live: rosrun
     runs this under the system python, which has neither."""
-    source = rospkg.RosPack().get_path('onedof_sim')  # <workspace>/src/onedof_sim
-    return os.path.join(os.path.dirname(os.path.dirname(source)), '.venv', 'bin')
+    return os.path.join(workspace_root(), '.venv', 'bin')
 
 
 def pybullet_loop_command():
@@ -257,11 +269,13 @@ class Bench:
             return pid if pid in descendants(proc.pid) else None
         return wait_until(started, timeout, what='node %s' % name)
 
-    def start_sim(self, engine, max_update_rate=1000, paused=False):
+    def start_sim(self, engine, max_update_rate=1000, paused=False, lockstep=False):
         # Always given: a private parameter set with _name:=value (or by a launch file) outlives
         # its node on the parameter server, and the next simulator would inherit it.
         proc = self.ros.start(node_command(engine) + [
-            '_max_update_rate:=%g' % max_update_rate, '_paused:=%s' % str(paused).lower()],
+            '_max_update_rate:=%g' % max_update_rate, '_paused:=%s' % str(paused).lower(),
+            '_lockstep:=%s' % str(lockstep).lower(),
+            '_lockstep_timeout:=%g' % player.LOCKSTEP_TIMEOUT],
             name='sim_' + engine)
         pid = self.wait_for_node(proc, '/gazebo')
         self.ros.wait_for_service('/gazebo/unpause_physics')
@@ -812,6 +826,166 @@ class Bench:
         write_pacing_plot(windows, name, os.path.join(self.output, 'pacing_%s.png' % engine))
 
 
+    # --- 8: the lock-stepped tutorial's real-time factor ---------------------------------------
+
+    def lockstep_speed(self, engine):
+        """The lock-stepped tutorial as fast as each controller allows: the rospy controller and
+        the book-shaped C++ client, each at 100 Hz and at 1 kHz."""
+        from std_msgs.msg import Float64
+        # One publisher for every run: a latched rospy publisher unregistered and made again on
+        # the same topic delivers nothing to the next subscriber.
+        pos_cmd = self.rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+        try:
+            setup, build_error = book_client.build_overlay(self.work), None
+        except (RuntimeError, subprocess.TimeoutExpired) as error:
+            setup, build_error = None, str(error)
+        for rate in (100, 1000):
+            controllers = [('rospy minimal_joint_controller', player.CONTROLLER_NODE,
+                            ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller',
+                             '_rate:=%g' % rate]),
+                           ('book-shaped C++ client (%s)' % book_client.EXECUTABLES[rate],
+                            book_client.NODE, book_client.command(setup, rate) if setup else None)]
+            for label, node, command in controllers:
+                what = ('real-time factor of the lock-stepped tutorial (_lockstep:=true, '
+                        '_max_update_rate:=0: as fast as the controller allows), command step '
+                        '0 -> %g at the start, %g s of sim time through /gazebo/step_simulation; '
+                        '%s at %d Hz (%s)' % (LOCKSTEP_COMMAND, self.sizes.lockstep_s, label, rate,
+                                              node_label(engine)))
+                if command is None:
+                    self.not_measured('8', what, 'the overlay build failed: ' + build_error[-200:])
+                    continue
+                try:
+                    run = self.lockstep_run(engine, command, node, 'lockstep_%s_%d' % (
+                        'cpp' if node == book_client.NODE else 'rospy', rate), pos_cmd)
+                except (NotMeasured, TimeoutError) as error:
+                    self.not_measured('8', what, str(error)[:300])
+                    continue
+                self.add('8', what, '%.2f (lock-step timeouts in the simulator\'s log: %d)'
+                         % (run['rtf'], run['timeouts']),
+                         'real time: the free-running tutorial\'s real-time factor', '1.0',
+                         run['rtf'])
+                if run['timeouts']:
+                    self.notes.append('8: %s at %d Hz: the simulator gave up waiting %d times; '
+                                      'the first: %s' % (label, rate, run['timeouts'],
+                                                         run['timeout_lines'][0]))
+                self.results.setdefault('lockstep_speed', {})['%s at %d Hz' % (label, rate)] = run
+
+    def lockstep_run(self, engine, controller_command, node, name, pos_cmd):
+        """Starts the lock-stepped simulator paused with the tutorial's robot, steps it through
+        one period so that the controller starts on a valid ROS time, starts the controller with
+        the command latched on /pos_cmd, waits for it to join the lock-step and to hear /clock,
+        and times /gazebo/step_simulation through lockstep_s of sim time. Returns the real-time
+        factor and the lock-step timeouts the simulator logged."""
+        from onedof_sim.srv import StepSimulation
+        sim = controller = None
+        # The simulators of one engine share a log: this one's lines are those after this offset.
+        log_start = len(self.ros.log_text('sim_' + engine))
+
+        def sim_log():
+            return self.ros.log_text(sim)[log_start:]
+        try:
+            sim, _ = self.start_sim(engine, max_update_rate=0, paused=True, lockstep=True)
+            self.spawn(self.tutorial_models[:1])
+            step = self.proxy('/gazebo/step_simulation', StepSimulation)
+            period_steps = round(player.CONTROL_PERIOD / STEP)
+            self.stepped(step, period_steps)
+            pos_cmd.publish(pos_cmd.data_class(LOCKSTEP_COMMAND))
+            controller = self.ros.start(controller_command, name=name)
+
+            def joined():
+                if controller.poll() is not None:
+                    raise NotMeasured('%s exited: %s' % (name, self.ros.log_text(controller)[-300:]))
+                return ('lock-step: joint1 is commanded by ' + node in sim_log()
+                        and self.hears_clock(node))
+            # A roscpp client can command before it has heard any /clock (its time still 0); its
+            # ros::Rate then sleeps a whole period from the first time it hears, and a world
+            # stepped on before that would wait for a command that comes a period too late. Its
+            # /clock connection up, the latched time it hears first is the one the world stands at.
+            wait_until(joined, 60, what='%s to join the lock-step and hear /clock' % name)
+            steps = round(self.sizes.lockstep_s / STEP)
+            start = time.monotonic()
+            sim_start = self.stepped(step, 0)  # where the controller stands
+            sim_end = self.stepped(step, steps)
+            wall = time.monotonic() - start
+            if controller.poll() is not None:
+                raise NotMeasured('%s exited: %s' % (name, self.ros.log_text(controller)[-300:]))
+            if 'received value of pos_cmd is: %f' % LOCKSTEP_COMMAND not in \
+                    self.ros.log_text(controller):
+                raise NotMeasured('%s never took the command %g' % (name, LOCKSTEP_COMMAND))
+        finally:
+            for proc in (controller, sim):
+                if proc:
+                    self.stop(proc)
+        timeouts = [line for line in sim_log().splitlines() if LOCKSTEP_TIMEOUT_TEXT in line]
+        return dict(rtf=(sim_end - sim_start) / wall, sim_s=sim_end - sim_start, wall_s=wall,
+                    timeouts=len(timeouts), timeout_lines=timeouts)
+
+    def hears_clock(self, node):
+        """Whether the simulator's /clock has a connection to `node` (from its bus information)."""
+        code, _, uri = self.ros.master().lookupNode('/benchmark', '/gazebo')
+        if code != 1:
+            return False
+        code, _, bus_info = xmlrpc.client.ServerProxy(uri).getBusInfo('/benchmark')
+        return code == 1 and bm.connected_to(bus_info, node, '/clock')
+
+    def stepped(self, step, steps):
+        """Sim seconds after /gazebo/step_simulation of `steps` (0: once the controllers have
+        acted at the current time)."""
+        reply = step(steps)
+        if not reply.success:
+            raise NotMeasured('step_simulation: ' + reply.status_message)
+        return reply.sim_time.to_sec()
+
+    # --- 9: the tutorial on a busy machine, lock-step and free-running --------------------------
+
+    def busy_machine(self, engine):
+        """The tutorial's first phase (command 1.0) with BUSY_PROCESSES CPU-bound processes beside
+        it, lock-stepped and free-running at real-time factor 1, each against the lock-stepped
+        run on the quiet machine: lock-step keeps the figure, free-running loses periods."""
+        duration = self.sizes.comparison_phase_s
+        runs = {}
+        try:
+            quiet = self.first_phase(engine, 'quiet_lockstep')
+            for key, args in (('lockstep', ()), ('free_run', ('--free-run',))):
+                with busy_processes(BUSY_PROCESSES):
+                    runs[key] = self.first_phase(engine, 'busy_' + key, *args)
+        except (NotMeasured, subprocess.TimeoutExpired) as error:
+            self.not_measured('9', 'the tutorial\'s settled angle with %d busy processes beside '
+                              'it, lock-stepped and free-running (node with _physics:=%s)'
+                              % (BUSY_PROCESSES, engine), str(error)[:300])
+            return
+        periods = round(duration / player.CONTROL_PERIOD)
+        against = ('the same, lock-stepped on the quiet machine (%d of %d samples)'
+                   % (quiet['samples'], periods))
+        for key, title in (('lockstep', 'lock-stepped'),
+                           ('free_run', 'free-running at real-time factor 1')):
+            run = runs[key]
+            self.add('9', 'the tutorial\'s settled angle for command %g (its first phase, %g s of '
+                     'sim time), %s, %d busy processes beside it (node with _physics:=%s; '
+                     'controller samples: %d of %d)' % (
+                         LOCKSTEP_COMMAND, duration, title, BUSY_PROCESSES, engine,
+                         run['samples'], periods),
+                     '%.6f rad (%+.1e from quiet)' % (run['settled'],
+                                                       run['settled'] - quiet['settled']),
+                     against, '%.6f rad' % quiet['settled'])
+        self.results['busy_machine'] = dict(quiet_lockstep=quiet, **runs)
+
+    def first_phase(self, engine, name, *args):
+        """Summary row of the tutorial's first phase played by play_tutorial (the main job)."""
+        output = os.path.join(self.work, name)
+        env = dict(os.environ)
+        env.pop('DISPLAY', None)
+        result = subprocess.run(['rosrun', 'onedof_sim', 'play_tutorial', '--output', output,
+                                 '--physics', engine, '--phases', '1', '--no-screenshot',
+                                 '--phase-duration', '%g' % self.sizes.comparison_phase_s]
+                                + list(args), capture_output=True, text=True, timeout=600, env=env)
+        if result.returncode != 0:
+            raise NotMeasured('play_tutorial %s: %s' % (' '.join(args), (result.stdout
+                                                                         + result.stderr)[-300:]))
+        with open(os.path.join(output, 'summary.json')) as f:
+            return json.load(f)['phases'][0]
+
+
 def take_profile(pid, seconds, path, python=False):
     """Profiles pid (perf, or py-spy for a Python process) into path; returns a one-line summary
     of where the time goes or, when the profiler is missing or fails, says so plainly."""
@@ -1045,6 +1219,9 @@ def main(argv=None):
         items += [('4, 5 control loop and pacing, ' + e, lambda e=e: bench.control_and_pacing(
             e, sizes.pacing_s, control=e == engine_names()[0]))
                   for e in engines]
+        # Lock-step (issue 11) on the default engine: the controller sets the pace, not the engine.
+        items += [('8 lock-step speed, ' + engines[0], lambda: bench.lockstep_speed(engines[0])),
+                  ('9 busy machine, ' + engines[0], lambda: bench.busy_machine(engines[0]))]
         try:
             for title, run in items:
                 say('--- %s (%.0f s so far)' % (title, time.monotonic() - started))

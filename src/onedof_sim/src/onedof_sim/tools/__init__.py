@@ -1,2 +1,11 @@
 """Command-line tools beside the simulator node: plot (rqt_plot's syntax) and spawn_cli
-(spawn_model's arguments and model sources)."""
+(spawn_model's arguments and model sources); and what the tests and the benchmark both run:
+book_client (the book-shaped C++ client's overlay build), busy (CPU-bound processes)."""
+import os
+
+import rospkg
+
+
+def workspace_root():
+    """The catkin workspace this package is built from (<workspace>/src/onedof_sim)."""
+    return os.path.dirname(os.path.dirname(rospkg.RosPack().get_path('onedof_sim')))

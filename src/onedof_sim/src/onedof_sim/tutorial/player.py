@@ -371,9 +371,10 @@ class FreeRun:
 
 
 def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=False,
-         real_time_factor=1.0):
-    """Plays the tutorial, in lock-step unless free_run (then paced at real_time_factor); returns
-    the per-phase summary rows. Raises with the reason on failure."""
+         real_time_factor=1.0, phases=PHASES):
+    """Plays the tutorial's `phases` (a leading part of PHASES: each starts where the one before
+    left the arm), in lock-step unless free_run (then paced at real_time_factor); returns the
+    per-phase summary rows. Raises with the reason on failure."""
     from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
     log_dir = os.path.join(output, 'logs')
@@ -420,7 +421,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
                    what='the controller to publish joint_states and subscribe pos_cmd')
         run.start()
         rows = []
-        for phase in PHASES:
+        for phase in phases:
             if phase.before:
                 say(' '.join(phase.before))
                 result = ros.run(phase.before)

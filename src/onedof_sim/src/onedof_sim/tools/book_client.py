@@ -1,0 +1,40 @@
+"""The book-shaped C++ client (tests/book_cpp_client), built as a student builds it: catkin_make of
+the package in a scratch overlay on this workspace's devel. The tests and the benchmark both run
+it from here."""
+import os
+import shutil
+import subprocess
+
+from onedof_sim.tools import workspace_root
+
+PACKAGE = 'book_cpp_client'
+# Its executables by control rate (Hz): the book's at 100 Hz, and the same source compiled for
+# 1 kHz (CONTROL_RATE_HZ in its CMakeLists.txt).
+EXECUTABLES = {100: 'book_controller', 1000: 'book_controller_1khz'}
+NODE = '/book_controller'
+
+
+def build_overlay(directory):
+    """catkin_make of the client in directory/overlay, under the workspace devel of this process's
+    environment; returns the overlay's devel/setup.bash. Raises RuntimeError with the build's
+    output when it fails."""
+    overlay = os.path.join(str(directory), 'overlay')
+    shutil.copytree(os.path.join(workspace_root(), 'tests', PACKAGE),
+                    os.path.join(overlay, 'src', PACKAGE))
+    env = dict(os.environ)
+    env.pop('PYTHONPATH', None)  # as the Makefile builds: catkin_make sets its own
+    # -C: catkin_make takes the workspace from $PWD (inherited: this workspace's), not the cwd.
+    result = subprocess.run(['catkin_make', '-C', overlay, '-j2',
+                             '-DPYTHON_EXECUTABLE=/usr/bin/python3'],
+                            cwd=overlay, env=dict(env, PWD=overlay), capture_output=True,
+                            text=True, timeout=600)
+    if result.returncode != 0:
+        raise RuntimeError('catkin_make of %s failed:\n%s%s' % (
+            PACKAGE, result.stdout[-3000:], result.stderr[-3000:]))
+    return os.path.join(overlay, 'devel', 'setup.bash')
+
+
+def command(setup, rate=100):
+    """The command line running the client at `rate` Hz from the overlay whose setup.bash is
+    `setup`."""
+    return ['bash', '-c', 'source %s && exec rosrun %s %s' % (setup, PACKAGE, EXECUTABLES[rate])]
