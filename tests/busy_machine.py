@@ -8,45 +8,15 @@ SIGTERM; each also stops by itself after --max-seconds or when this process is g
 none outlives its purpose. The exit status is the command's.
 """
 import argparse
-import multiprocessing
-import os
 import signal
 import subprocess
 import sys
-import time
 
-
-def spin(deadline, parent):
-    """Burns one CPU until the deadline (time.monotonic()) or until the parent process is gone."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-    while time.monotonic() < deadline and os.getppid() == parent:
-        for _ in range(200000):
-            pass
-
-
-def start_spinners(count, max_seconds):
-    deadline = time.monotonic() + max_seconds
-    spinners = [multiprocessing.Process(target=spin, args=(deadline, os.getpid()), daemon=True,
-                                        name='busy_machine spinner %d' % i)
-                for i in range(count)]
-    for spinner in spinners:
-        spinner.start()
-    return spinners
-
-
-def stop_spinners(spinners):
-    for spinner in spinners:
-        spinner.terminate()
-    for spinner in spinners:
-        spinner.join(timeout=10)
-        if spinner.is_alive():
-            spinner.kill()
-            spinner.join()
+from onedof_sim.tools.busy import busy_processes
 
 
 def run_beside_spinners(command, processes, max_seconds):
     """Runs command with `processes` spinners beside it; returns the command's exit status."""
-    spinners = start_spinners(processes, max_seconds)
     child = None
 
     def forward_sigterm(signum, frame):
@@ -54,17 +24,17 @@ def run_beside_spinners(command, processes, max_seconds):
             child.send_signal(signum)
     previous = signal.signal(signal.SIGTERM, forward_sigterm)
     try:
-        child = subprocess.Popen(command)
-        while True:
-            try:
-                return child.wait()
-            except KeyboardInterrupt:
-                # Ctrl-C reached the whole process group: the command ends on its own terms
-                # (pytest reports what ran); wait for it and report its status.
-                continue
+        with busy_processes(processes, max_seconds):
+            child = subprocess.Popen(command)
+            while True:
+                try:
+                    return child.wait()
+                except KeyboardInterrupt:
+                    # Ctrl-C reached the whole process group: the command ends on its own terms
+                    # (pytest reports what ran); wait for it and report its status.
+                    continue
     finally:
         signal.signal(signal.SIGTERM, previous)
-        stop_spinners(spinners)
 
 
 def main(argv=None):

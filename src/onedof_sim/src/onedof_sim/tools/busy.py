@@ -1,20 +1,37 @@
-"""CPU-bound processes beside a run, to show what a busy machine does to it."""
+"""CPU-bound processes beside a run, to show what a busy machine does to it (the benchmark, the
+tutorial's busy-machine test, and `make test-under-load` through tests/busy_machine.py)."""
 import contextlib
+import multiprocessing
 import os
 import signal
-import subprocess
+import time
+
+
+def spin(deadline, parent):
+    """Burns one CPU until the deadline (time.monotonic()) or until the parent process is gone."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    while time.monotonic() < deadline and os.getppid() == parent:
+        for _ in range(200000):
+            pass
 
 
 @contextlib.contextmanager
 def busy_processes(count, seconds=600):
-    """count CPU-bound processes, each ended by itself after `seconds` at the latest and by this
-    context's exit in any case."""
-    procs = [subprocess.Popen(['timeout', str(seconds), 'sh', '-c', 'while :; do :; done'],
-                              start_new_session=True) for _ in range(count)]
+    """count CPU-bound processes for the context's duration; each also stops by itself after
+    `seconds` or when this process is gone (killed), so none outlives its purpose."""
+    deadline = time.monotonic() + seconds
+    spinners = [multiprocessing.Process(target=spin, args=(deadline, os.getpid()), daemon=True,
+                                        name='busy spinner %d' % i)
+                for i in range(count)]
+    for spinner in spinners:
+        spinner.start()
     try:
         yield
     finally:
-        for proc in procs:
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+        for spinner in spinners:
+            spinner.terminate()
+        for spinner in spinners:
+            spinner.join(timeout=10)
+            if spinner.is_alive():
+                spinner.kill()
+                spinner.join()
