@@ -97,7 +97,8 @@ def test_services_and_topics_have_gazebo_msgs_type_names(ros, shared_sim, api):
     api.unpause_physics()
     for service, type_name in sorted(SERVICE_TYPES.items()):
         package = 'std_srvs' if type_name == 'Empty' else 'gazebo_msgs'
-        assert rosservice.get_service_type('/gazebo/' + service) == package + '/' + type_name
+        full_name = type_name if '/' in type_name else package + '/' + type_name
+        assert rosservice.get_service_type('/gazebo/' + service) == full_name
     out = ros.run(['rosservice', 'type', '/gazebo/get_joint_properties'])
     assert out.stdout.strip() == 'gazebo_msgs/GetJointProperties', out.stderr
     api.spawn_robot()

@@ -191,13 +191,33 @@ def test_every_period_is_sampled_at_100_hz_and_1_khz(ros, engine, sim_time_clien
     gaps = {b - a for a, b in zip(stamps, stamps[1:])}
     assert gaps == {period_ns}, 'sample spacings (ns): %s' % sorted(gaps)
     assert len(stamps) == round(window * rate)
-    # Each sample goes out on the Float64 topics too: once the world stands still, each of them
-    # has had as many messages as joint_states.
-    GazeboApi(robot.rospy).pause_physics()
-    topics = (robot.joint_states, robot.jnt_pos, robot.jnt_vel, robot.jnt_trq)
-    wait_until(lambda: len({len(topic.samples) for topic in topics}) == 1, 30,
-               what='as many jnt_pos, jnt_vel and jnt_trq messages as joint_states: %s'
-               % [len(topic.samples) for topic in topics])
+    # Each sample goes out on the Float64 topics too: between two pauses, each of them has had
+    # as many messages as joint_states (counted from the pause on, as the four connections may
+    # have come up a few messages apart).
+    api = GazeboApi(robot.rospy)
+    counts = [caught_up_counts(robot, api)]
+    api.unpause_physics()
+    robot.wait_sim_time(0.5)
+    counts.append(caught_up_counts(robot, api))
+    assert len({after - before for before, after in zip(*counts)}) == 1, counts
+
+
+def caught_up_counts(robot, api):
+    """Pauses the world; once each Float64 topic has delivered the last joint_states sample's
+    value, returns how many messages each of joint_states, jnt_pos, jnt_vel, jnt_trq brought."""
+    api.pause_physics()
+
+    def caught_up():
+        if not robot.joint_states.samples:
+            return False
+        last = robot.joint_states.samples[-1][1]
+        fields = ((robot.jnt_pos, last.position[0]), (robot.jnt_vel, last.velocity[0]),
+                  (robot.jnt_trq, last.effort[0]))
+        return all(topic.samples and topic.samples[-1][1].data == value
+                   for topic, value in fields)
+    wait_until(caught_up, 30, what='jnt_pos, jnt_vel and jnt_trq to bring the last sample')
+    return [len(topic.samples) for topic in (robot.joint_states, robot.jnt_pos, robot.jnt_vel,
+                                             robot.jnt_trq)]
 
 
 def test_joint_states_carry_the_joint_and_match_jnt_pos(robot):
