@@ -329,7 +329,11 @@ def test_pause_freezes_clock_and_joint_unpause_resumes(shared_sim, api, rospy_cl
     wait_until(lambda: max(stamps) > frozen[0], 30, what='/clock to move on')
 
 
-def test_clock_starts_at_first_step_and_advances_every_step(ros, shared_sim, rospy_client, api):
+def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_client):
+    # Its own simulator: what a node publishes from its start (a shared one has run before, and
+    # /clock is latched: a new subscriber gets the last time published).
+    start_sim(ros, engine, ['-u'])
+    api = GazeboApi(rospy_client)
     assert ros.master().getParam('/test', '/use_sim_time')[2] is True
     stamps, _ = clock_listener(rospy_client)
     time.sleep(0.5)  # paused: no /clock at all, in particular no clock of 0

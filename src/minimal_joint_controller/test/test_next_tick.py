@@ -18,6 +18,7 @@ def test_time_jumping_back_restarts_from_the_new_time():
     assert next_tick(t(5000), PERIOD, t(0)) == t(0)
 
 
-def test_falling_more_than_a_period_behind_restarts_from_now():
+def test_falling_a_whole_period_behind_restarts_from_now():
     assert next_tick(t(20), PERIOD, t(41)) == t(41)
-    assert next_tick(t(20), PERIOD, t(40)) == t(30)
+    assert next_tick(t(20), PERIOD, t(40)) == t(40)
+    assert next_tick(t(20), PERIOD, t(39)) == t(30)

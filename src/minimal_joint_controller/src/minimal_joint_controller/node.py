@@ -53,10 +53,13 @@ def wait_until_time(target):
 
 
 def next_tick(tick, period, now):
-    """The next period's start: a period after `tick`, or `now` when time jumped back or the loop
-    fell more than a period behind (a free-running simulator outpacing it)."""
+    """The next period's start, given the time `now` the loop woke for the one after `tick`: a
+    period after `tick`, or `now` when time jumped back or the loop fell a whole period behind (a
+    free-running simulator outpacing it). Never a whole period before `now`: the period after it
+    would start at `now` again, and a lock-stepped world stands still there, so the loop would
+    act twice at one time."""
     upcoming = tick + period
-    if now < tick or now - upcoming > period:
+    if now < tick or now - upcoming >= period:
         return now
     return upcoming
 

@@ -719,7 +719,6 @@ struct GazeboApi::StepOutput {
   bool on_request = false;     // a step of step_simulation: not paced
   bool publish_clock = false;  // whatever pub_clock_frequency says: the world stops here
   bool hold_clock = false;     // lock-stepped controllers' efforts run: only stops are published
-  bool clock_restarted = false;  // reset_simulation: time went back to 0
   Lockstep::Clock::time_point clock_not_before;  // of a lock-step stop (see stepOnce)
   bool resumed = false;  // the pacing must restart (after a pause or a rate change)
   int64_t time_ns = 0;
@@ -755,7 +754,9 @@ GazeboApi::GazeboApi(const NodeOptions& options)
   // Through the master, not the node handle: this node remaps /use_sim_time for itself (main.cpp).
   if (!masterHasParam(kUseSimTime)) masterSetParam(kUseSimTime, true);
 
-  advertiseClock();
+  // Latched: a node started while the world is paused learns the time at once, instead of
+  // running on time 0 (no valid time to roscpp and rospy) until the world moves.
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100, true);
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
@@ -826,13 +827,6 @@ GazeboApi::~GazeboApi() {
   steps_done_.notify_all();
 }
 
-// Latched: a node started while the world is paused learns the time at once, instead of running
-// on time 0 (no valid time to roscpp and rospy) until the world moves.
-void GazeboApi::advertiseClock() {
-  clock_pub_.shutdown();  // first: a second advertise of the topic would share its latched message
-  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100, true);
-}
-
 void GazeboApi::run() {
   bool was_stepping = false;
   double paced_rate = -1;
@@ -840,9 +834,6 @@ void GazeboApi::run() {
     StepOutput out;
     stepOnce(&out);
     for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
-    // The latched clock is the time before the reset: advertised anew, /clock holds nothing
-    // until the next step, as at start-up.
-    if (out.clock_restarted) advertiseClock();
     if (!out.stepped) {
       was_stepping = false;
       continue;
@@ -864,8 +855,6 @@ void GazeboApi::stepOnce(StepOutput* out) {
   // Let waiting service callbacks in first; they hold the lock only for one world call.
   while (waiting_callbacks_.load() > 0) std::this_thread::yield();
   std::unique_lock<std::mutex> lock(mutex_);
-  out->clock_restarted = clock_restarted_;
-  clock_restarted_ = false;
   const bool requested = step_request_.remaining > 0;
   const bool request_ending = step_request_.active && !requested;
   if (paused_ && !requested && !request_ending) {
@@ -1475,7 +1464,6 @@ bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Resp
     WorldLock lock(*this);
     world_.resetSimulation();
     lockstep_.reset();
-    clock_restarted_ = true;
   }
   wake_loop_.notify_all();
   return true;

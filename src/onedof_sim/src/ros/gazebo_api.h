@@ -96,7 +96,6 @@ class GazeboApi {
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   void publish(const StepOutput& out);
   void refreshClockFrequency();
-  void advertiseClock();
   void pace(double max_update_rate, bool resumed);
 
   // Services (all under /gazebo/).
@@ -171,7 +170,6 @@ class GazeboApi {
     bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
     uint64_t remaining = 0;
   } step_request_;
-  bool clock_restarted_ = false;  // reset_simulation: the loop advertises /clock anew
   std::atomic<int> waiting_callbacks_{0};
 
   // Step-loop state (only the loop thread touches these).
