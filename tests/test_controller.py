@@ -179,18 +179,21 @@ def test_every_period_is_sampled_at_100_hz_and_1_khz(ros, engine, sim_time_clien
     robot = ControlledRobot(ros, engine, sim_time_client, controller_args=['_rate:=%g' % rate])
     robot.command(1.0)
     robot.wait_sim_time(1.0)
-    start = robot.now()
-    window = 2.0
-    robot.wait_sim_time(window + 0.5)
-    # joint_states by their stamps, the sim time at which the controller read the joint: one per
-    # period, each a period after the one before, none missed.
+    start_ns = round(robot.now() * 1e9)
+    end_ns = start_ns + round(2.0 * 1e9)
+
+    # joint_states by their stamps alone, the sim time at which the controller read the joint
+    # (not by when they arrived: this process's clock and the samples come on two connections):
+    # one per period, each a period after the one before, none missed.
+    def stamps():
+        return [msg.header.stamp.to_nsec() for _, msg in list(robot.joint_states.samples)]
+    wait_until(lambda: any(t >= end_ns for t in stamps()), 120,
+               what='joint_states stamped past the window')
     period_ns = round(1e9 / rate)
-    stamps = [msg.header.stamp.to_nsec() for _, msg in robot.joint_states.since(start)]
-    start_ns = round(start * 1e9)
-    stamps = [t for t in stamps if start_ns <= t < start_ns + round(window * 1e9)]
+    stamps = [t for t in stamps() if start_ns <= t < end_ns]
     gaps = {b - a for a, b in zip(stamps, stamps[1:])}
     assert gaps == {period_ns}, 'sample spacings (ns): %s' % sorted(gaps)
-    assert len(stamps) == round(window * rate)
+    assert len(stamps) == round(2.0 * rate)
     # Each sample goes out on the Float64 topics too: between two pauses, each of them has had
     # as many messages as joint_states (counted from the pause on, as the four connections may
     # have come up a few messages apart).
