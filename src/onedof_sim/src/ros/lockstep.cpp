@@ -24,9 +24,10 @@ std::vector<Lockstep::Awaited> Lockstep::awaited(const World& world, int64_t t_n
   std::vector<Awaited> out;
   JointInfo unused;
   for (const auto& [name, joint] : joints_) {
-    // A joint of no model in the world (not spawned yet, or deleted) holds nothing up.
-    if (!joint.waited_for || !world.jointInfo(name, &unused).ok()) continue;
-    if (!world.jointEffortActive(name, t_ns)) out.push_back({name, joint.caller});
+    // Checked after every step: the cheap question first. A joint of no model in the world
+    // (not spawned yet, or deleted) holds nothing up.
+    if (!joint.waited_for || world.jointEffortActive(name, t_ns)) continue;
+    if (world.jointInfo(name, &unused).ok()) out.push_back({name, joint.caller});
   }
   return out;
 }
