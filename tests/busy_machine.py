@@ -22,19 +22,24 @@ def run_beside_spinners(command, processes, max_seconds):
     def forward_sigterm(signum, frame):
         if child is not None and child.poll() is None:
             child.send_signal(signum)
-    previous = signal.signal(signal.SIGTERM, forward_sigterm)
+
+    def wait_for_the_command(signum, frame):
+        """Ctrl-C reached the whole process group: the command ends on its own terms (pytest
+        reports what ran) and this process goes on waiting for it. A handler, not
+        KeyboardInterrupt: raised inside Popen.wait, the exception can drop the exit status just
+        collected, and the next wait finds no child and reports 0."""
+
+    handlers = {signal.SIGTERM: forward_sigterm}
+    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # else the command inherits SIG_IGN
+        handlers[signal.SIGINT] = wait_for_the_command
+    previous = {signum: signal.signal(signum, handler) for signum, handler in handlers.items()}
     try:
         with busy_processes(processes, max_seconds):
             child = subprocess.Popen(command)
-            while True:
-                try:
-                    return child.wait()
-                except KeyboardInterrupt:
-                    # Ctrl-C reached the whole process group: the command ends on its own terms
-                    # (pytest reports what ran); wait for it and report its status.
-                    continue
+            return child.wait()
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 def main(argv=None):

@@ -1,6 +1,9 @@
+import threading
+
+import pytest
 import rospy
 
-from minimal_joint_controller.node import next_tick
+from minimal_joint_controller.node import next_tick, wait_until_time
 
 PERIOD = rospy.Duration(0, 10000000)
 
@@ -22,3 +25,29 @@ def test_falling_a_whole_period_behind_restarts_from_now():
     assert next_tick(t(20), PERIOD, t(41)) == t(41)
     assert next_tick(t(20), PERIOD, t(40)) == t(40)
     assert next_tick(t(20), PERIOD, t(39)) == t(30)
+
+
+@pytest.fixture
+def sim_time():
+    rospy.rostime.set_rostime_initialized(True)
+    yield rospy.rostime._set_rostime
+    rospy.rostime.switch_to_wallclock()
+
+
+def test_waiting_for_the_next_period_returns_at_once_when_time_already_jumped_back(sim_time):
+    # reset_simulation while the period at 7.42 s was being acted on: the clock is back at 5 ms
+    # before the wait begins, and waiting for 7.43 s would leave the joint without torque.
+    sim_time(t(5))
+    assert wait_until_time(t(7430), t(7420)) == t(5)
+
+
+def test_waiting_for_the_next_period_returns_when_the_clock_reaches_it(sim_time):
+    sim_time(t(7420))
+    condition = rospy.rostime.get_rostime_cond()
+
+    def tick():
+        with condition:
+            sim_time(t(7430))
+            condition.notify_all()
+    threading.Timer(0.05, tick).start()
+    assert wait_until_time(t(7430), t(7420)) == t(7430)

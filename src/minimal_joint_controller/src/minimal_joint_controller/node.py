@@ -28,9 +28,10 @@ CLOCK_WAIT_SLICE = 0.005
 CONNECTION_ERRORS = (rospy.ServiceException, rospy.exceptions.TransportException, OSError)
 
 
-def wait_until_time(target):
-    """Waits until ROS time reaches `target`; returns the time then (earlier than target when time
-    jumped back: reset_simulation, a restarted simulator).
+def wait_until_time(target, jumped_back_before):
+    """Waits until ROS time reaches `target`; returns the time then, or at once the time earlier
+    than `jumped_back_before` when time jumped back (reset_simulation, a restarted simulator), even
+    if it jumped before this call: a reset while the last period's calls were under way.
 
     rospy.Rate cannot be used here: it reads the time, then rospy.sleep reads it again and
     sleeps a whole remainder from the second reading, so a clock that moves in between puts
@@ -38,15 +39,14 @@ def wait_until_time(target):
     waits at); and it checks the time outside the clock's condition, so a clock message can slip
     by unnoticed for half a second. Here the time is read under the condition the clock
     callback notifies."""
-    start = rospy.Time.now()
     if rospy.rostime.is_wallclock():
-        rospy.sleep(target - start)
+        rospy.sleep(target - rospy.Time.now())
         return rospy.Time.now()
     condition = rospy.rostime.get_rostime_cond()
     with condition:
         while not rospy.is_shutdown():
             now = rospy.Time.now()
-            if now >= target or now < start:
+            if now >= target or now < jumped_back_before:
                 return now
             condition.wait(1.0)
     raise rospy.ROSInterruptException('shutdown while waiting for the next period')
@@ -138,7 +138,7 @@ class MinimalJointController:
             if self._get_properties is None:
                 self._connect()
             self.control_once()
-            tick = next_tick(tick, self.period, wait_until_time(tick + self.period))
+            tick = next_tick(tick, self.period, wait_until_time(tick + self.period, tick))
 
     def _connect(self):
         """Waits for both services and opens persistent connections to them."""
