@@ -9,7 +9,10 @@ import time
 
 def spin(deadline, parent):
     """Burns one CPU until the deadline (time.monotonic()) or until the parent process is gone."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    # A forked spinner inherits its parent's handlers: with the parent's SIGTERM handler it would
+    # outlive terminate() until the join gave up on it.
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_DFL)
     while time.monotonic() < deadline and os.getppid() == parent:
         for _ in range(200000):
             pass
