@@ -17,6 +17,8 @@ import time
 import xmlrpc.client
 from xml.parsers.expat import ExpatError
 
+import psutil
+
 
 def free_port():
     with socket.socket() as sock:
@@ -39,6 +41,12 @@ class TimeoutTransport(xmlrpc.client.Transport):
 
 class PortTaken(Exception):
     """The port chosen for the roscore answers for another program, or the roscore could not bind it."""
+
+
+def listeners(port):
+    """The pids of the processes listening on TCP `port` (None for one this user may not see)."""
+    return [connection.pid for connection in psutil.net_connections(kind='tcp')
+            if connection.status == psutil.CONN_LISTEN and connection.laddr.port == port]
 
 
 def is_descendant(pid, ancestor):
@@ -148,7 +156,9 @@ class PrivateRos:
                 break
             except (PortTaken, TimeoutError) as failure:
                 failures.append(str(failure))
-                self.terminate(self.roscore)
+                # Killed: a roscore that found the port taken may be waiting on the program
+                # there and would take 20 s to heed SIGINT and SIGTERM; it has nothing to save.
+                self.kill(self.roscore)
                 self.processes.remove(self.roscore)
         else:
             raise RuntimeError('roscore did not start on %d ports (%s); logs in %s'
@@ -162,15 +172,27 @@ class PrivateRos:
                                                                    self.roscore.returncode))
         try:
             code, _, pid = self.master(timeout=ANSWER_TIMEOUT).getPid('/private_ros')
+        except TimeoutError:
+            # Something listens and does not answer: our rosmaster starting up, or another
+            # program, which roscore would wait on a long time before it gave up the port.
+            strangers = [pid for pid in listeners(self.port)
+                         if pid is None or not is_descendant(pid, self.roscore.pid)]
+            if strangers:
+                raise PortTaken('port %d is held by a program that does not answer (pid %s)'
+                                % (self.port, strangers[0]))
+            return False
         except OSError:
-            # Nothing listens on the port yet, or something that does has not answered: roscore
-            # exits when it cannot bind the port, which the next poll sees.
+            # Nothing listens on the port yet: roscore exits when it cannot bind the port, which
+            # the next poll sees.
             return False
         except (xmlrpc.client.Error, ExpatError) as answer:
             raise PortTaken('port %d answers for another program: %s' % (self.port, answer))
         if code != 1 or not is_descendant(pid, self.roscore.pid):
             raise PortTaken('port %d answers for another ROS master (pid %s)' % (self.port, pid))
-        return True
+        # Up once rosout is: roslaunch heeds SIGINT only after it has started the core's nodes
+        # (a graph stopped sooner took 10 s to stop).
+        code, _, _ = self.master(timeout=ANSWER_TIMEOUT).lookupNode('/private_ros', '/rosout')
+        return code == 1
 
     def adopt_environment(self):
         """Points this process at the graph (before rospy.init_node here): the graph's variables,
@@ -255,6 +277,15 @@ class PrivateRos:
                 return
             except subprocess.TimeoutExpired:
                 continue
+
+    @staticmethod
+    def kill(proc):
+        proc.stopped = True
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        proc.wait()
 
     def stop(self):
         # Nodes first, roscore last, so nodes can unregister cleanly.
