@@ -203,9 +203,15 @@ class Checks:
         settles where the page says."""
         if self.pub is not None:
             self.s.close(self.pub)
-        start = self.s.rospy.get_time()
+        heard = 'received value of pos_cmd is: %f' % value  # the controller's line, as the book's
+        said_before = self.s.ros.log_text(self.controller).count(heard)
         self.pub = self.s.start(command)
-        q = self.settled_since(start)
+        # Settled only after the controller has the command: a slow `rostopic pub` would
+        # otherwise find the link at rest where the last command left it.
+        wait_until(lambda: self.s.alive(self.pub) or self.s.alive(self.controller)
+                   or self.s.ros.log_text(self.controller).count(heard) > said_before, 60,
+                   what='the controller to log "%s"' % heard)
+        q = self.settled_since(self.s.rospy.get_time())
         if self.table and value > physics.table_contact_angle(TABLE_X):
             # "the link comes to rest on the table top ... short of its goal"
             expected = physics.table_contact_angle(TABLE_X)
