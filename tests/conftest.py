@@ -13,6 +13,7 @@ start-up itself still starts its own node on its own roscore (the ros and sim fi
 import os
 import pickle
 import shutil
+import signal
 import sys
 import tempfile
 
@@ -26,6 +27,14 @@ TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
                              'minimal_robot_description.urdf')
 # The node lists its engines; pytest parametrizes with them at collection.
 ENGINES = engine_names()
+
+
+def pytest_configure(config):
+    # Started in the background by a non-interactive shell, the suite inherits SIGINT ignored and
+    # so would every node it starts: Ctrl-C (SIGINT) would no longer stop them, as it does in a
+    # user's terminal. A handler is reset to the default in the programs this process starts.
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.hookimpl(tryfirst=True, hookwrapper=True)

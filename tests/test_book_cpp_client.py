@@ -3,8 +3,8 @@ gazebo_msgs/ApplyJointEffort.h and GetJointProperties.h, non-persistent ros::Ser
 ros::Rate of 100 Hz in sim time, 10 ms effort jobs starting now), built with catkin_make in a
 scratch overlay on this workspace's devel as a student builds it, and run against the simulator.
 
-The build takes seconds (one source file), so each engine's test builds its own overlay: under
-pytest-forked no fixture outlives its test.
+The overlay is built once for the session's tests (both engines, both test workers): a folder
+beside the workers' own, under a lock.
 
 The simulator runs in lock-step at the tutorial's real-time factor 1: it waits for the client's
 command at the end of every period, so the client misses none however busy the machine, and its
@@ -25,6 +25,13 @@ COMMAND = 1.0
 # well under 1e-7 rad in 5 s.
 SETTLE_S = 5.0
 SAME = 1e-6  # rad
+
+
+@pytest.fixture
+def book_client_setup(tmp_path_factory):
+    """The overlay's setup.bash, built by the first test that asks (pytest-forked: no fixture
+    outlives its test, so the folder is what is shared)."""
+    return book_client.shared_overlay(tmp_path_factory.getbasetemp().parent / 'book_cpp_client')
 
 
 @pytest.fixture
@@ -71,9 +78,9 @@ def in_process_rest_angle(engine):
 
 
 def test_book_shaped_cpp_controller_rests_where_the_rospy_controller_does(
-        ros, engine, sim_time_client, tmp_path):
+        ros, engine, sim_time_client, book_client_setup):
     rospy = sim_time_client
-    setup = book_client.build_overlay(tmp_path)
+    setup = book_client_setup
     sim = start_sim(ros, engine, LOCKSTEP)
     api = GazeboApi(rospy)
     from std_msgs.msg import Float64

@@ -6,7 +6,6 @@ import socket
 import subprocess
 import sys
 import threading
-import time
 import xmlrpc.server
 
 import pytest
@@ -117,13 +116,12 @@ def test_a_wait_fails_at_once_naming_a_started_process_that_died_with_its_log_ta
     graph.start(['sh', '-c', 'sleep 60'], name='long_runner')
     graph.start(['sh', '-c', 'echo starting; echo "cannot resolve localhost" >&2; exit 3'],
                 name='launch_simulator')
-    started = time.monotonic()
     try:
+        # ProcessExited, not the TimeoutError of a wait that ran its course (600 s).
         with pytest.raises(ProcessExited) as failure:
-            graph.wait_until(lambda: False, 60, what='service /gazebo/get_model_state')
+            graph.wait_until(lambda: False, 600, what='service /gazebo/get_model_state')
     finally:
         graph.stop()
-    assert time.monotonic() - started < 5
     message = str(failure.value)
     assert 'launch_simulator exited (status 3)' in message
     assert 'service /gazebo/get_model_state' in message

@@ -1,6 +1,7 @@
 """The book-shaped C++ client (tests/book_cpp_client), built as a student builds it: catkin_make of
 the package in a scratch overlay on this workspace's devel. The tests and the benchmark both run
 it from here."""
+import fcntl
 import os
 import shutil
 import subprocess
@@ -32,6 +33,24 @@ def build_overlay(directory):
         raise RuntimeError('catkin_make of %s failed:\n%s%s' % (
             PACKAGE, result.stdout[-3000:], result.stderr[-3000:]))
     return os.path.join(overlay, 'devel', 'setup.bash')
+
+
+def shared_overlay(folder):
+    """build_overlay(folder) done once for every process that asks with the same folder (an
+    exclusive lock while it builds); returns the overlay's devel/setup.bash."""
+    folder = str(folder)
+    os.makedirs(folder, exist_ok=True)
+    built = os.path.join(folder, 'built')
+    with open(os.path.join(folder, 'build.lock'), 'w') as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not os.path.exists(built):
+            # catkin_make writes setup.bash before it compiles: only this file says it succeeded.
+            shutil.rmtree(os.path.join(folder, 'overlay'), ignore_errors=True)
+            setup = build_overlay(folder)
+            with open(built, 'w') as f:
+                f.write(setup)
+        with open(built) as f:
+            return f.read()
 
 
 def command(setup, rate=100):
