@@ -286,3 +286,20 @@ def test_lockstep_world_with_in_sim_controllers_advances(ros, engine, rospy_clie
     start_ns = api.sim_time_ns()
     wait_until(lambda: api.sim_time_ns() > start_ns + 10 ** 9, 60, what='the world to run')
     assert 'the world waited' not in ros.log_text('sim_' + engine)
+
+
+def test_reset_world_restarts_the_controllers_holding_where_the_link_is(robot, engine):
+    api, cm, topics = robot
+    assert cm.load_controller(POSITION).ok and cm.start(POSITION)
+    command(api, topics, 1.0)
+    api.step_simulation(30000)
+    assert api.joint()[0] == pytest.approx(1.0, abs=1e-3)
+    # As gazebo_ros_control: the running controllers restart (starting(): the set point is the
+    # position then, the integral 0), so the arm, reset upright, is held there.
+    api.reset_world()
+    api.step_simulation(5000)
+    position, rate = api.joint()
+    assert position == pytest.approx(0.0, abs=1e-3)
+    wait_until(lambda: topics.states[-1].header.stamp.to_nsec() >= api.sim_time_ns() - 10 ** 7,
+               30, what='the state after the reset')
+    assert topics.states[-1].set_point == pytest.approx(0.0, abs=1e-9)

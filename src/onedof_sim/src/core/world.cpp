@@ -944,6 +944,15 @@ struct World::Impl {
 
   // --- jobs ----------------------------------------------------------------------------------
 
+  // The joint an effort job or command is for, or why it cannot have one.
+  Status effortTarget(const std::string& joint_name, double effort, ModelRecord** model,
+                      size_t* index) const {
+    if (!findJoint(joint_name, model, index)) return {StatusCode::JointNotFound, joint_name};
+    if ((*model)->joints[*index].engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
+    if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
+    return {};
+  }
+
   // What one job or command may be: the joint's effort limit, then the bound on its bodies.
   double clampEffort(const ModelRecord& model, const JointRecord& joint, double effort,
                      JobOutcome* done) const {
@@ -1331,11 +1340,9 @@ Status World::applyJointEffort(const std::string& joint_name, double effort, int
                                int64_t duration_ns, JobOutcome* outcome) {
   ModelRecord* model;
   size_t index;
-  if (!impl_->findJoint(joint_name, &model, &index))
-    return {StatusCode::JointNotFound, joint_name};
+  const Status takes = impl_->effortTarget(joint_name, effort, &model, &index);
+  if (!takes.ok()) return takes;
   const JointRecord& joint = model->joints[index];
-  if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
-  if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
   const size_t pending = std::count_if(
       impl_->joint_jobs.begin(), impl_->joint_jobs.end(),
       [&](const JointEffortJob& job) { return job.model == model && job.joint == index; });
@@ -1358,11 +1365,9 @@ Status World::setJointEffortCommand(const std::string& joint_name, double effort
                                     JobOutcome* outcome) {
   ModelRecord* model;
   size_t index;
-  if (!impl_->findJoint(joint_name, &model, &index))
-    return {StatusCode::JointNotFound, joint_name};
+  const Status takes = impl_->effortTarget(joint_name, effort, &model, &index);
+  if (!takes.ok()) return takes;
   const JointRecord& joint = model->joints[index];
-  if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
-  if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
   JobOutcome done;
   effort = impl_->clampEffort(*model, joint, effort, &done);
   auto& commands = impl_->joint_commands;

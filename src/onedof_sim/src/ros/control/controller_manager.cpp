@@ -1,6 +1,7 @@
 #include "controller_manager.h"
 
 #include <algorithm>
+#include <sstream>
 #include <utility>
 
 #include <control_msgs/JointControllerState.h>
@@ -13,19 +14,52 @@ namespace {
 
 using controller_manager_msgs::SwitchController;
 
-// The parameter server, read as roscpp reads it (an int is a double too).
+// A controller's namespace on the parameter server, read once (unlocked: it asks the master),
+// then looked up as roscpp reads parameters (an int is a double too).
 class RosParams : public ParamSource {
  public:
-  bool has(const std::string& key) const override { return ros::param::has(key); }
+  explicit RosParams(const std::string& ns) : ns_(ns) {
+    if (!ros::param::get(ns, tree_)) tree_ = XmlRpc::XmlRpcValue();
+  }
+  bool has(const std::string& key) const override { return find(key) != nullptr; }
   bool getDouble(const std::string& key, double* value) const override {
-    return ros::param::get(key, *value);
+    const XmlRpc::XmlRpcValue* found = find(key);
+    if (!found) return false;
+    auto& v = const_cast<XmlRpc::XmlRpcValue&>(*found);  // XmlRpcValue reads through non-const
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) *value = double(v);
+    else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) *value = int(v);
+    else return false;
+    return true;
   }
   bool getBool(const std::string& key, bool* value) const override {
-    return ros::param::get(key, *value);
+    const XmlRpc::XmlRpcValue* found = find(key);
+    if (!found || found->getType() != XmlRpc::XmlRpcValue::TypeBoolean) return false;
+    *value = bool(const_cast<XmlRpc::XmlRpcValue&>(*found));
+    return true;
   }
   bool getString(const std::string& key, std::string* value) const override {
-    return ros::param::get(key, *value);
+    const XmlRpc::XmlRpcValue* found = find(key);
+    if (!found || found->getType() != XmlRpc::XmlRpcValue::TypeString) return false;
+    *value = std::string(const_cast<XmlRpc::XmlRpcValue&>(*found));
+    return true;
   }
+
+ private:
+  // key: the namespace, then "/"-separated members.
+  const XmlRpc::XmlRpcValue* find(const std::string& key) const {
+    if (key.compare(0, ns_.size() + 1, ns_ + "/") != 0) return nullptr;
+    const XmlRpc::XmlRpcValue* node = &tree_;
+    std::istringstream path(key.substr(ns_.size() + 1));
+    for (std::string member; std::getline(path, member, '/');) {
+      if (node->getType() != XmlRpc::XmlRpcValue::TypeStruct || !node->hasMember(member))
+        return nullptr;
+      node = &const_cast<XmlRpc::XmlRpcValue&>(*node)[member];
+    }
+    return node;
+  }
+
+  std::string ns_;
+  XmlRpc::XmlRpcValue tree_;
 };
 
 // joint_states and state topics: queue sizes as ros_controllers' realtime publishers have them.
@@ -130,7 +164,7 @@ bool ControllerManager::loadController(controller_manager_msgs::LoadController::
                                        controller_manager_msgs::LoadController::Response& res) {
   res.ok = false;
   const std::string ns = ros::names::resolve(robot_namespace_ + "/" + req.name);
-  RosParams params;
+  const RosParams params(ns);
   std::string type;
   if (!params.getString(ns + "/type", &type)) {
     ROS_ERROR("Could not load controller '%s' because the type was not specified. Did you load "
