@@ -5,14 +5,14 @@ simulator alive.
 
 The world is stepped with /gazebo/step_simulation, so every figure is sim time's alone.
 """
-import math
 import os
 
 import pytest
 
-from api_client import LINK2_COM, LINK2_INERTIA, LINK2_MASS, GRAVITY, pose, tutorial_urdf
+from api_client import pose, tutorial_urdf
 from conftest import WORKSPACE, start_sim
 from onedof_sim.private_ros import wait_until
+from onedof_sim.tutorial import physics
 
 NS = '/one_DOF_robot'
 CM = NS + '/controller_manager/'
@@ -56,15 +56,6 @@ def book_params():
 def controlled_urdf():
     urdf = tutorial_urdf()
     return urdf[:urdf.rindex('</robot>')] + PLUGIN_TAGS
-
-
-def static_balance(kp, command):
-    """q with kp (command - q) + m g d sin q = 0, by Newton's method from the command."""
-    mgd = LINK2_MASS * GRAVITY * LINK2_COM
-    q = command
-    for _ in range(50):
-        q -= (kp * (command - q) + mgd * math.sin(q)) / (-kp + mgd * math.cos(q))
-    return q
 
 
 class ControllerManager:
@@ -204,7 +195,7 @@ def test_without_integral_the_link_settles_at_the_pd_static_balance(robot, engin
     assert cm.load_controller(POSITION).ok and cm.start(POSITION)
     command(api, topics, 1.0)
     api.step_simulation(30000)
-    assert api.joint()[0] == pytest.approx(static_balance(10.0, 1.0), abs=1e-3)
+    assert api.joint()[0] == pytest.approx(physics.settled_angle(1.0, kp=10.0), abs=1e-3)
 
 
 def test_switching_off_stops_the_torque_at_the_next_step(robot, engine):
@@ -218,7 +209,7 @@ def test_switching_off_stops_the_torque_at_the_next_step(robot, engine):
     assert cm.states()[POSITION].state == 'stopped'
     api.step_simulation(1)
     # Gravity alone acts in that step: the holding torque is gone.
-    expected = LINK2_MASS * GRAVITY * LINK2_COM * math.sin(position) / LINK2_INERTIA * STEP_S
+    expected = physics.gravity_torque(position) / physics.INERTIA_ABOUT_JOINT * STEP_S
     assert api.joint()[1] - rate == pytest.approx(expected, rel=0.05)
 
 

@@ -155,27 +155,35 @@ TEST(RobotControlSpec, PluginTagAndTransmissions) {
   EXPECT_EQ(spec.control_period.value_or(0), 0.002);
 }
 
-// The tutorial arm under effort_controllers/JointPositionController, run as the node runs it:
-// read, update, write before every step.
-struct ControlledArm {
+// The tutorial arm under one controller of `type`, run as the node runs it: read, update, write
+// before every step.
+struct ArmUnderController {
   World world;
   RobotControlSpec spec;
   std::unique_ptr<RobotHwSim> robot;
   std::unique_ptr<Controller> controller;
 
-  explicit ControlledArm(const MapParams& params, const std::string& engine) : world(engine) {
+  ArmUnderController(const std::string& type, const MapParams& params,
+                     const std::string& engine = World::engineNames().front(),
+                     bool gravity = true)
+      : world(engine) {
+    if (!gravity) {
+      PhysicsParams physics;
+      physics.gravity = {0, 0, 0};
+      EXPECT_TRUE(world.setParams(physics).ok());
+    }
     std::string error;
     EXPECT_TRUE(readRobotControlSpec(controlledUrdf(), "one_DOF_robot", &spec, &error));
     EXPECT_TRUE(world.spawn("one_DOF_robot", controlledUrdf(), ModelFormat::Urdf, Pose()).ok());
     std::vector<std::string> warnings;
     robot = std::make_unique<RobotHwSim>(world, "one_DOF_robot", spec, &warnings);
     EXPECT_TRUE(warnings.empty());
-    controller = findControllerType("effort_controllers/JointPositionController")
-                     ->make(*robot, params, "/one_DOF_robot/c", &error);
+    controller = findControllerType(type)->make(*robot, params, "/one_DOF_robot/c", &error);
     EXPECT_TRUE(controller) << error;
     controller->starting(world.timeNs());
   }
 
+  // Returns joint1's position after that many seconds.
   double run(double seconds) {
     const int64_t step_ns = std::llround(world.params().step * 1e9);
     for (int64_t k = 0; k < std::llround(seconds / world.params().step); ++k) {
@@ -189,6 +197,8 @@ struct ControlledArm {
     return robot->joint("joint1")->position;
   }
 };
+
+constexpr const char* kPositionController = "effort_controllers/JointPositionController";
 
 MapParams bookParams(double i) {
   MapParams params;
@@ -210,13 +220,13 @@ double staticBalance(double kp, double command) {
 }
 
 TEST_P(ControlledArmTest, WithoutIntegralSettlesAtThePdStaticBalance) {
-  ControlledArm arm(bookParams(0.0), GetParam());
+  ArmUnderController arm(kPositionController, bookParams(0.0), GetParam());
   arm.controller->setCommand(1.0);
   EXPECT_NEAR(arm.run(30.0), staticBalance(10.0, 1.0), 1e-3);
 }
 
 TEST_P(ControlledArmTest, WithIntegralSettlesAtTheCommand) {
-  ControlledArm arm(bookParams(10.0), GetParam());
+  ArmUnderController arm(kPositionController, bookParams(10.0), GetParam());
   arm.controller->setCommand(1.0);
   EXPECT_NEAR(arm.run(30.0), 1.0, 1e-3);
   arm.controller->setCommand(2.0);
@@ -224,64 +234,33 @@ TEST_P(ControlledArmTest, WithIntegralSettlesAtTheCommand) {
 }
 
 TEST_P(ControlledArmTest, StartingHoldsWhereTheJointIs) {
-  ControlledArm arm(bookParams(10.0), GetParam());
+  ArmUnderController arm(kPositionController, bookParams(10.0), GetParam());
   EXPECT_NEAR(arm.run(10.0), 0.0, 1e-3);  // upright, unstable without the controller
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, ControlledArmTest, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });
 
-// The arm without gravity, under one controller of `type` configured by params.
-struct WeightlessArm {
-  World world;
-  RobotControlSpec spec;
-  std::unique_ptr<RobotHwSim> robot;
-  std::unique_ptr<Controller> controller;
-
-  WeightlessArm(const std::string& type, const MapParams& params) {
-    PhysicsParams physics;
-    physics.gravity = {0, 0, 0};
-    EXPECT_TRUE(world.setParams(physics).ok());
-    std::string error;
-    EXPECT_TRUE(readRobotControlSpec(controlledUrdf(), "one_DOF_robot", &spec, &error));
-    EXPECT_TRUE(world.spawn("one_DOF_robot", controlledUrdf(), ModelFormat::Urdf, Pose()).ok());
-    std::vector<std::string> warnings;
-    robot = std::make_unique<RobotHwSim>(world, "one_DOF_robot", spec, &warnings);
-    controller = findControllerType(type)->make(*robot, params, "/one_DOF_robot/c", &error);
-    EXPECT_TRUE(controller) << error;
-    controller->starting(world.timeNs());
-  }
-
-  void run(int steps) {
-    for (int k = 0; k < steps; ++k) {
-      robot->read(world);
-      robot->clearCommands();
-      controller->update(world.timeNs(), 1000000);
-      robot->write(world);
-      world.step();
-    }
-    robot->read(world);
-  }
-};
-
 TEST(JointVelocityController, HoldsTheCommandedRate) {
   MapParams params = bookParams(0.0);
   // No d: on a rate, d acts on the acceleration, and the book's 10 over a 1 ms step is a loop
   // gain of 10 / 0.001 / 0.35 kg m^2, unstable.
   params.numbers["/one_DOF_robot/c/pid/d"] = 0.0;
-  WeightlessArm arm("effort_controllers/JointVelocityController", params);
+  ArmUnderController arm("effort_controllers/JointVelocityController", params,
+                         World::engineNames().front(), false);
   arm.controller->setCommand(1.5);
   // 1 s: 30 time constants (0.35 kg m^2 / p), and the link still clear of the ground.
-  arm.run(1000);
+  arm.run(1.0);
   EXPECT_NEAR(arm.robot->joint("joint1")->velocity, 1.5, 1e-3);
 }
 
 TEST(JointEffortController, TheCommandIsTheEffort) {
   MapParams params;
   params.strings["/one_DOF_robot/c/joint"] = "joint1";
-  WeightlessArm arm("effort_controllers/JointEffortController", params);
+  ArmUnderController arm("effort_controllers/JointEffortController", params,
+                         World::engineNames().front(), false);
   arm.controller->setCommand(1.0);
-  arm.run(1000);
+  arm.run(1.0);
   // 1 N m on the link's inertia about the joint (Iyy + m d^2) for 1 s.
   EXPECT_NEAR(arm.robot->joint("joint1")->velocity, 1.0 / (0.1 + 1.0 * 0.5 * 0.5), 1e-3);
   EXPECT_DOUBLE_EQ(arm.robot->joint("joint1")->effort, 1.0);
@@ -290,13 +269,14 @@ TEST(JointEffortController, TheCommandIsTheEffort) {
 TEST(JointStateController, PublishesAtItsRateOfSimTime) {
   MapParams params;
   params.numbers["/one_DOF_robot/c/publish_rate"] = 50;
-  WeightlessArm arm("joint_state_controller/JointStateController", params);
+  ArmUnderController arm("joint_state_controller/JointStateController", params,
+                         World::engineNames().front(), false);
   std::vector<int64_t> stamps;
   arm.controller->publish_joint_states = [&](const JointStatesFacts& facts) {
     stamps.push_back(facts.stamp_ns);
     EXPECT_EQ(facts.names, std::vector<std::string>{"joint1"});
   };
-  arm.run(1000);
+  arm.run(1.0);
   ASSERT_EQ(stamps.size(), 49u);  // the first a whole period after starting, strictly
   for (size_t k = 1; k < stamps.size(); ++k) EXPECT_EQ(stamps[k] - stamps[k - 1], 20000000);
 }
