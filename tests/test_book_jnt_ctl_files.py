@@ -10,7 +10,6 @@ import yaml
 
 from api_client import ROBOT, GazeboApi
 from conftest import TUTORIAL_URDF, WORKSPACE, start_sim
-from onedof_sim.private_ros import wait_until
 from test_controller_manager_tools import BOOK_PARAMS, FAKE, NS, listing
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
@@ -47,17 +46,18 @@ def test_yaml_is_the_books():
         assert yaml.safe_load(f) == {NS.strip('/'): BOOK_PARAMS}
 
 
-def test_book_launch_runs_as_printed(ros, rospy_client):
-    start_sim(ros)
+def start_fake_manager(ros):
     ros.start(['/usr/bin/python3', FAKE, '__ns:=' + NS], name='fake_controller_manager')
     ros.wait_for_service(NS + '/controller_manager/switch_controller')
-    launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_w_jnt_ctl.launch']
-    nodes = ros.run(launch[:1] + ['--nodes'] + launch[1:])
-    assert sorted(nodes.stdout.split()) == [NS + '/controller_spawner', '/spawn_urdf'], nodes
 
+
+def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_nodes):
+    nodes = ros.run(launch[:1] + ['--nodes'] + launch[1:])
+    assert sorted(nodes.stdout.split()) == sorted(expected_nodes), nodes
     ros.start(launch, name='roslaunch')
     api = GazeboApi(rospy_client)
-    wait_until(lambda: api.get_model_state(ROBOT, '').success, 60, what=ROBOT + ' spawned')
+    ros.wait_until(lambda: ros.has_service('/gazebo/get_model_state')
+                   and api.get_model_state(ROBOT, '').success, 60, what=ROBOT + ' spawned')
     running = ['joint_state_controller -  ( running )',
                'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
     ros.wait_until(lambda: listing(ros) == running, 60, what='both controllers running')
@@ -65,3 +65,20 @@ def test_book_launch_runs_as_printed(ros, rospy_client):
         BOOK_PARAMS['joint1_position_controller']['pid'])
     with open(JNT_CTL_URDF) as f:
         assert rospy_client.get_param('/robot_description') == f.read()
+
+
+def test_book_launch_runs_as_printed(ros, rospy_client):
+    start_sim(ros)
+    start_fake_manager(ros)
+    launch_spawns_robot_and_controllers(
+        ros, rospy_client,
+        ['roslaunch', 'minimal_robot_description', 'minimal_robot_w_jnt_ctl.launch'],
+        [NS + '/controller_spawner', '/spawn_urdf'])
+
+
+def test_our_launch_starts_the_simulator_too(ros, rospy_client):
+    start_fake_manager(ros)
+    launch_spawns_robot_and_controllers(
+        ros, rospy_client,
+        ['roslaunch', 'minimal_robot_description', 'minimal_robot_in_sim_w_jnt_ctl.launch'],
+        ['/gazebo', NS + '/controller_spawner', '/spawn_one_DOF_robot'])
