@@ -80,6 +80,33 @@ def test_spawner_without_a_controller_manager_gives_up_after_its_timeout(ros):
     assert "couldn't find the expected controller_manager" in out.stdout + out.stderr
 
 
+def test_spawner_waits_for_true_on_its_wait_for_topic(manager):
+    ros = manager
+    ros.start(['rosrun', 'controller_manager', 'spawner', '--wait-for', '/ready',
+               'joint_state_controller', '__ns:=' + NS], name='spawner', may_exit=True)
+
+    def subscribed():
+        code, _, state = ros.master().getSystemState('/test')
+        return any(topic == '/ready' for topic, _ in state[1])
+    ros.wait_until(subscribed, 60, what='the spawner to subscribe to /ready')
+    assert listing(ros) == ['No controllers are loaded in mechanism control']
+    ros.start(['rostopic', 'pub', '-l', '/ready', 'std_msgs/Bool', 'true'], name='ready')
+    ros.wait_until(lambda: listing(ros) == ['joint_state_controller -  ( running )'], 60,
+                   what='the controller running after True on /ready')
+
+
+def test_spawner_interrupted_while_waiting_for_services_ends_at_once(ros):
+    spawner = ros.start(['rosrun', 'controller_manager', 'spawner', 'joint_state_controller',
+                         '__ns:=' + NS], name='spawner', may_exit=True)
+
+    def waiting():
+        return 'Waiting for service' in ros.log_text(spawner)
+    ros.wait_until(waiting, 60, what='the spawner to wait for the controller manager')
+    os.killpg(spawner.pid, signal.SIGINT)
+    # Well inside the 30 s it would otherwise wait for the services.
+    assert spawner.wait(timeout=20) == 0, ros.log_text(spawner)
+
+
 def test_controller_manager_commands(manager):
     ros = manager
     assert cli(ros, 'spawn', 'joint_state_controller').stdout.splitlines() == [

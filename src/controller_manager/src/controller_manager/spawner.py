@@ -142,8 +142,16 @@ def main(argv=None):
     # call services (in rospy's shutdown hooks it often no longer can).
     rospy.init_node('spawner', anonymous=True, disable_signals=True)
     stopping = threading.Event()
+
+    def on_signal(*_):
+        stopping.set()
+        if not stopping.loading_started:
+            # Nothing to take down yet: end the wait for the services now rather than when
+            # roslaunch escalates to SIGKILL.
+            rospy.signal_shutdown('interrupted')
+    stopping.loading_started = False
     for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stopping.set())
+        signal.signal(sig, on_signal)
     try:
         return run(args, stopping, rospy, rosparam)
     finally:
@@ -159,6 +167,8 @@ def run(args, stopping, rospy, rosparam):
     try:
         manager = ControllerManagerClient(args.namespace, args.timeout)
     except rospy.ROSException:
+        if stopping.is_set():
+            return 0  # interrupted while waiting (ROSInterruptException is a ROSException)
         rospy.logerr("Controller Spawner couldn't find the expected controller_manager ROS "
                      "interface (%s/load_controller, switch_controller, unload_controller) within "
                      "%g s.", rospy.resolve_name(service_name(args.namespace, '')).rstrip('/'),
@@ -170,6 +180,7 @@ def run(args, stopping, rospy, rosparam):
         rosparam.upload_params(rospy.get_namespace(), document)
 
     loaded, failed = [], None
+    stopping.loading_started = True
     try:
         for name in names:
             rospy.loginfo('Loading controller: %s', name)
