@@ -1,0 +1,84 @@
+"""The book's files for the robot driven by ros_control controllers (learning_ros,
+minimal_robot_description): the URDF variant with <transmission> and the gazebo_ros_control tag,
+the controller YAML, and minimal_robot_w_jnt_ctl.launch run as printed against the simulator and
+a stand-in controller manager (the simulator's own is tested with the simulator)."""
+
+import os
+import xml.etree.ElementTree as ET
+
+import yaml
+
+from api_client import ROBOT, GazeboApi
+from conftest import TUTORIAL_URDF, WORKSPACE, start_sim
+from test_controller_manager_tools import BOOK_PARAMS, FAKE, NS, listing
+
+DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
+JNT_CTL_URDF = os.path.join(DESCRIPTION_DIR, 'minimal_robot_description_w_jnt_ctl.urdf')
+BOOK_YAML = os.path.join(DESCRIPTION_DIR, 'control_config', 'one_dof_ctl_params.yaml')
+
+
+def robot_parts(root):
+    """The links and joints as comparable text: what decides the physics."""
+    parts = [e for e in root if e.tag in ('link', 'joint')]
+    for part in parts:
+        part.tail = None  # the whitespace after an element is the file's layout, not the robot
+    return [ET.tostring(e) for e in parts]
+
+
+def test_urdf_variant_is_the_tutorial_robot_plus_transmission_and_plugin_tag():
+    variant, tutorial = ET.parse(JNT_CTL_URDF).getroot(), ET.parse(TUTORIAL_URDF).getroot()
+    assert variant.get('name') == tutorial.get('name') == ROBOT
+    assert robot_parts(variant) == robot_parts(tutorial)
+    transmission, = variant.findall('transmission')
+    assert transmission.findtext('type') == 'transmission_interface/SimpleTransmission'
+    joint, = transmission.findall('joint')
+    assert joint.get('name') == 'joint1'
+    assert joint.findtext('hardwareInterface') == 'EffortJointInterface'
+    assert transmission.find('actuator').findtext('mechanicalReduction') == '1'
+    plugin, = variant.findall('gazebo/plugin')
+    assert (plugin.get('name'), plugin.get('filename')) == (
+        'gazebo_ros_control', 'libgazebo_ros_control.so')
+    assert plugin.findtext('robotNamespace') == NS
+
+
+def test_yaml_is_the_books():
+    with open(BOOK_YAML) as f:
+        assert yaml.safe_load(f) == {NS.strip('/'): BOOK_PARAMS}
+
+
+def start_fake_manager(ros):
+    ros.start(['/usr/bin/python3', FAKE, '__ns:=' + NS], name='fake_controller_manager')
+    ros.wait_for_service(NS + '/controller_manager/switch_controller')
+
+
+def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_nodes):
+    nodes = ros.run(launch[:1] + ['--nodes'] + launch[1:])
+    assert sorted(nodes.stdout.split()) == sorted(expected_nodes), nodes
+    ros.start(launch, name='roslaunch')
+    api = GazeboApi(rospy_client)
+    ros.wait_until(lambda: ros.has_service('/gazebo/get_model_state')
+                   and api.get_model_state(ROBOT, '').success, 60, what=ROBOT + ' spawned')
+    running = ['joint_state_controller -  ( running )',
+               'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
+    ros.wait_until(lambda: listing(ros) == running, 60, what='both controllers running')
+    assert rospy_client.get_param(NS + '/joint1_position_controller/pid') == (
+        BOOK_PARAMS['joint1_position_controller']['pid'])
+    with open(JNT_CTL_URDF) as f:
+        assert rospy_client.get_param('/robot_description') == f.read()
+
+
+def test_book_launch_runs_as_printed(ros, rospy_client):
+    start_sim(ros)
+    start_fake_manager(ros)
+    launch_spawns_robot_and_controllers(
+        ros, rospy_client,
+        ['roslaunch', 'minimal_robot_description', 'minimal_robot_w_jnt_ctl.launch'],
+        [NS + '/controller_spawner', '/spawn_urdf'])
+
+
+def test_our_launch_starts_the_simulator_too(ros, rospy_client):
+    start_fake_manager(ros)
+    launch_spawns_robot_and_controllers(
+        ros, rospy_client,
+        ['roslaunch', 'minimal_robot_description', 'minimal_robot_in_sim_w_jnt_ctl.launch'],
+        ['/gazebo', NS + '/controller_spawner', '/spawn_one_DOF_robot'])
