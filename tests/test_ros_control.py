@@ -8,54 +8,32 @@ The world is stepped with /gazebo/step_simulation, so every figure is sim time's
 import os
 
 import pytest
+import yaml
 
-from api_client import pose, tutorial_urdf
-from conftest import WORKSPACE, start_sim
+from api_client import pose
+from conftest import start_sim
 from onedof_sim.private_ros import wait_until
 from onedof_sim.tutorial import physics
+# The book's controller configuration and the tutorial robot with its transmission and
+# gazebo_ros_control tag (minimal_robot_w_jnt_ctl.launch loads both).
+from test_book_jnt_ctl_files import BOOK_YAML, JNT_CTL_URDF
 
 NS = '/one_DOF_robot'
 CM = NS + '/controller_manager/'
 POSITION = 'joint1_position_controller'
 STATES = 'joint_state_controller'
 STEP_S = 0.001
-BOOK_YAML = os.path.join(WORKSPACE, 'src', 'minimal_robot_description', 'control_config',
-                         'one_dof_ctl_params.yaml')
-# The book's control_config/one_dof_ctl_params.yaml (learning_ros, minimal_robot_description),
-# for as long as this workspace does not carry it.
-BOOK_PARAMS = {'one_DOF_robot': {
-    STATES: {'type': 'joint_state_controller/JointStateController', 'publish_rate': 50},
-    POSITION: {'type': 'effort_controllers/JointPositionController', 'joint': 'joint1',
-               'pid': {'p': 10.0, 'i': 10.0, 'd': 10.0, 'i_clamp_min': -10.0,
-                       'i_clamp_max': 10.0}}}}
-PLUGIN_TAGS = """
-  <transmission name="tran1">
-    <type>transmission_interface/SimpleTransmission</type>
-    <joint name="joint1"><hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface></joint>
-    <actuator name="motor1">
-      <hardwareInterface>EffortJointInterface</hardwareInterface>
-      <mechanicalReduction>1</mechanicalReduction>
-    </actuator>
-  </transmission>
-  <gazebo>
-    <plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">
-      <robotNamespace>/one_DOF_robot</robotNamespace>
-    </plugin>
-  </gazebo>
-</robot>"""
 
 
 def book_params():
-    if os.path.exists(BOOK_YAML):
-        import yaml
-        with open(BOOK_YAML) as f:
-            return yaml.safe_load(f)
-    return BOOK_PARAMS
+    """The YAML's parameters of the robot's namespace."""
+    with open(BOOK_YAML) as f:
+        return yaml.safe_load(f)[NS.strip('/')]
 
 
 def controlled_urdf():
-    urdf = tutorial_urdf()
-    return urdf[:urdf.rindex('</robot>')] + PLUGIN_TAGS
+    with open(JNT_CTL_URDF) as f:
+        return f.read()
 
 
 class ControllerManager:
@@ -108,7 +86,7 @@ class Topics:
 @pytest.fixture
 def robot(shared_sim, ros, rospy_client):
     """The tutorial robot with gazebo_ros_control's tag, the book's YAML loaded, paused at 0."""
-    ros.master().setParam('/test', NS, book_params()['one_DOF_robot'])
+    ros.master().setParam('/test', NS, book_params())
     res = shared_sim.spawn_urdf_model('one_DOF_robot', controlled_urdf(), '', pose(), '')
     assert res.success, res.status_message
     return shared_sim, ControllerManager(rospy_client), Topics(rospy_client)
@@ -268,7 +246,7 @@ def test_controller_manager_services_as_ros_control_answers(robot, engine):
 def test_lockstep_world_with_in_sim_controllers_advances(ros, engine, rospy_client):
     from api_client import GazeboApi
     start_sim(ros, engine, ['_lockstep:=true'])
-    ros.master().setParam('/test', NS, book_params()['one_DOF_robot'])
+    ros.master().setParam('/test', NS, book_params())
     api = GazeboApi(rospy_client)
     res = api.spawn_urdf_model('one_DOF_robot', controlled_urdf(), '', pose(), '')
     assert res.success, res.status_message

@@ -122,18 +122,19 @@ std::string tutorialUrdf() {
   return text.str();
 }
 
-// The tutorial's robot with gazebo_ros_control's tag and an effort transmission on joint1.
-std::string controlledUrdf(const std::string& plugin_body = "<robotNamespace>/one_DOF_robot</robotNamespace>") {
-  std::string urdf = tutorialUrdf();
-  const std::string extra =
-      "<transmission name=\"tran1\"><type>transmission_interface/SimpleTransmission</type>"
-      "<joint name=\"joint1\"><hardwareInterface>hardware_interface/EffortJointInterface"
-      "</hardwareInterface></joint><actuator name=\"motor1\"><hardwareInterface>"
-      "EffortJointInterface</hardwareInterface><mechanicalReduction>1</mechanicalReduction>"
-      "</actuator></transmission>"
-      "<gazebo><plugin name=\"gazebo_ros_control\" filename=\"libgazebo_ros_control.so\">" +
-      plugin_body + "</plugin></gazebo></robot>";
-  urdf.replace(urdf.rfind("</robot>"), 8, extra);
+// The book's variant of the tutorial robot: an effort transmission on joint1 and
+// gazebo_ros_control's tag; plugin_body, if given, replaces what the tag holds.
+std::string controlledUrdf(const std::string& plugin_body = "") {
+  std::ifstream file(ONEDOF_SOURCE_DIR
+                     "/src/minimal_robot_description/minimal_robot_description_w_jnt_ctl.urdf");
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string urdf = text.str();
+  if (!plugin_body.empty()) {
+    const std::string open = "<robotNamespace>", close = "</robotNamespace>";
+    const size_t start = urdf.find(open);
+    urdf.replace(start, urdf.find(close) + close.size() - start, plugin_body);
+  }
   return urdf;
 }
 
