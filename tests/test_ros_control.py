@@ -272,3 +272,17 @@ def test_reset_world_restarts_the_controllers_holding_where_the_link_is(robot, e
     wait_until(lambda: topics.states[-1].header.stamp.to_nsec() >= api.sim_time_ns() - 10 ** 7,
                30, what='the state after the reset')
     assert topics.states[-1].set_point == pytest.approx(0.0, abs=1e-9)
+
+
+def test_second_robot_in_the_same_namespace_is_refused_the_first_keeps_its_manager(robot, engine,
+                                                                                     ros):
+    api, cm, topics = robot
+    refusal = "model 'one_DOF_robot' already has the controller_manager in /one_DOF_robot"
+    refused_before = ros.log_text('sim_' + engine).count(refusal)
+    res = api.spawn_urdf_model('second_robot', controlled_urdf(), '', pose(x=2.0), '')
+    assert res.success, res.status_message  # the model is spawned, as Gazebo would
+    wait_until(lambda: ros.log_text('sim_' + engine).count(refusal) > refused_before, 30,
+               what='the refusal in the log')
+    assert cm.load_controller(POSITION).ok and cm.start(POSITION)
+    assert api.delete_model('second_robot').success
+    assert cm.states()[POSITION].state == 'running'

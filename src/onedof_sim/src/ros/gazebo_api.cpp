@@ -1272,6 +1272,17 @@ void GazeboApi::startRobotControl(const std::string& model, const std::string& u
     ROS_ERROR_STREAM("gazebo_ros_control for model '" << model << "' not started: " << error);
     return;
   }
+  {
+    WorldLock lock(*this);
+    for (const auto& [other, running] : robot_controls_)
+      if (running->robotNamespace() == spec.robot_namespace) {
+        ROS_ERROR_STREAM("gazebo_ros_control for model '"
+                         << model << "' not started: model '" << other
+                         << "' already has the controller_manager in " << spec.robot_namespace
+                         << "; give this one its own <robotNamespace>");
+        return;
+      }
+  }
   // Its services are advertised unlocked (they talk to the master); it joins the step loop
   // only if the model is still there.
   auto control = std::make_unique<control::GazeboRosControl>(world_, model, spec, lockWorld());
