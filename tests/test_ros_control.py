@@ -220,7 +220,7 @@ def test_bad_configuration_refused_with_the_simulator_alive(robot, engine, ros, 
     assert cm.load_controller(STATES).ok
 
 
-def test_controller_manager_services_as_ros_control_answers(robot, engine):
+def test_controller_manager_services_as_ros_control_answers(robot, engine, rospy_client):
     api, cm, topics = robot
     types = cm.list_controller_types()
     assert 'effort_controllers/JointPositionController' in types.types
@@ -232,6 +232,15 @@ def test_controller_manager_services_as_ros_control_answers(robot, engine):
     best_effort = cm.srv.SwitchControllerRequest.BEST_EFFORT
     assert cm.switch_controller([POSITION, 'nope'], [], best_effort, False, 0.0).ok
     assert not cm.unload_controller(POSITION).ok  # still running
+    # A second controller on joint1 loads, but may not run beside the first.
+    second = 'second_position_controller'
+    rospy_client.set_param(NS + '/' + second, book_params()[POSITION])
+    assert cm.load_controller(second).ok
+    assert not cm.start(second)
+    assert not cm.switch_controller([second], [], best_effort, False, 0.0).ok
+    assert cm.switch_controller([second], [POSITION], best_effort, False, 0.0).ok  # a handover
+    assert {n: s.state for n, s in cm.states().items()} == {POSITION: 'stopped',
+                                                             second: 'running'}
     assert not cm.reload_controller_libraries(False).ok
     assert cm.reload_controller_libraries(True).ok
     assert cm.states() == {}
