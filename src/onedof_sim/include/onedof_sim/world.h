@@ -120,6 +120,8 @@ struct JointInfo {
   double damping = 0;
   double position = 0;  // rad or m; continuous joints are not wrapped
   double rate = 0;      // rad/s or m/s
+  bool has_limits = false;  // revolute and prismatic: the URDF/SDF <limit> lower and upper
+  double lower = 0, upper = 0;
 };
 
 struct LinkInfo {
@@ -239,6 +241,12 @@ class World {
   // (optional) says which of these happened.
   Status applyJointEffort(const std::string& joint, double effort, int64_t start_ns,
                           int64_t duration_ns, JobOutcome* outcome = nullptr);
+  // The effort a controller running inside the step loop commands for the next step() only,
+  // on top of the joint's effort jobs; the owner sets it again before each step (a joint not
+  // set has none). Clamped as an effort job is (*outcome says so); the refusals are
+  // applyJointEffort's, bar the job count.
+  Status setJointEffortCommand(const std::string& joint, double effort,
+                               JobOutcome* outcome = nullptr);
   // Drops every pending job on joints of that bare name (any model).
   void clearJointForces(const std::string& joint);
   // Whether an effort job acts on the joint in the step that starts at t_ns; false for a joint

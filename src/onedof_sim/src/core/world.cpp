@@ -260,6 +260,13 @@ struct JointEffortJob {
   int64_t start_ns, end_ns;  // window [start, end)
 };
 
+// An effort for the coming step alone (World::setJointEffortCommand), already clamped.
+struct JointEffortCommand {
+  const ModelRecord* model;
+  size_t joint;
+  double effort;
+};
+
 struct BodyWrenchJob {
   const ModelRecord* model;
   size_t link;
@@ -373,6 +380,7 @@ struct World::Impl {
   uint64_t steps = 0;
   std::vector<std::unique_ptr<ModelRecord>> models;  // spawn order; records never move
   std::vector<JointEffortJob> joint_jobs;
+  std::vector<JointEffortCommand> joint_commands;  // for the next step only
   std::vector<BodyWrenchJob> wrench_jobs;
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
@@ -620,6 +628,10 @@ struct World::Impl {
     joint_jobs.erase(std::remove_if(joint_jobs.begin(), joint_jobs.end(),
                                     [&](const JointEffortJob& j) { return on_model(j.model); }),
                      joint_jobs.end());
+    joint_commands.erase(
+        std::remove_if(joint_commands.begin(), joint_commands.end(),
+                       [&](const JointEffortCommand& c) { return on_model(c.model); }),
+        joint_commands.end());
     wrench_jobs.erase(std::remove_if(wrench_jobs.begin(), wrench_jobs.end(),
                                      [&](const BodyWrenchJob& j) { return on_model(j.model); }),
                       wrench_jobs.end());
@@ -768,6 +780,14 @@ struct World::Impl {
       });
       if (sum == sums.end()) sums.push_back({job.model, job.joint, job.effort, 1});
       else sum->effort += job.effort, ++sum->jobs;
+    }
+    for (const JointEffortCommand& command : joint_commands) {
+      if (command.model->blown_up) continue;
+      auto sum = std::find_if(sums.begin(), sums.end(), [&](const JointSum& s) {
+        return s.model == command.model && s.joint == command.joint;
+      });
+      if (sum == sums.end()) sums.push_back({command.model, command.joint, command.effort, 1});
+      else sum->effort += command.effort, ++sum->jobs;
     }
     for (const JointSum& sum : sums) {
       const JointRecord& joint = sum.model->joints[sum.joint];
@@ -919,9 +939,34 @@ struct World::Impl {
     time_ns += step_ns;
     ++steps;
     dropExpiredJobs(time_ns);
+    joint_commands.clear();
   }
 
   // --- jobs ----------------------------------------------------------------------------------
+
+  // The joint an effort job or command is for, or why it cannot have one.
+  Status effortTarget(const std::string& joint_name, double effort, ModelRecord** model,
+                      size_t* index) const {
+    if (!findJoint(joint_name, model, index)) return {StatusCode::JointNotFound, joint_name};
+    if ((*model)->joints[*index].engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
+    if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
+    return {};
+  }
+
+  // What one job or command may be: the joint's effort limit, then the bound on its bodies.
+  double clampEffort(const ModelRecord& model, const JointRecord& joint, double effort,
+                     JobOutcome* done) const {
+    if (std::abs(effort) > joint.desc.effort_limit) {
+      effort = std::copysign(joint.desc.effort_limit, effort);
+      done->effort_limit = joint.desc.effort_limit;
+    }
+    const double safe = safeEffortBound(model, joint);
+    if (std::abs(effort) > safe) {
+      effort = std::copysign(safe, effort);
+      done->safe_effort = safe;
+    }
+    return effort;
+  }
 
   // The job window for the contract's rules, or false for a zero duration (outcome->queued).
   bool jobWindow(int64_t start_ns, int64_t duration_ns, int64_t* start, int64_t* end,
@@ -1269,6 +1314,9 @@ Status World::jointInfo(const std::string& joint_name, JointInfo* out) const {
   info.damping = joint.desc.damping;
   info.position = joint.position;
   info.rate = impl_->jointRate(*model, joint);
+  info.has_limits = joint.desc.has_limits;
+  info.lower = joint.desc.lower;
+  info.upper = joint.desc.upper;
   *out = info;
   return {};
 }
@@ -1292,11 +1340,9 @@ Status World::applyJointEffort(const std::string& joint_name, double effort, int
                                int64_t duration_ns, JobOutcome* outcome) {
   ModelRecord* model;
   size_t index;
-  if (!impl_->findJoint(joint_name, &model, &index))
-    return {StatusCode::JointNotFound, joint_name};
+  const Status takes = impl_->effortTarget(joint_name, effort, &model, &index);
+  if (!takes.ok()) return takes;
   const JointRecord& joint = model->joints[index];
-  if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
-  if (!std::isfinite(effort)) return {StatusCode::NotFinite, "effort"};
   const size_t pending = std::count_if(
       impl_->joint_jobs.begin(), impl_->joint_jobs.end(),
       [&](const JointEffortJob& job) { return job.model == model && job.joint == index; });
@@ -1308,17 +1354,28 @@ Status World::applyJointEffort(const std::string& joint_name, double effort, int
   JobOutcome done;
   int64_t start = 0, end = 0;
   if (impl_->jobWindow(start_ns, duration_ns, &start, &end, &done)) {
-    const double safe = impl_->safeEffortBound(*model, joint);
-    if (std::abs(effort) > joint.desc.effort_limit) {
-      effort = std::copysign(joint.desc.effort_limit, effort);
-      done.effort_limit = joint.desc.effort_limit;
-    }
-    if (std::abs(effort) > safe) {
-      effort = std::copysign(safe, effort);
-      done.safe_effort = safe;
-    }
+    effort = impl_->clampEffort(*model, joint, effort, &done);
     impl_->joint_jobs.push_back({model, index, effort, start, end});
   }
+  if (outcome) *outcome = done;
+  return {};
+}
+
+Status World::setJointEffortCommand(const std::string& joint_name, double effort,
+                                    JobOutcome* outcome) {
+  ModelRecord* model;
+  size_t index;
+  const Status takes = impl_->effortTarget(joint_name, effort, &model, &index);
+  if (!takes.ok()) return takes;
+  const JointRecord& joint = model->joints[index];
+  JobOutcome done;
+  effort = impl_->clampEffort(*model, joint, effort, &done);
+  auto& commands = impl_->joint_commands;
+  auto same = std::find_if(commands.begin(), commands.end(), [&](const JointEffortCommand& c) {
+    return c.model == model && c.joint == index;
+  });
+  if (same == commands.end()) commands.push_back({model, index, effort});
+  else same->effort = effort;  // the latest command for the step replaces the earlier one
   if (outcome) *outcome = done;
   return {};
 }

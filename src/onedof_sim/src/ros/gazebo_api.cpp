@@ -730,6 +730,7 @@ struct GazeboApi::StepOutput {
   gazebo_msgs::LinkStates link_states;
   std::vector<CollisionShape> shapes;
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
+  std::vector<control::Publication> control_publications;  // the in-sim controllers' messages
 };
 
 GazeboApi::WorldLock::WorldLock(GazeboApi& api) {
@@ -868,6 +869,13 @@ void GazeboApi::stepOnce(StepOutput* out) {
     steps_done_.notify_all();
     return;
   }
+  // In-sim controllers act at the step's start time, as gazebo_ros_control does at the world's
+  // update begin, and never wait: lock-step waits only for apply_joint_effort's clients.
+  for (auto& entry : robot_controls_) {
+    entry.second->beforeStep(world_);
+    for (auto& publication : entry.second->takePublications())
+      out->control_publications.push_back(std::move(publication));
+  }
   world_.step();
   if (requested) --step_request_.remaining;
   out->stepped = true;
@@ -954,6 +962,7 @@ void GazeboApi::publish(const StepOutput& out) {
     clock.clock.fromNSec(uint64_t(out.time_ns));
     clock_pub_.publish(clock);
   }
+  for (const auto& publication : out.control_publications) publication();
   if (out.has_model_states) model_states_pub_.publish(out.model_states);
   if (out.has_link_states) link_states_pub_.publish(out.link_states);
   if (out.has_markers) {
@@ -1241,16 +1250,66 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
     ROS_INFO_STREAM("spawned model '" << req.model_name << "' ("
                     << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via "
                     << (requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model"));
+    if (format == ModelFormat::Urdf) startRobotControl(req.model_name, req.model_xml);
   }
   return answer(res, spawned, statusText(kSpawnModel, spawned));
 }
 
+control::LockWorld GazeboApi::lockWorld() {
+  return [this] {
+    WorldLock lock(*this);
+    return std::move(lock.held());
+  };
+}
+
+// The URDF is the spawned one, where gazebo_ros_control reads robot_description: the same robot
+// when both come from one file, and no parameter to have set first.
+void GazeboApi::startRobotControl(const std::string& model, const std::string& urdf) {
+  control::RobotControlSpec spec;
+  std::string error;
+  if (!control::readRobotControlSpec(urdf, model, &spec, &error)) return;
+  if (!error.empty()) {
+    ROS_ERROR_STREAM("gazebo_ros_control for model '" << model << "' not started: " << error);
+    return;
+  }
+  {
+    WorldLock lock(*this);
+    for (const auto& [other, running] : robot_controls_)
+      if (running->robotNamespace() == spec.robot_namespace) {
+        ROS_ERROR_STREAM("gazebo_ros_control for model '"
+                         << model << "' not started: model '" << other
+                         << "' already has the controller_manager in " << spec.robot_namespace
+                         << "; give this one its own <robotNamespace>");
+        return;
+      }
+  }
+  // Its services are advertised unlocked (they talk to the master); it joins the step loop
+  // only if the model is still there.
+  auto control = std::make_unique<control::GazeboRosControl>(world_, model, spec, lockWorld());
+  WorldLock lock(*this);
+  ModelInfo unused;
+  if (world_.modelProperties(model, &unused).ok()) robot_controls_[model] = std::move(control);
+  else lock.held().unlock();  // deleted meanwhile: its services go, unlocked
+}
+
 bool GazeboApi::deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res) {
   Status deleted;
+  std::unique_ptr<control::GazeboRosControl> control;
+  std::vector<std::shared_ptr<void>> stopped;
   {
     WorldLock lock(*this);
     deleted = world_.deleteModel(req.model_name);
+    auto found = robot_controls_.find(req.model_name);
+    if (deleted.ok() && found != robot_controls_.end()) {
+      stopped = found->second->stop(world_.timeNs());
+      control = std::move(found->second);
+      robot_controls_.erase(found);
+    }
   }
+  // Unlocked: its services and subscribers wait for their callbacks in flight, which may be
+  // waiting for the world.
+  stopped.clear();
+  control.reset();
   return answer(res, deleted, statusText(kDeleteModel, deleted));
 }
 
@@ -1464,6 +1523,7 @@ bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Resp
     WorldLock lock(*this);
     world_.resetSimulation();
     lockstep_.reset();
+    for (auto& entry : robot_controls_) entry.second->reset();
   }
   wake_loop_.notify_all();
   return true;
@@ -1472,6 +1532,7 @@ bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Resp
 bool GazeboApi::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   WorldLock lock(*this);
   world_.resetWorld();
+  for (auto& entry : robot_controls_) entry.second->reset();
   return true;
 }
 

@@ -11,6 +11,8 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -49,6 +51,7 @@
 #include <onedof_sim/StepSimulation.h>
 #include <onedof_sim/world.h>
 
+#include "control/gazebo_ros_control.h"
 #include "lockstep.h"
 
 namespace onedof_sim {
@@ -111,6 +114,9 @@ class GazeboApi {
   bool spawnUrdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
+  // gazebo_ros_control for a spawned URDF that carries its plugin tag.
+  void startRobotControl(const std::string& model, const std::string& urdf);
+  control::LockWorld lockWorld();
   bool deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res);
   bool getModelState(gazebo_msgs::GetModelState::Request& req, gazebo_msgs::GetModelState::Response& res);
   bool setModelState(gazebo_msgs::SetModelState::Request& req, gazebo_msgs::SetModelState::Response& res);
@@ -171,6 +177,8 @@ class GazeboApi {
     uint64_t remaining = 0;
   } step_request_;
   std::atomic<int> waiting_callbacks_{0};
+  // Per model that carries gazebo_ros_control: its controllers, run before every step.
+  std::map<std::string, std::unique_ptr<control::GazeboRosControl>> robot_controls_;
 
   // Step-loop state (only the loop thread touches these).
   double states_publish_frequency_;
