@@ -439,6 +439,30 @@ def run_before(ros, phase):
                                                     result.stdout, result.stderr))
 
 
+def play_phases(ros, run, recorder, phases, phase_duration, command_topic, sample_period,
+                predict=pd_prediction):
+    """Plays the phases with `run` (LockstepRun, FreeRun or InSimRun), as the student types them;
+    returns their summary rows, each phase's series since its command, and each one's (start,
+    end) in sim time.
+    With a sample_period, each phase must have recorded one sample per period."""
+    rows, series, spans = [], [], []
+    for phase in phases:
+        run_before(ros, phase)
+        say('rostopic pub %s std_msgs/Float64 %.1f   (%.0f s of sim time)'
+            % (command_topic, phase.command, phase_duration))
+        phase_wall = time.monotonic()
+        start, end = run.phase(phase.command, phase_duration)
+        row = phase_summary(phase, recorder, start, end, predict=predict,
+                            expected_samples=sample_period and round((end - start) / sample_period))
+        say('  settled at %.4f rad (predicted %.4f), holding %.3f N m; %.1f s of sim time '
+            'in %.1f s of wall time' % (row['settled'], row['predicted'], row['holding_torque'],
+                                        end - start, time.monotonic() - phase_wall))
+        rows.append(row)
+        series.append(recorder.series(start, end, origin=start))
+        spans.append((start, end))
+    return rows, series, spans
+
+
 # The in-simulator run: the book's gazebo_ros_control robot and controllers (issue 13).
 IN_SIM_NAMESPACE = '/one_DOF_robot'
 IN_SIM_CONTROLLER = 'joint1_position_controller'
@@ -596,21 +620,8 @@ def play_in_sim(log_dir, physics_engine, phase_duration=IN_SIM_PHASE_DURATION, p
         run = InSimRun(ros, rospy, recorder)
         run.wait_for_controllers()
         predict = pid_prediction(book_pid_gains())
-        rows, series = [], []
-        for phase in phases:
-            run_before(ros, phase)
-            say('rostopic pub %s std_msgs/Float64 %.1f   (%.0f s of sim time)'
-                % (IN_SIM_COMMAND, phase.command, phase_duration))
-            phase_wall = time.monotonic()
-            start, end = run.phase(phase.command, phase_duration)
-            row = phase_summary(phase, recorder, start, end, predict=predict,
-                                expected_samples=round((end - start) / IN_SIM_SAMPLE_PERIOD))
-            say('  in-sim PID settled at %.6f rad (predicted %.4f), holding %.3f N m; %.1f s of '
-                'sim time in %.1f s of wall time' % (row['settled'], row['predicted'],
-                                                      row['holding_torque'], end - start,
-                                                      time.monotonic() - phase_wall))
-            rows.append(row)
-            series.append(recorder.series(start, end, origin=start))
+        rows, series, _ = play_phases(ros, run, recorder, phases, phase_duration,
+                                      IN_SIM_COMMAND, IN_SIM_SAMPLE_PERIOD, predict)
         rospy.signal_shutdown('in-sim tutorial finished')
     return rows, series, recorder.series()
 
@@ -629,8 +640,8 @@ def compared_panels(pd_series, pid_series):
 def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, pd_series,
                        pd_phase_duration):
     """Plays the phases through the in-simulator PID (in a process of its own: this one's rospy
-    belongs to the first graph; see in_sim_main) and draws each phase's figure beside the rospy PD controller's;
-    writes in_sim_samples.csv; returns the in-sim rows."""
+    belongs to the first graph; see in_sim_main) and draws each phase's figure beside the rospy
+    PD controller's; writes in_sim_samples.csv; returns the in-sim rows."""
     from onedof_sim.tools import plot
     result_path = os.path.join(output, 'logs', 'in_sim', 'result.json')
     os.makedirs(os.path.dirname(result_path), exist_ok=True)
@@ -724,32 +735,23 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         ros.wait_until(lambda: recorder.connected() and pos_cmd.get_num_connections() > 0, 60,
                    what='the controller to publish joint_states and subscribe pos_cmd')
         run.start()
-        rows, pd_series = [], []
-        for phase in phases:
-            run_before(ros, phase)
-            say('rostopic pub pos_cmd std_msgs/Float64 %.1f   (%.0f s of sim time)'
-                % (phase.command, phase_duration))
-            phase_wall = time.monotonic()
-            start, end = run.phase(phase.command, phase_duration)
-            row = phase_summary(phase, recorder, start, end, expected_samples=None if free_run else
-                                round((end - start) / CONTROL_PERIOD))
-            say('  settled at %.4f rad (predicted %.4f), holding %.3f N m; %.1f s of sim time '
-                'in %.1f s of wall time' % (row['settled'], row['predicted'],
-                                            row['holding_torque'], end - start,
-                                            time.monotonic() - phase_wall))
-            rows.append(row)
-            pd_series.append(recorder.series(start, end, origin=start))
+        rows, pd_series, spans = play_phases(
+            ros, run, recorder, phases, phase_duration, 'pos_cmd',
+            sample_period=None if free_run else CONTROL_PERIOD)
+        for number, (phase, series, (start, end)) in enumerate(zip(phases, pd_series, spans), 1):
             plot.write_figure(
-                pd_series[-1],
-                os.path.join(output, 'phase%d_%s.png' % (len(rows), phase.name)),
+                series, os.path.join(output, 'phase%d_%s.png' % (number, phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
                 xlabel='sim time since the command (s)', until=end - start)
         if rviz:
             say('rviz screenshot of the final pose (the table from the collision markers)')
             rviz.screenshot(os.path.join(output, 'rviz_final.png'))
-        t0 = recorder.samples['jnt_pos'][0][0]
-        plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
-        plot.write_figure(recorder.series(origin=t0), os.path.join(output, 'tutorial.png'),
+        # From the first command on: whether the controller's first sample (its period on the
+        # initial command 0) reaches us depends on how soon our subscription connects.
+        t0, end = spans[0][0], spans[-1][1]
+        whole = recorder.series(start=t0, origin=t0)
+        plot.write_csv(whole, os.path.join(output, 'samples.csv'))
+        plot.write_figure(whole, os.path.join(output, 'tutorial.png'),
                           title='The whole tutorial (%s)' % physics_engine,
                           xlabel='sim time (s)', until=end - t0)
         rospy.signal_shutdown('tutorial finished')
