@@ -1,7 +1,8 @@
 """The main job end to end: `play_tutorial` on a built workspace plays the whole tutorial and
 writes every output; its figures are those of the in-process run of the same controller law to a
 micro-radian, the same again with 8 busy processes beside it, and agree with the closed-form
-physics; its rviz screenshot shows the robot and the table."""
+physics; its rviz screenshot shows the robot and the table. The same run plays the phases again
+through the in-simulator PID (the book's YAML): it settles at the commands, and on the table."""
 import fcntl
 import json
 import os
@@ -18,7 +19,9 @@ SAME = 1e-6  # rad: lock-step runs agree to this, whatever the machine is doing
 BUSY_PROCESSES = 8
 OUTPUTS = ('phase1_command_1.0.png', 'phase2_command_2.0.png', 'phase3_upright_0.0.png',
            'phase4_table_2.5.png', 'tutorial.png', 'samples.csv', 'rviz_final.png', 'summary.md',
-           'summary.json')
+           'summary.json', 'phase1_command_1.0_pd_vs_pid.png', 'phase2_command_2.0_pd_vs_pid.png',
+           'phase3_upright_0.0_pd_vs_pid.png', 'phase4_table_2.5_pd_vs_pid.png',
+           'in_sim_samples.csv')
 
 
 def play_tutorial(output, *args):
@@ -50,7 +53,8 @@ def tutorial(tmp_path_factory):
     with open(output / 'summary.json') as f:
         summary = json.load(f)
     return dict(output=output, stdout=run['stdout'], wall=run['wall'],
-                phases={row['name']: row for row in summary['phases']})
+                phases={row['name']: row for row in summary['phases']},
+                in_sim={row['name']: row for row in summary['in_sim_phases']})
 
 
 def test_every_output_is_written(tutorial):
@@ -62,7 +66,10 @@ def test_every_output_is_written(tutorial):
 def test_each_phase_is_announced(tutorial):
     for command in ('pos_cmd std_msgs/Float64 1.0', 'pos_cmd std_msgs/Float64 2.0',
                     'pos_cmd std_msgs/Float64 0.0', 'spawn_model -database cafe_table',
-                    'pos_cmd std_msgs/Float64 2.5'):
+                    'pos_cmd std_msgs/Float64 2.5',
+                    'roslaunch minimal_robot_description minimal_robot_in_sim_w_jnt_ctl.launch',
+                    'rostopic pub /one_DOF_robot/joint1_position_controller/command '
+                    'std_msgs/Float64 2.5'):
         assert command in tutorial['stdout']
 
 
@@ -92,6 +99,25 @@ def test_link_rests_on_the_table_pressing_with_the_remaining_error(tutorial):
                                                     rel=0.02)
 
 
+@pytest.mark.parametrize('name,command', [('command_1.0', 1.0), ('command_2.0', 2.0),
+                                          ('upright_0.0', 0.0)])
+def test_in_sim_pid_settles_at_the_command(tutorial, name, command):
+    phase = tutorial['in_sim'][name]
+    # The integral term removes the P-D droop the rospy controller shows in the same phase.
+    assert phase['settled'] == pytest.approx(command, abs=1e-3)
+    assert phase['holding_torque'] == pytest.approx(phase['predicted_torque'], abs=0.01)
+    if command:
+        assert abs(tutorial['phases'][name]['settled'] - command) > 0.3
+
+
+def test_in_sim_pid_rests_on_the_table_pressing_with_error_and_clamped_integral(tutorial):
+    phase = tutorial['in_sim']['table_2.5']
+    assert phase['settled'] == pytest.approx(physics.table_contact_angle(0.85), abs=0.02)
+    # p (c - q) plus the integral term at its clamp (i_clamp_max 10).
+    assert phase['holding_torque'] == pytest.approx(10.0 * (2.5 - phase['settled']) + 10.0,
+                                                    rel=0.02)
+
+
 def in_process_settled_angles(engine):
     """The settled angle of each phase of the tutorial run in-process, with no ROS between the
     controller law and the engine (the cross-validation's run)."""
@@ -117,8 +143,11 @@ def test_figures_are_the_same_with_8_busy_processes_beside_it(tutorial, tmp_path
         phases = {row['name']: row for row in json.load(f)['phases']}
     for name, phase in tutorial['phases'].items():
         assert abs(phases[name]['settled'] - phase['settled']) < SAME, name
-    # Not only close: the same run, figure for figure.
+    # Not only close: the same run, figure for figure; the in-sim PID's too.
     assert phases == tutorial['phases']
+    with open(tmp_path / 'loaded' / 'summary.json') as f:
+        in_sim = {row['name']: row for row in json.load(f)['in_sim_phases']}
+    assert in_sim == tutorial['in_sim']
 
 
 def test_plays_without_hanging(tutorial):

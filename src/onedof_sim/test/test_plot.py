@@ -10,7 +10,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool, Float64, Header
 
 from onedof_sim.tools.plot import (PlotError, SampleBuffer, expand_specs, field_accessor,
-                                   header_stamp, held_window, make_figure, parse_args,
+                                   header_stamp, held_window, make_figure,
+                                   make_panels_figure, parse_args,
                                    parse_field_path, plottable_paths, read_csv,
                                    split_topic_field, step_path, write_csv, write_figure)
 
@@ -227,6 +228,20 @@ def test_figure_has_one_line_per_label_with_the_data_held(tmp_path):
     write_figure(series, str(png), title='phase 1', xlabel='sim time (s)')
     data = png.read_bytes()
     assert data[:8] == b'\x89PNG\r\n\x1a\n' and len(data) > 5000
+
+
+def test_panels_figure_stacks_its_panels_on_one_time_axis():
+    angles = {'q': ([0.0, 1.0], [0.5, 1.0])}
+    torques = {'u': ([0.0], [2.0]), 'v': ([0.0], [3.0])}
+    figure = make_panels_figure([('rad', angles), ('N m', torques)], title='both',
+                                xlabel='sim time (s)', until=2.0)
+    top, bottom = figure.axes
+    assert [line.get_label() for line in top.lines] == ['q']
+    assert [line.get_label() for line in bottom.lines] == ['u', 'v']
+    assert (top.get_title(), top.get_xlabel(), top.get_ylabel()) == ('both', '', 'rad')
+    assert (bottom.get_title(), bottom.get_xlabel()) == ('', 'sim time (s)')
+    assert list(bottom.lines[0].get_xdata()) == [0.0, 2.0]
+    assert top.get_shared_x_axes().joined(top, bottom)
 
 
 @pytest.mark.parametrize('argv, message', [

@@ -309,7 +309,8 @@ def step_path(times, values, until=None):
 def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None, until=None):
     lines = {label: ax.plot(*step_path(times, values, until), label=label)[0]
              for label, (times, values) in series.items()}
-    ax.set_xlabel(xlabel)
+    if xlabel:
+        ax.set_xlabel(xlabel)
     if ylabel:
         ax.set_ylabel(ylabel)
     if title:
@@ -324,11 +325,23 @@ def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=(10, 6)
     """A matplotlib Figure of {label: (times, values)}, one line per label, each sample held until
     the next and the last until `until` (see step_path); independent of pyplot (so saving it works
     on any backend, headless included)."""
+    return make_panels_figure([(ylabel, series)], title, xlabel, size, until)
+
+
+def make_panels_figure(panels, title=None, xlabel=TIME_LABEL, size=(10, 6), until=None):
+    """make_figure's figure with one panel per (ylabel, series) of `panels`, stacked on a shared
+    time axis: the title over the first, the time label under the last."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     figure = Figure(figsize=size)
     FigureCanvasAgg(figure)
-    _draw_series(figure.add_subplot(1, 1, 1), series, title, xlabel, ylabel, until)
+    first = None
+    for index, (ylabel, series) in enumerate(panels):
+        ax = figure.add_subplot(len(panels), 1, index + 1, sharex=first)
+        first = first or ax
+        last = index == len(panels) - 1
+        _draw_series(ax, series, title if index == 0 else None, xlabel if last else None,
+                     ylabel, until)
     figure.tight_layout()
     return figure
 
@@ -336,6 +349,11 @@ def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=(10, 6)
 def write_figure(series, path, title=None, xlabel=TIME_LABEL, ylabel=None, until=None):
     """Writes the figure of {label: (times, values)} to `path` (format from its extension)."""
     make_figure(series, title, xlabel, ylabel, until=until).savefig(path, dpi=100)
+
+
+def write_panels_figure(panels, path, title=None, xlabel=TIME_LABEL, size=(10, 8), until=None):
+    """Writes make_panels_figure's figure of [(ylabel, series)] to `path`."""
+    make_panels_figure(panels, title, xlabel, size, until).savefig(path, dpi=100)
 
 
 # ---- ROS side: find the topics, subscribe, record or show ----

@@ -11,6 +11,10 @@ physics' alone, the same on every run however busy the machine. The controller's
 runs on its initial command 0, before the player has commanded anything, and it starts after one
 period of the arm at rest (sim time 0 is no valid time to a ROS node): the phases start at 0.02 s. With free_run the simulator paces itself at a real-time factor and the
 controller samples it over the network as a real robot would be, missed periods included.
+
+Then the same phases play again through the in-simulator PID (the book's gazebo_ros_control
+robot and YAML, effort_controllers/JointPositionController), on a paused world stepped phase by
+phase, and each phase's figure shows both controllers (what the integral term does to the droop).
 """
 import collections
 import json
@@ -18,6 +22,7 @@ import math
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -58,30 +63,38 @@ def say(text):
     print('[tutorial] ' + text, flush=True)
 
 
+def joint_state_samples(msg, joint=JOINT):
+    """[(topic, sim time, value)] of a sensor_msgs/JointState: the joint's position, velocity and
+    effort as jnt_pos, jnt_vel and jnt_trq, at the header stamp."""
+    if joint not in msg.name:
+        return []
+    index = msg.name.index(joint)
+    t = msg.header.stamp.to_sec()
+    return [(topic, t, values[index]) for topic, values in
+            (('jnt_pos', msg.position), ('jnt_vel', msg.velocity), ('jnt_trq', msg.effort))
+            if index < len(values)]
+
+
+def controller_state_samples(msg):
+    """[(topic, sim time, value)] of a control_msgs/JointControllerState: the process value and
+    its rate as jnt_pos and jnt_vel, the controller's effort command as jnt_trq, at the stamp."""
+    t = msg.header.stamp.to_sec()
+    return [('jnt_pos', t, msg.process_value), ('jnt_vel', t, msg.process_value_dot),
+            ('jnt_trq', t, msg.command)]
+
+
 class Recorder:
     """Keeps (sim time, value) of what the tutorial plots: pos_cmd as the player commands it, and
-    jnt_pos, jnt_vel and jnt_trq from the controller's joint_states (position, velocity, effort),
-    each at the sim time its sample was taken (the header stamp: the Float64 topics carry no time,
-    and the time of reception says nothing when the simulator runs faster than real time)."""
+    jnt_pos, jnt_vel and jnt_trq as a controller reports them, each at the sim time its sample was
+    taken (the header stamp: the Float64 topics carry no time, and the time of reception says
+    nothing when the simulator runs faster than real time)."""
 
-    def __init__(self, rospy):
-        from sensor_msgs.msg import JointState
+    def __init__(self):
         self.samples = {topic: [] for topic in RECORDED_TOPICS}
-        self.subscriber = rospy.Subscriber('/joint_states', JointState, self._on_joint_state,
-                                           queue_size=100000)
 
-    def connected(self):
-        return self.subscriber.get_num_connections() > 0
-
-    def _on_joint_state(self, msg):
-        if JOINT not in msg.name:
-            return
-        index = msg.name.index(JOINT)
-        t = msg.header.stamp.to_sec()
-        for topic, values in (('jnt_pos', msg.position), ('jnt_vel', msg.velocity),
-                              ('jnt_trq', msg.effort)):
-            if index < len(values):
-                self.samples[topic].append((t, values[index]))
+    def add(self, samples):
+        for topic, t, value in samples:
+            self.samples[topic].append((t, value))
 
     def command(self, t, value):
         self.samples['pos_cmd'].append((t, value))
@@ -103,6 +116,20 @@ class Recorder:
                                         start, end)
             series[topic] = ([t - origin for t in times], values)
         return series
+
+
+class JointStatesRecorder(Recorder):
+    """The rospy controller's /joint_states, every message (one per control period)."""
+
+    def __init__(self, rospy):
+        super().__init__()
+        from sensor_msgs.msg import JointState
+        self.subscriber = rospy.Subscriber(
+            '/joint_states', JointState, lambda msg: self.add(joint_state_samples(msg)),
+            queue_size=100000)
+
+    def connected(self):
+        return self.subscriber.get_num_connections() > 0
 
 
 class Rosout:
@@ -143,6 +170,11 @@ class Rosout:
                    what='the controller to join the lock-step')
 
 
+def package_path(package):
+    return subprocess.run(['rospack', 'find', package], capture_output=True, text=True,
+                          check=True).stdout.strip()
+
+
 def free_display():
     for number in range(90, 200):
         if not os.path.exists('/tmp/.X11-unix/X%d' % number) and \
@@ -175,9 +207,8 @@ class RvizView:
                               env=dict(self.env, LIBGL_ALWAYS_SOFTWARE='1'))
 
     def _write_config(self):
-        source = subprocess.run(['rospack', 'find', 'minimal_robot_description'],
-                                capture_output=True, text=True, check=True).stdout.strip()
-        with open(os.path.join(source, 'rviz', 'minimal_robot.rviz')) as f:
+        with open(os.path.join(package_path('minimal_robot_description'), 'rviz',
+                               'minimal_robot.rviz')) as f:
             config = yaml.safe_load(f)
         # rviz renders in software here: a few frames a second leave the CPU to the controller.
         config['Visualization Manager']['Global Options']['Frame Rate'] = 5
@@ -234,29 +265,46 @@ def is_blank(png_path):
     return result.returncode != 0 or result.stdout.strip() in ('', '1')
 
 
-def phase_summary(phase, recorder, start, end, lockstep):
+def pd_prediction(phase, settled):
+    """(predicted angle, predicted holding torque) of the rospy PD controller: where
+    Kp (c - q) + m g d sin q = 0; on the table, at rest (rate 0), Kp times the remaining error."""
+    if phase.before is SPAWN_TABLE:
+        return physics.table_contact_angle(TABLE_X), physics.KP * (phase.command - settled)
+    predicted = physics.settled_angle(phase.command)
+    return predicted, -physics.gravity_torque(predicted)
+
+
+def pid_prediction(gains):
+    """The prediction function of a PID with these gains (p, i_clamp_max as ros_control reads
+    them): the integral removes the droop, the link settles at the command holding gravity's
+    torque; on the table the integral winds up to its clamp, so the torque is p times the
+    remaining error plus i_clamp_max."""
+    def predict(phase, settled):
+        if phase.before is SPAWN_TABLE:
+            return (physics.table_contact_angle(TABLE_X),
+                    gains['p'] * (phase.command - settled) + gains['i_clamp_max'])
+        return phase.command, -physics.gravity_torque(phase.command)
+    return predict
+
+
+def phase_summary(phase, recorder, start, end, expected_samples=None, predict=pd_prediction):
+    """The phase's row of the summary from the recorder's samples in [start, end): settled angle,
+    overshoot, settling time, holding torque against `predict`'s closed form. With
+    expected_samples, a different count of position samples is an error (a lost sample)."""
     positions = recorder.between('jnt_pos', start, end)
     torques = recorder.between('jnt_trq', start, end)
     if len(positions) < 2 or len(torques) < 2:
         raise RuntimeError('phase %s recorded %d positions and %d torques: is the controller '
                            'running?' % (phase.name, len(positions), len(torques)))
-    periods = round((end - start) / CONTROL_PERIOD)
-    if lockstep and len(positions) != periods:
-        raise RuntimeError('phase %s recorded %d samples in lock-step, not one per period (%d)'
-                           % (phase.name, len(positions), periods))
+    if expected_samples is not None and len(positions) != expected_samples:
+        raise RuntimeError('phase %s recorded %d samples, not one per sampling period (%d)'
+                           % (phase.name, len(positions), expected_samples))
     metrics = physics.step_metrics([t for t, _ in positions], [q for _, q in positions],
                                    start_value=positions[0][1])
     metrics['holding_torque'] = physics.tail_mean([t for t, _ in torques], [u for _, u in torques])
-    if phase.before is SPAWN_TABLE:
-        predicted = physics.table_contact_angle(TABLE_X)
-        metrics['met_table'] = 'tip rim at x = %.3f m, z = %.3f m' % physics.tip_rim(
-            metrics['settled'])
-        # At rest on the table the rate is 0: the torque is Kp times the remaining error.
-        metrics['predicted_torque'] = physics.KP * (phase.command - metrics['settled'])
-    else:
-        predicted = physics.settled_angle(phase.command)
-        metrics['met_table'] = ''
-        metrics['predicted_torque'] = -physics.gravity_torque(predicted)
+    predicted, metrics['predicted_torque'] = predict(phase, metrics['settled'])
+    metrics['met_table'] = ('tip rim at x = %.3f m, z = %.3f m' % physics.tip_rim(
+        metrics['settled'])) if phase.before is SPAWN_TABLE else ''
     metrics.update(name=phase.name, command=phase.command, predicted=predicted,
                    samples=len(positions))
     return metrics
@@ -270,16 +318,27 @@ SUMMARY_COLUMNS = (
     ('predicted torque (N m)', 'predicted_torque', '%.3f'), ('met the table', 'met_table', '%s'))
 
 
-def summary_markdown(rows, physics_engine, free_run=False):
+def summary_table(rows):
+    lines = ['| ' + ' | '.join(title for title, _, _ in SUMMARY_COLUMNS) + ' |',
+             '|' + '---|' * len(SUMMARY_COLUMNS)]
+    for row in rows:
+        lines.append('| ' + ' | '.join(fmt % row[key] for _, key, fmt in SUMMARY_COLUMNS) + ' |')
+    return lines
+
+
+def summary_markdown(rows, physics_engine, free_run=False, in_sim_rows=()):
     lines = ['# Tutorial summary (%s engine, %s)'
              % (physics_engine, 'free-running' if free_run else 'lock-step'), '',
              'Predicted: where Kp (c - q) + m g d sin q = 0; with the table, the angle at which '
              'the link first touches the table top. Settling: within 0.02 rad of the settled '
-             'angle. Times are sim time.', '',
-             '| ' + ' | '.join(title for title, _, _ in SUMMARY_COLUMNS) + ' |',
-             '|' + '---|' * len(SUMMARY_COLUMNS)]
-    for row in rows:
-        lines.append('| ' + ' | '.join(fmt % row[key] for _, key, fmt in SUMMARY_COLUMNS) + ' |')
+             'angle. Times are sim time.', ''] + summary_table(rows)
+    if in_sim_rows:
+        lines += ['', '## The same phases through the in-simulator PID', '',
+                  'effort_controllers/JointPositionController with the book\'s gains '
+                  '(one_dof_ctl_params.yaml), run inside the simulator\'s step and sampled from '
+                  'its state topic. Predicted: the command itself (the integral term removes '
+                  'the droop) holding m g d sin c; on the table, p times the remaining error '
+                  'plus the integral at its clamp.', ''] + summary_table(in_sim_rows)
     return '\n'.join(lines) + '\n'
 
 
@@ -370,11 +429,267 @@ class FreeRun:
         return start, end
 
 
+def run_before(ros, phase):
+    """What the student does before the phase's command (the table's spawn), if anything."""
+    if phase.before:
+        say(' '.join(phase.before))
+        result = ros.run(phase.before)
+        if result.returncode != 0:
+            raise RuntimeError('%s failed:\n%s%s' % (' '.join(phase.before),
+                                                    result.stdout, result.stderr))
+
+
+def play_phases(ros, run, recorder, phases, phase_duration, command_topic, sample_period,
+                predict=pd_prediction):
+    """Plays the phases with `run` (LockstepRun, FreeRun or InSimRun), as the student types them;
+    returns their summary rows, each phase's series since its command, and each one's (start,
+    end) in sim time.
+    With a sample_period, each phase must have recorded one sample per period."""
+    rows, series, spans = [], [], []
+    for phase in phases:
+        run_before(ros, phase)
+        say('rostopic pub %s std_msgs/Float64 %.1f   (%.0f s of sim time)'
+            % (command_topic, phase.command, phase_duration))
+        phase_wall = time.monotonic()
+        start, end = run.phase(phase.command, phase_duration)
+        row = phase_summary(phase, recorder, start, end, predict=predict,
+                            expected_samples=sample_period and round((end - start) / sample_period))
+        say('  settled at %.4f rad (predicted %.4f), holding %.3f N m; %.1f s of sim time '
+            'in %.1f s of wall time' % (row['settled'], row['predicted'], row['holding_torque'],
+                                        end - start, time.monotonic() - phase_wall))
+        rows.append(row)
+        series.append(recorder.series(start, end, origin=start))
+        spans.append((start, end))
+    return rows, series, spans
+
+
+# The in-simulator run: the book's gazebo_ros_control robot and controllers (issue 13).
+IN_SIM_NAMESPACE = '/one_DOF_robot'
+IN_SIM_CONTROLLER = 'joint1_position_controller'
+IN_SIM_CONTROLLERS = ('joint_state_controller', IN_SIM_CONTROLLER)
+IN_SIM_COMMAND = '%s/%s/command' % (IN_SIM_NAMESPACE, IN_SIM_CONTROLLER)
+IN_SIM_STATE = '%s/%s/state' % (IN_SIM_NAMESPACE, IN_SIM_CONTROLLER)
+# The integral brings the link to its command slowly (upright after 2.0 is the slowest: the
+# integral holding 2.0 against gravity unwinds over some 30 s): this long settles every phase
+# within 1e-3 rad.
+IN_SIM_PHASE_DURATION = 40.0
+# Sim seconds between the in-sim samples: the world is stepped this much at a time and the
+# controller's newest state of each step taken (its state publisher keeps only the newest).
+IN_SIM_SAMPLE_PERIOD = 0.05
+STATE_PERIOD = 0.01  # ros_controllers publish the state on every tenth 1 ms update
+
+
+def book_pid_gains():
+    """The position controller's pid gains from the book's YAML, as the simulator reads them."""
+    with open(os.path.join(package_path('minimal_robot_description'), 'control_config',
+                           'one_dof_ctl_params.yaml')) as f:
+        config = yaml.safe_load(f)
+    return config[IN_SIM_NAMESPACE.strip('/')][IN_SIM_CONTROLLER]['pid']
+
+
+def newest_sample_of_step(states, after_ns, until_ns):
+    """The newest of the (stamp ns, message) states in (after_ns, until_ns], None if none: the one
+    sample a step from after_ns to until_ns keeps, whichever others got through."""
+    inside = [(stamp, msg) for stamp, msg in states if after_ns < stamp <= until_ns]
+    return max(inside, key=lambda pair: pair[0]) if inside else None
+
+
+def bus_messages_received(bus_stats, topic):
+    """Messages a roscpp node's subscription to `topic` has read, from its slave API's
+    getBusStats answer. roscpp answers the stats themselves, without rospy's [code, message]
+    before them: [publish stats, subscribe stats, ...], the subscribe stats as
+    [topic, [[connection, bytes, messages, drops, connected], ...]]."""
+    subscribe_stats = bus_stats[1]
+    return sum(connection[2] for name, connections in subscribe_stats if name == topic
+               for connection in connections)
+
+
+class InSimRun:
+    """Advances a paused world with in-simulator controllers phase by phase: each command is
+    published on the controller's command topic while the world stands, read by the simulator
+    before the world moves again, then the world steps through the phase IN_SIM_SAMPLE_PERIOD at
+    a time and the controller's newest state of each step is recorded. Controllers inside the
+    step need no lock-step: nothing outside the simulator takes part in a period."""
+
+    def __init__(self, ros, rospy, recorder):
+        import threading
+        import xmlrpc.client
+        from control_msgs.msg import JointControllerState
+        from controller_manager_msgs.srv import ListControllers
+        from gazebo_msgs.srv import GetPhysicsProperties
+        from onedof_sim.srv import StepSimulation
+        from std_msgs.msg import Float64
+        self.ros = ros
+        self.recorder = recorder
+        self.states = []  # (stamp ns, JointControllerState), as they arrive
+        self.arrived = threading.Condition()
+        self.state_subscriber = rospy.Subscriber(IN_SIM_STATE, JointControllerState,
+                                                 self._on_state, queue_size=1000)
+        self.command_pub = rospy.Publisher(IN_SIM_COMMAND, Float64, queue_size=1, latch=True)
+        self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation)
+        self.list_controllers = rospy.ServiceProxy(
+            IN_SIM_NAMESPACE + '/controller_manager/list_controllers', ListControllers)
+        self.time_step = rospy.ServiceProxy('/gazebo/get_physics_properties',
+                                            GetPhysicsProperties)().time_step
+        _, _, simulator_uri = ros.master().lookupNode('/tutorial_player', '/gazebo')
+        self.simulator = xmlrpc.client.ServerProxy(simulator_uri)
+        self.now_ns = 0
+
+    def _on_state(self, msg):
+        with self.arrived:
+            self.states.append((msg.header.stamp.to_nsec(), msg))
+            self.arrived.notify_all()
+
+    def wait_for_controllers(self, timeout=60):
+        """Until the spawner has both controllers running and our topics are connected."""
+        def running():
+            listed = {c.name: c.state for c in self.list_controllers().controller}
+            return all(listed.get(name) == 'running' for name in IN_SIM_CONTROLLERS)
+        self.ros.wait_for_service(IN_SIM_NAMESPACE + '/controller_manager/list_controllers', 60)
+        self.ros.wait_until(running, timeout, what='the spawner to start %s'
+                            % ' and '.join(IN_SIM_CONTROLLERS))
+        self.ros.wait_until(lambda: self.state_subscriber.get_num_connections() > 0 and
+                            self.command_pub.get_num_connections() > 0, timeout,
+                            what='the connections to %s and %s' % (IN_SIM_STATE, IN_SIM_COMMAND))
+
+    def commands_received(self):
+        return bus_messages_received(self.simulator.getBusStats('/tutorial_player'),
+                                     IN_SIM_COMMAND)
+
+    def step(self, steps):
+        reply = self.step_service(steps)
+        if not reply.success:
+            raise RuntimeError('step_simulation: ' + reply.status_message)
+        return reply.sim_time.to_nsec()
+
+    def wait_for_state(self, after_ns, until_ns, timeout=60):
+        deadline = time.monotonic() + timeout
+        with self.arrived:
+            while True:
+                newest = newest_sample_of_step(self.states, after_ns, until_ns)
+                if newest and newest[0] > until_ns - STATE_PERIOD * 1e9:
+                    return newest
+                self.ros.check_running('the controller state at %.3f s' % seconds(until_ns))
+                if time.monotonic() > deadline:
+                    raise TimeoutError('timed out after %.0f s waiting for %s at %.3f s'
+                                       % (timeout, IN_SIM_STATE, seconds(until_ns)))
+                self.arrived.wait(0.5)
+
+    def phase(self, command, duration):
+        """Runs one phase; returns its (start, end) in sim time."""
+        received_before = self.commands_received()
+        self.command_pub.publish(self.command_pub.data_class(command))
+        self.ros.wait_until(lambda: self.commands_received() > received_before, 60, interval=0.01,
+                            what='the simulator to read command %g' % command)
+        # Read is not yet taken: the command's callback is queued on the simulator's spinner. A
+        # service call queued after it answers once the callback has been dequeued.
+        self.list_controllers()
+        start = seconds(self.now_ns)
+        self.recorder.command(start, command)
+        chunk = int(round(IN_SIM_SAMPLE_PERIOD / self.time_step))
+        with self.arrived:
+            self.states = []
+        for _ in range(int(round(duration / IN_SIM_SAMPLE_PERIOD))):
+            before_ns, self.now_ns = self.now_ns, self.step(chunk)
+            stamp_ns, state = self.wait_for_state(before_ns, self.now_ns)
+            if state.set_point != command:
+                raise RuntimeError('%s reports set point %g at %.3f s, not the command %g'
+                                   % (IN_SIM_STATE, state.set_point, seconds(stamp_ns), command))
+            self.recorder.add(controller_state_samples(state))
+            with self.arrived:
+                self.states = []
+        return start, seconds(self.now_ns)
+
+
+def play_in_sim(log_dir, physics_engine, phase_duration=IN_SIM_PHASE_DURATION, phases=PHASES):
+    """The tutorial's phases through the in-simulator PID, launched as the book does it (our
+    minimal_robot_in_sim_w_jnt_ctl.launch: the simulator, the robot with gazebo_ros_control's tag,
+    the book's YAML and the spawner), paused and stepped. Runs in a process of its own (rospy
+    inits once per process). Returns (rows, [per-phase series since each command], the whole
+    run's series)."""
+    with PrivateRos(log_dir=log_dir, use_sim_time=True) as ros:
+        launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_in_sim_w_jnt_ctl.launch',
+                  'physics:=' + physics_engine, 'paused:=true']
+        say(' '.join(launch))
+        ros.start(launch, name='launch_in_sim')
+        ros.adopt_environment()
+        import rospy
+        rospy.init_node('tutorial_player', disable_signals=True)
+        recorder = Recorder()
+        ros.wait_for_service('/gazebo/get_physics_properties', timeout=60)
+        run = InSimRun(ros, rospy, recorder)
+        run.wait_for_controllers()
+        predict = pid_prediction(book_pid_gains())
+        rows, series, _ = play_phases(ros, run, recorder, phases, phase_duration,
+                                      IN_SIM_COMMAND, IN_SIM_SAMPLE_PERIOD, predict)
+        rospy.signal_shutdown('in-sim tutorial finished')
+    return rows, series, recorder.series()
+
+
+def compared_panels(pd_series, pid_series):
+    """One figure's panels [(ylabel, {label: (times, values)})]: the command and each controller's
+    position above, each controller's torque below, labelled by controller."""
+    labelled = (('rospy PD', pd_series), ('in-sim PID', pid_series))
+    # The controllers first in both panels: each keeps its colour from one panel to the other.
+    positions = {'%s jnt_pos' % label: series['jnt_pos'] for label, series in labelled}
+    positions['pos_cmd'] = pid_series['pos_cmd']
+    torques = {'%s jnt_trq' % label: series['jnt_trq'] for label, series in labelled}
+    return [('angle (rad)', positions), ('torque (N m)', torques)]
+
+
+def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, pd_series,
+                       pd_phase_duration):
+    """Plays the phases through the in-simulator PID (in a process of its own: this one's rospy
+    belongs to the first graph; see in_sim_main) and draws each phase's figure beside the rospy
+    PD controller's; writes in_sim_samples.csv; returns the in-sim rows."""
+    from onedof_sim.tools import plot
+    result_path = os.path.join(output, 'logs', 'in_sim', 'result.json')
+    os.makedirs(os.path.dirname(result_path), exist_ok=True)
+    # A process of our Python started as play_tutorial is: the same imports (onedof_sim's
+    # generated messages with it), its own rospy node, its log lines on our output.
+    subprocess.run([sys.executable, '-m', 'onedof_sim.tutorial.player', result_path,
+                    physics_engine, repr(phase_duration), str(len(phases))], check=False)
+    try:
+        with open(result_path) as f:
+            result = json.load(f)
+    except (OSError, ValueError) as error:
+        raise RuntimeError('the in-sim run left no result (%s)' % error) from None
+    if 'error' in result:
+        raise RuntimeError('in-sim run: ' + result['error'])
+    rows, series, whole = result['rows'], result['series'], result['whole']
+    for number, (phase, pd_row, pd, pid) in enumerate(zip(phases, pd_rows, pd_series, series), 1):
+        plot.write_panels_figure(
+            compared_panels(pd, pid),
+            os.path.join(output, 'phase%d_%s_pd_vs_pid.png' % (number, phase.name)),
+            title='%s (%s): rospy PD settles at %.3f, in-sim PID at %.3f'
+                  % (phase.name, physics_engine, pd_row['settled'], rows[number - 1]['settled']),
+            xlabel='sim time since the command (s); the rospy PD\'s phase ends at %g s, its '
+                   'last values drawn held after' % pd_phase_duration, until=phase_duration)
+    plot.write_csv(whole, os.path.join(output, 'in_sim_samples.csv'))
+    return rows
+
+
+def in_sim_main(argv):
+    """`python -m onedof_sim.tutorial.player RESULT_JSON PHYSICS DURATION PHASES`: play_in_sim
+    of the first PHASES phases, its logs beside RESULT_JSON, its rows and series (or the error)
+    into it."""
+    result_path, physics_engine, phase_duration, phase_count = argv
+    try:
+        rows, series, whole = play_in_sim(os.path.dirname(result_path), physics_engine,
+                                          float(phase_duration), PHASES[:int(phase_count)])
+        result = dict(rows=rows, series=series, whole=whole)
+    except (RuntimeError, TimeoutError) as error:
+        result = dict(error=str(error))
+    with open(result_path, 'w') as f:
+        json.dump(result, f)
+
+
 def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=False,
-         real_time_factor=1.0, phases=PHASES):
+         real_time_factor=1.0, phases=PHASES, in_sim_phase_duration=IN_SIM_PHASE_DURATION):
     """Plays the tutorial's `phases` (a leading part of PHASES: each starts where the one before
-    left the arm), in lock-step unless free_run (then paced at real_time_factor); returns the
-    per-phase summary rows. Raises with the reason on failure."""
+    left the arm), in lock-step unless free_run (then paced at real_time_factor), then (unless
+    in_sim_phase_duration is 0) the same phases through the in-simulator PID; returns the
+    rospy controller's per-phase summary rows. Raises with the reason on failure."""
     from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
     log_dir = os.path.join(output, 'logs')
@@ -410,7 +725,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
             rviz.wait_until_up()
         from std_msgs.msg import Float64
         pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
-        recorder = Recorder(rospy)
+        recorder = JointStatesRecorder(rospy)
         run = (FreeRun if free_run else LockstepRun)(ros, rospy, recorder, pos_cmd)
         run.before_controller()
         say('rosrun minimal_joint_controller minimal_joint_controller')
@@ -420,44 +735,40 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         ros.wait_until(lambda: recorder.connected() and pos_cmd.get_num_connections() > 0, 60,
                    what='the controller to publish joint_states and subscribe pos_cmd')
         run.start()
-        rows = []
-        for phase in phases:
-            if phase.before:
-                say(' '.join(phase.before))
-                result = ros.run(phase.before)
-                if result.returncode != 0:
-                    raise RuntimeError('%s failed:\n%s%s' % (' '.join(phase.before),
-                                                            result.stdout, result.stderr))
-            say('rostopic pub pos_cmd std_msgs/Float64 %.1f   (%.0f s of sim time)'
-                % (phase.command, phase_duration))
-            phase_wall = time.monotonic()
-            start, end = run.phase(phase.command, phase_duration)
-            row = phase_summary(phase, recorder, start, end, lockstep=not free_run)
-            say('  settled at %.4f rad (predicted %.4f), holding %.3f N m; %.1f s of sim time '
-                'in %.1f s of wall time' % (row['settled'], row['predicted'],
-                                            row['holding_torque'], end - start,
-                                            time.monotonic() - phase_wall))
-            rows.append(row)
+        rows, pd_series, spans = play_phases(
+            ros, run, recorder, phases, phase_duration, 'pos_cmd',
+            sample_period=None if free_run else CONTROL_PERIOD)
+        for number, (phase, series, (start, end)) in enumerate(zip(phases, pd_series, spans), 1):
             plot.write_figure(
-                recorder.series(start, end, origin=start),
-                os.path.join(output, 'phase%d_%s.png' % (len(rows), phase.name)),
+                series, os.path.join(output, 'phase%d_%s.png' % (number, phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
                 xlabel='sim time since the command (s)', until=end - start)
         if rviz:
             say('rviz screenshot of the final pose (the table from the collision markers)')
             rviz.screenshot(os.path.join(output, 'rviz_final.png'))
-        t0 = recorder.samples['jnt_pos'][0][0]
-        plot.write_csv(recorder.series(origin=t0), os.path.join(output, 'samples.csv'))
-        plot.write_figure(recorder.series(origin=t0), os.path.join(output, 'tutorial.png'),
+        # From the first command on: whether the controller's first sample (its period on the
+        # initial command 0) reaches us depends on how soon our subscription connects.
+        t0, end = spans[0][0], spans[-1][1]
+        whole = recorder.series(start=t0, origin=t0)
+        plot.write_csv(whole, os.path.join(output, 'samples.csv'))
+        plot.write_figure(whole, os.path.join(output, 'tutorial.png'),
                           title='The whole tutorial (%s)' % physics_engine,
                           xlabel='sim time (s)', until=end - t0)
         rospy.signal_shutdown('tutorial finished')
-    summary = summary_markdown(rows, physics_engine, free_run)
+    in_sim_rows = []
+    if in_sim_phase_duration:
+        in_sim_rows = play_in_sim_beside(output, physics_engine, in_sim_phase_duration, phases,
+                                         rows, pd_series, phase_duration)
+    summary = summary_markdown(rows, physics_engine, free_run, in_sim_rows)
     with open(os.path.join(output, 'summary.md'), 'w') as f:
         f.write(summary)
     with open(os.path.join(output, 'summary.json'), 'w') as f:
-        json.dump({'physics': physics_engine, 'lockstep': not free_run, 'phases': rows}, f,
-                  indent=1)
+        json.dump({'physics': physics_engine, 'lockstep': not free_run, 'phases': rows,
+                   'in_sim_phases': in_sim_rows}, f, indent=1)
     print(summary)
     say('done in %.1f s of wall time; outputs in %s' % (time.monotonic() - wall_start, output))
     return rows
+
+
+if __name__ == '__main__':
+    in_sim_main(sys.argv[1:])
