@@ -11,12 +11,22 @@ import yaml
 
 from api_client import ROBOT, GazeboApi
 from conftest import TUTORIAL_URDF, WORKSPACE, start_sim
+from controller_manager_cli import NS, listing
 from onedof_sim.private_ros import wait_until
-from test_controller_manager_tools import BOOK_PARAMS, NS, listing
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
 JNT_CTL_URDF = os.path.join(DESCRIPTION_DIR, 'minimal_robot_description_w_jnt_ctl.urdf')
 BOOK_YAML = os.path.join(DESCRIPTION_DIR, 'control_config', 'one_dof_ctl_params.yaml')
+# What the book's YAML holds, in its namespace.
+BOOK_PARAMS = {
+    'joint_state_controller': {'type': 'joint_state_controller/JointStateController',
+                               'publish_rate': 50},
+    'joint1_position_controller': {'type': 'effort_controllers/JointPositionController',
+                                   'joint': 'joint1',
+                                   'pid': {'p': 10.0, 'i': 10.0, 'd': 10.0,
+                                           'i_clamp_min': -10.0, 'i_clamp_max': 10.0}},
+}
+
 
 
 def robot_parts(root):

@@ -1,51 +1,38 @@
-"""`rosrun controller_manager spawner|controller_manager ...` end to end against a stand-in
-controller manager (tests/fake_controller_manager.py) in the book's namespace: the tools' command
-lines, service names and exit statuses. The simulator's own controller manager is tested with
-the simulator."""
+"""`rosrun controller_manager spawner|controller_manager ...` end to end against the simulator's own
+controller manager (the book's robot with gazebo_ros_control's tag, the book's parameters), in the
+book's namespace: the tools' command lines, service names and exit statuses. The tools do not
+depend on the engine, so they run against the first one's simulator only."""
 
 import os
 import signal
 
 import pytest
 
-NS = '/one_DOF_robot'
-FAKE = os.path.join(os.path.dirname(__file__), 'fake_controller_manager.py')
-BOOK_PARAMS = {
-    'joint_state_controller': {'type': 'joint_state_controller/JointStateController',
-                               'publish_rate': 50},
-    'joint1_position_controller': {'type': 'effort_controllers/JointPositionController',
-                                   'joint': 'joint1',
-                                   'pid': {'p': 10.0, 'i': 10.0, 'd': 10.0,
-                                           'i_clamp_min': -10.0, 'i_clamp_max': 10.0}},
-}
+from api_client import pose
+from conftest import ENGINES
+from controller_manager_cli import NS, cli, listing
+from test_ros_control import book_params, controlled_urdf
+
+ONE_ENGINE = pytest.mark.parametrize('engine', ENGINES[:1], indirect=True)
 
 
 @pytest.fixture
-def manager(ros):
-    ros.set_param(NS, BOOK_PARAMS)
-    ros.start(['/usr/bin/python3', FAKE, '__ns:=' + NS], name='fake_controller_manager')
+def manager(shared_sim, ros):
+    """The module's simulator with the book's robot spawned and its parameters loaded."""
+    ros.set_param(NS, book_params())
+    res = shared_sim.spawn_urdf_model('one_DOF_robot', controlled_urdf(), '', pose(), '')
+    assert res.success, res.status_message
     ros.wait_for_service(NS + '/controller_manager/switch_controller')
     return ros
 
 
-def cli(ros, *args):
-    out = ros.run(['rosrun', 'controller_manager', 'controller_manager'] + list(args)
-                  + ['__ns:=' + NS])
-    return out
-
-
-def listing(ros):
-    out = cli(ros, 'list')
-    assert out.returncode == 0, out.stderr
-    return out.stdout.splitlines()
-
-
+@ONE_ENGINE
 def test_spawner_loads_and_starts_then_takes_down_on_sigint(manager):
     ros = manager
     spawner = ros.start(['rosrun', 'controller_manager', 'spawner', 'joint_state_controller',
                          'joint1_position_controller', '__ns:=' + NS], name='spawner',
                         may_exit=True)
-    running = ['joint_state_controller -  ( running )',
+    running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )',
                'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
     ros.wait_until(lambda: listing(ros) == running, 60, what='both controllers running')
     os.killpg(spawner.pid, signal.SIGINT)
@@ -53,16 +40,19 @@ def test_spawner_loads_and_starts_then_takes_down_on_sigint(manager):
     assert listing(ros) == ['No controllers are loaded in mechanism control']
 
 
+@ONE_ENGINE
 def test_spawner_stopped_and_namespace_option(manager):
     ros = manager
     spawner = ros.start(['rosrun', 'controller_manager', 'spawner', '--stopped', '--namespace',
                          NS, 'joint_state_controller'], name='spawner', may_exit=True)
-    ros.wait_until(lambda: listing(ros) == ['joint_state_controller -  ( stopped )'], 60,
-                   what='controller loaded, stopped')
+    loaded = ['joint_state_controller - hardware_interface::JointStateInterface ( initialized )']
+    ros.wait_until(lambda: listing(ros) == loaded, 60,
+                   what='controller loaded, not started')
     ros.terminate(spawner)
     assert listing(ros) == ['No controllers are loaded in mechanism control']
 
 
+@ONE_ENGINE
 def test_spawner_exits_nonzero_naming_the_controller_that_would_not_load(manager):
     ros = manager
     out = ros.run(['rosrun', 'controller_manager', 'spawner', 'joint_state_controller',
@@ -80,6 +70,7 @@ def test_spawner_without_a_controller_manager_gives_up_after_its_timeout(ros):
     assert "couldn't find the expected controller_manager" in out.stdout + out.stderr
 
 
+@ONE_ENGINE
 def test_spawner_waits_for_true_on_its_wait_for_topic(manager):
     ros = manager
     ros.start(['rosrun', 'controller_manager', 'spawner', '--wait-for', '/ready',
@@ -91,7 +82,8 @@ def test_spawner_waits_for_true_on_its_wait_for_topic(manager):
     ros.wait_until(subscribed, 60, what='the spawner to subscribe to /ready')
     assert listing(ros) == ['No controllers are loaded in mechanism control']
     ros.start(['rostopic', 'pub', '-l', '/ready', 'std_msgs/Bool', 'true'], name='ready')
-    ros.wait_until(lambda: listing(ros) == ['joint_state_controller -  ( running )'], 60,
+    running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )']
+    ros.wait_until(lambda: listing(ros) == running, 60,
                    what='the controller running after True on /ready')
 
 
@@ -107,6 +99,7 @@ def test_spawner_interrupted_while_waiting_for_services_ends_at_once(ros):
     assert spawner.wait(timeout=20) == 0, ros.log_text(spawner)
 
 
+@ONE_ENGINE
 def test_controller_manager_commands(manager):
     ros = manager
     assert cli(ros, 'spawn', 'joint_state_controller').stdout.splitlines() == [
@@ -114,8 +107,8 @@ def test_controller_manager_commands(manager):
     out = cli(ros, 'load', 'joint1_position_controller')
     assert (out.returncode, out.stdout.strip()) == (0, 'Loaded joint1_position_controller')
     assert listing(ros) == [
-        'joint_state_controller -  ( running )',
-        'joint1_position_controller - hardware_interface::EffortJointInterface ( stopped )']
+        'joint_state_controller - hardware_interface::JointStateInterface ( running )',
+        'joint1_position_controller - hardware_interface::EffortJointInterface ( initialized )']
     assert cli(ros, 'start', 'joint1_position_controller').returncode == 0
     assert cli(ros, 'stop', 'joint1_position_controller').returncode == 0
     assert cli(ros, 'unload', 'joint1_position_controller').stdout.strip() == (
@@ -124,8 +117,11 @@ def test_controller_manager_commands(manager):
     assert listing(ros) == ['No controllers are loaded in mechanism control']
     out = cli(ros, 'load', 'no_such_controller')
     assert (out.returncode, out.stdout.strip()) == (1, 'Error when loading no_such_controller')
-    assert cli(ros, 'list-types').stdout.splitlines() == [
+    assert sorted(cli(ros, 'list-types').stdout.splitlines()) == [
+        'effort_controllers/JointEffortController',
         'effort_controllers/JointPositionController',
-        'joint_state_controller/JointStateController']
+        'effort_controllers/JointVelocityController',
+        'joint_state_controller/JointStateController',
+        'position_controllers/JointPositionController']
     out = cli(ros, 'frobnicate')
     assert out.returncode == 1 and 'spawn <name>' in out.stdout
