@@ -78,6 +78,8 @@ class Sizes:
     comparison_phase_s: float = 5.0
 
 
+# The rows of the table, one per kind of measurement.
+ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9)
 FULL = Sizes()
 QUICK = Sizes(startup_repeats=1, throughput_windows=2, throughput_window_s=0.3, memory_steps=20000,
               chain_links=(1, 10), chain_windows=1, chain_window_s=0.2, chain_min_steps=2,
@@ -1184,7 +1186,16 @@ def parse_args(argv):
     parser.add_argument('--no-profiles', action='store_true',
                         help='never profile, also where an aim is missed (for tests, whose path '
                              'must not depend on how busy the machine is)')
+    parser.add_argument('--items', default=','.join(str(row) for row in ROWS),
+                        help='comma-separated row numbers to measure (default: all, %s)'
+                             % ','.join(str(row) for row in ROWS))
     args = parser.parse_args(argv)
+    try:
+        args.items = {int(row) for row in args.items.split(',') if row}
+    except ValueError:
+        parser.error('--items takes row numbers: %s' % args.items)
+    if not args.items or not args.items <= set(ROWS):
+        parser.error('--items: rows are %s' % ','.join(str(row) for row in ROWS))
     try:
         known = engine_names()
     except RuntimeError as error:
@@ -1210,18 +1221,22 @@ def main(argv=None):
     with PrivateRos(log_dir=log_dir) as ros:
         say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
         bench = Bench(ros, sizes, output, engines, profiles=not args.no_profiles)
-        items = [('6 start-up', bench.startup)]
-        items += [('1, 7 throughput and memory, ' + e, lambda e=e: bench.throughput_and_memory(e))
-                  for e in engines]
-        items += [('2 scaling', bench.scaling)]
-        items += [('3 latency, ' + e, lambda e=e: bench.latency(e)) for e in engines]
+        # (the table's row numbers an item measures, its title, the measurement)
+        items = [({6}, '6 start-up', bench.startup)]
+        items += [({1, 7}, '1, 7 throughput and memory, ' + e,
+                   lambda e=e: bench.throughput_and_memory(e)) for e in engines]
+        items += [({2}, '2 scaling', bench.scaling)]
+        items += [({3}, '3 latency, ' + e, lambda e=e: bench.latency(e)) for e in engines]
         # The controller's loop is measured on the default engine, the others' pacing alone.
-        items += [('4, 5 control loop and pacing, ' + e, lambda e=e: bench.control_and_pacing(
-            e, sizes.pacing_s, control=e == engine_names()[0]))
+        items += [({4, 5}, '4, 5 control loop and pacing, ' + e,
+                   lambda e=e: bench.control_and_pacing(e, sizes.pacing_s,
+                                                        control=e == engine_names()[0]))
                   for e in engines]
         # Lock-step (issue 11) on the default engine: the controller sets the pace, not the engine.
-        items += [('8 lock-step speed, ' + engines[0], lambda: bench.lockstep_speed(engines[0])),
-                  ('9 busy machine, ' + engines[0], lambda: bench.busy_machine(engines[0]))]
+        items += [({8}, '8 lock-step speed, ' + engines[0],
+                   lambda: bench.lockstep_speed(engines[0])),
+                  ({9}, '9 busy machine, ' + engines[0], lambda: bench.busy_machine(engines[0]))]
+        items = [(title, run) for rows, title, run in items if rows & args.items]
         try:
             for title, run in items:
                 say('--- %s (%.0f s so far)' % (title, time.monotonic() - started))
