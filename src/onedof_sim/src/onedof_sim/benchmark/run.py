@@ -979,7 +979,8 @@ class Bench:
         env.pop('DISPLAY', None)
         result = subprocess.run(['rosrun', 'onedof_sim', 'play_tutorial', '--output', output,
                                  '--physics', engine, '--phases', '1', '--no-screenshot',
-                                 '--phase-duration', '%g' % self.sizes.comparison_phase_s]
+                                 '--phase-duration', '%g' % self.sizes.comparison_phase_s,
+                                 '--in-sim-phase-duration', '0']
                                 + list(args), capture_output=True, text=True, timeout=600, env=env)
         if result.returncode != 0:
             raise NotMeasured('play_tutorial %s: %s' % (' '.join(args), (result.stdout
