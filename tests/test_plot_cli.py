@@ -7,6 +7,7 @@ to now, then a step to the next command), checked in the pixels. Errors (a silen
 topic or field) must end the plotter with a non-zero status and a message naming the culprit.
 """
 import os
+import signal
 import subprocess
 import threading
 
@@ -264,3 +265,5 @@ def test_live_window_draws_a_command_published_once_as_a_step(ros, rospy_client,
 
     wait_until(window_shows_the_step, 60, interval=0.5,
                what='the live window to show 1.0 held, then 2.0 held up to now')
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C in its terminal closes the window
+    assert proc.wait(timeout=30) == 130, ros.log_text(proc)
