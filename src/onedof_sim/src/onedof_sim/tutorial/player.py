@@ -171,8 +171,8 @@ class Rosout:
 
 
 def package_path(package):
-    return subprocess.run(['rospack', 'find', package], capture_output=True, text=True,
-                          check=True).stdout.strip()
+    import rospkg
+    return rospkg.RosPack().get_path(package)
 
 
 def free_display():
