@@ -100,3 +100,53 @@ def test_lockstep_step_simulation_answers_once_the_controller_acted(ros, engine,
     wait_until(lambda: api.sim_time_ns() == 25 * STEP_NS, 30, what='the world at 0.025 s')
     stepping.join(30)
     assert replies and replies[0].sim_time.to_nsec() == 25 * STEP_NS
+
+
+PERIODS = 30
+OVERSLEPT = 10  # the period the second run's controller sleeps through
+
+
+@pytest.mark.parametrize('start', ['zero', 'clock'])
+def test_lockstep_wakes_a_controller_that_slept_past_the_stop(ros, engine, api, rospy_client,
+                                                              start):
+    """roscpp's and rospy's Rate read the clock twice and sleep for the remainder counted from the
+    second reading: when the stop's clock lands between the two (a client preempted there on a busy
+    machine), or a command is lost in transport, the client sleeps one period past the stop the
+    world waits at. The world then shows the clock a period ahead and stays where it is: the late
+    command lands at the stop, the next (sent at once) at the next stop, and the run is bit for bit
+    that of a controller on time, with no timeout. Jobs start at 0 ("now", as the book's client
+    commands them) or at the clock last seen (as rospy's time gives it): both mean the world's
+    time, also when the clock is shown ahead of it."""
+    from rosgraph_msgs.msg import Clock
+    clock_ns = []
+    rospy_client.Subscriber('/clock', Clock, lambda msg: clock_ns.append(msg.clock.to_nsec()))
+    sim = start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
+    api.spawn_robot()
+    period_ns = 10 * STEP_NS
+
+    def run(overslept=None):
+        """A PD controller in the book's shape (10 ms jobs starting now), from 0.010 s for PERIODS
+        periods, sleeping through the period `overslept`; returns the joint where its last job
+        ends."""
+        api.reset_simulation()
+        start_ns = api.step_simulation(10).sim_time.to_nsec()
+        for k in range(PERIODS):
+            wake_ns = start_ns + (k + (k == overslept)) * period_ns
+            wait_until(lambda: clock_ns and clock_ns[-1] >= wake_ns, 30, interval=0.001,
+                       what='the clock at %.3f s' % (wake_ns * 1e-9))
+            q, rate = api.joint()
+            now = rospy_client.Time(0, clock_ns[-1] if start == 'clock' else 0)
+            res = api.apply_joint_effort('joint1', 10.0 * (1.0 - q) - 3.0 * rate, now,
+                                         rospy_client.Duration(0, period_ns))
+            assert res.success, res.status_message
+            if k == 0:
+                api.unpause_physics()
+        # Read where the world stops after the last job (the request waits for that stop).
+        joint = api.joint()
+        assert api.sim_time_ns() == start_ns + PERIODS * period_ns
+        api.pause_physics()
+        return joint
+
+    on_time = run()
+    assert run(overslept=OVERSLEPT) == on_time
+    assert 'the world waited' not in ros.log_text(sim)

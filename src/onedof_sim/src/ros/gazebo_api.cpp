@@ -28,6 +28,12 @@ constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
 // room on a busy machine and bounds a lock-stepped 1 kHz controller to real time, about what
 // roscpp's sim-time sleep (it polls every millisecond) allows anyway.
 constexpr std::chrono::milliseconds kLockstepClockDelay(1);
+// How long a stopped world waits for a controller's command before it shows the clock ahead to
+// wake one that slept past the stop (awaitControllers): well beyond a live controller's answer.
+constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
+// In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
+constexpr std::chrono::seconds kStopWaitLimit(1);
+constexpr std::chrono::milliseconds kStopWaitSlice(50);
 constexpr double kGroundMarkerSize = 10.0;           // m, the plane drawn as a thin square
 
 // --- conversions between ROS messages and the core's types -------------------------------------
@@ -737,6 +743,14 @@ GazeboApi::WorldLock::WorldLock(GazeboApi& api) {
   ++api.waiting_callbacks_;
   lock_ = std::unique_lock<std::mutex>(api.mutex_);
   --api.waiting_callbacks_;
+  // In lock-step a request lands where the world stops, never inside a controller's period: a
+  // controller that slept past a stop and was woken (awaitControllers) sends the next period's
+  // request at once, and must find the world at that period's start, as it would have on time.
+  // Bounded, so that a world paced very slowly still answers.
+  const auto limit = std::chrono::steady_clock::now() + kStopWaitLimit;
+  while (api.between_stops_ && !api.paused_ && ros::ok() &&
+         std::chrono::steady_clock::now() < limit)
+    api.at_stop_.wait_for(lock_, kStopWaitSlice);
 }
 
 GazeboApi::GazeboApi(const NodeOptions& options)
@@ -893,7 +907,17 @@ void GazeboApi::stepOnce(StepOutput* out) {
   const bool stop = (requested && step_request_.remaining == 0) ||
                     (lockstep_.enabled() && !lockstep_.awaited(world_, out->time_ns).empty());
   out->publish_clock = stop;
-  out->hold_clock = !stop && lockstep_.enabled() && lockstep_.holding();
+  out->hold_clock = !stop && lockstep_.enabled() && lockstep_.running(world_, out->time_ns);
+  between_stops_ = out->hold_clock;
+  if (!between_stops_) at_stop_.notify_all();
+  // After a wake-up clock (awaitControllers) the clients' time is ahead of the world's: nothing
+  // earlier goes out, clocks never move back.
+  if (clock_ahead_ns_ >= 0 && out->time_ns < clock_ahead_ns_) {
+    out->publish_clock = false;
+    out->hold_clock = true;
+  } else {
+    clock_ahead_ns_ = -1;
+  }
   // And a stop's clock goes out no sooner than kLockstepClockDelay after the latest command: a
   // roscpp client reads the clock twice right after its call returns, and the next stop's clock
   // must not land between the two readings (as fast as possible it would, about once in a few
@@ -935,7 +959,9 @@ void GazeboApi::stepOnce(StepOutput* out) {
 // step, giving up (and saying so once) on those silent for the timeout. Returns false when the wait
 // ends for another reason (paused meanwhile, shutdown): the caller starts over.
 bool GazeboApi::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out) {
-  const auto deadline = Lockstep::Clock::now() + lockstep_.timeout();
+  const auto began = Lockstep::Clock::now();
+  const auto deadline = began + lockstep_.timeout();
+  bool woken = false;
   for (;;) {
     const std::vector<Lockstep::Awaited> awaited = lockstep_.awaited(world_, world_.timeNs());
     if (awaited.empty()) return true;
@@ -945,11 +971,43 @@ bool GazeboApi::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput*
       out->warnings.push_back(lockstepTimeoutText(awaited, world_.timeNs(), lockstep_.timeout()));
       return true;
     }
+    // Woken when the awaited controllers have sent nothing for a while, here or before: one
+    // still at work on its period (it asked for the joint) is left to finish it.
+    const auto wake_at = std::max(began, lockstep_.lastRequest(awaited)) + kLockstepWakeAfter;
+    if (!woken && now >= wake_at) {
+      woken = true;
+      showWakeUpClock(awaited);
+    }
     // In slices, to notice a shutdown.
-    wake_loop_.wait_until(lock, std::min(deadline, now + std::chrono::milliseconds(50)));
+    auto until = std::min(deadline, now + std::chrono::milliseconds(50));
+    if (!woken) until = std::min(until, wake_at);
+    wake_loop_.wait_until(lock, until);
     if (!ros::ok()) return false;
     if (paused_ && !step_request_.active) return false;
   }
+}
+
+// roscpp's Rate (the book's C++ loop) and rospy's read the clock twice, before and after their
+// sleep's start, and sleep for the remainder counted from the second reading. When the stop's
+// clock lands between the two readings (a client preempted there, on a busy machine), or a
+// command is lost in transport, the client sleeps one period past the stop, where the world waits
+// for it: the clock is then shown at the next period's earliest end, the world staying where it
+// is. The client wakes and commands for the stop (its job starts at the world's time, also when it
+// names the time shown: applyJointEffort), then asks for the next period at once: that request
+// waits for the next stop (WorldLock). The run is as if the client had woken on time.
+void GazeboApi::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
+  const std::optional<int64_t> wake_ns = lockstep_.wakeTime(world_, world_.timeNs());
+  if (!wake_ns || *wake_ns <= last_clock_ns_) return;
+  rosgraph_msgs::Clock clock;
+  clock.clock.fromNSec(uint64_t(*wake_ns));
+  clock_pub_.publish(clock);
+  last_clock_ns_ = *wake_ns;
+  clock_ahead_ns_ = *wake_ns;
+  ROS_DEBUG_STREAM("lock-step: nothing from " << awaited.front().caller << " for "
+                   << std::chrono::duration<double>(kLockstepWakeAfter).count()
+                   << " s (wall) at sim time " << simSeconds(world_.timeNs())
+                   << "; showing the clock at " << simSeconds(*wake_ns)
+                   << " to wake a controller that slept past the stop");
 }
 
 void GazeboApi::publish(const StepOutput& out) {
@@ -1015,13 +1073,16 @@ void GazeboApi::pace(double max_update_rate, bool resumed) {
 
 // --- joints ---------------------------------------------------------------------------------
 
-bool GazeboApi::getJointProperties(gazebo_msgs::GetJointProperties::Request& req,
-                                   gazebo_msgs::GetJointProperties::Response& res) {
+bool GazeboApi::getJointProperties(
+    ros::ServiceEvent<gazebo_msgs::GetJointProperties::Request, gazebo_msgs::GetJointProperties::Response>& event) {
+  const auto& req = event.getRequest();
+  auto& res = event.getResponse();
   JointInfo joint;
   Status found;
   {
     WorldLock lock(*this);
     found = world_.jointInfo(req.joint_name, &joint);
+    if (lockstep_.enabled()) lockstep_.heardFrom(event.getCallerName(), Lockstep::Clock::now());
   }
   if (found.ok()) {
     res.type = toJointTypeConstant(joint.type);
@@ -1041,12 +1102,24 @@ bool GazeboApi::applyJointEffort(
   bool joined = false;
   {
     WorldLock lock(*this);
-    applied = world_.applyJointEffort(req.joint_name, req.effort, toNs(req.start_time),
+    if (lockstep_.enabled()) lockstep_.heardFrom(event.getCallerName(), Lockstep::Clock::now());
+    // Under a wake-up clock a client's "now" is the time shown, ahead of the world's: it means
+    // the world's.
+    int64_t start_ns = toNs(req.start_time);
+    if (clock_ahead_ns_ >= 0 && start_ns > world_.timeNs() && start_ns <= clock_ahead_ns_)
+      start_ns = world_.timeNs();
+    applied = world_.applyJointEffort(req.joint_name, req.effort, start_ns,
                                       toNs(req.duration), &job);
     if (applied.ok() && job.queued) {
       last_command_at_ = Lockstep::Clock::now();
       joined = lockstep_.heard(req.joint_name, event.getCallerName(),
-                               req.duration < ros::Duration(0), world_.timeNs());
+                               req.duration < ros::Duration(0), world_.timeNs(),
+                               toNs(req.duration));
+      // The last awaited command: the world moves on, and the next request waits for the next
+      // stop (WorldLock) even when it comes before the loop has taken its first step.
+      const int64_t now_ns = world_.timeNs();
+      if (!paused_ && lockstep_.running(world_, now_ns) && lockstep_.awaited(world_, now_ns).empty())
+        between_stops_ = true;
     }
   }
   if (lockstep_.enabled()) wake_loop_.notify_all();
@@ -1523,6 +1596,8 @@ bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Resp
     WorldLock lock(*this);
     world_.resetSimulation();
     lockstep_.reset();
+    between_stops_ = false;
+    clock_ahead_ns_ = -1;
     for (auto& entry : robot_controls_) entry.second->reset();
   }
   wake_loop_.notify_all();

@@ -97,13 +97,16 @@ class GazeboApi {
   struct StepOutput;
   void stepOnce(StepOutput* out);
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
+  void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
   void publish(const StepOutput& out);
   void refreshClockFrequency();
   void pace(double max_update_rate, bool resumed);
 
   // Services (all under /gazebo/).
-  bool getJointProperties(gazebo_msgs::GetJointProperties::Request& req, gazebo_msgs::GetJointProperties::Response& res);
-  // With the caller's name: lock-step says whom it waits for.
+  // With the caller's name: lock-step tells a controller at work from one asleep, and says whom
+  // it waits for.
+  bool getJointProperties(
+      ros::ServiceEvent<gazebo_msgs::GetJointProperties::Request, gazebo_msgs::GetJointProperties::Response>& event);
   bool applyJointEffort(
       ros::ServiceEvent<gazebo_msgs::ApplyJointEffort::Request, gazebo_msgs::ApplyJointEffort::Response>& event);
   bool setJointProperties(gazebo_msgs::SetJointProperties::Request& req,
@@ -172,6 +175,9 @@ class GazeboApi {
   double max_update_rate_;
   Lockstep lockstep_;
   Lockstep::Clock::time_point last_command_at_;  // the latest accepted apply_joint_effort
+  bool between_stops_ = false;  // a lock-stepped controller's period runs (requests wait)
+  std::condition_variable at_stop_;
+  int64_t clock_ahead_ns_ = -1;  // the wake-up clock shown ahead of the world, until it gets there
   struct StepRequest {
     bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
     uint64_t remaining = 0;

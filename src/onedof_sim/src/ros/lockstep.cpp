@@ -1,22 +1,25 @@
 #include "lockstep.h"
 
+#include <algorithm>
+
 namespace onedof_sim {
 
 Lockstep::Lockstep(const Options& options) : options_(options) {}
 
 bool Lockstep::heard(const std::string& joint, const std::string& caller, bool until_cleared,
-                     int64_t now_ns) {
+                     int64_t now_ns, int64_t duration_ns) {
   if (!options_.enabled || until_cleared) return false;
   const bool waits = now_ns > 0;
   auto found = joints_.find(joint);
   if (found == joints_.end()) {
-    joints_[joint] = {caller, waits};
+    joints_[joint] = {caller, waits, duration_ns};
     return waits;
   }
   Joint& known = found->second;
   const bool joined = waits && !known.waited_for;
   known.caller = caller;
   known.waited_for = waits;
+  known.period_ns = duration_ns;
   return joined;
 }
 
@@ -32,10 +35,31 @@ std::vector<Lockstep::Awaited> Lockstep::awaited(const World& world, int64_t t_n
   return out;
 }
 
-bool Lockstep::holding() const {
-  for (const auto& entry : joints_)
-    if (entry.second.waited_for) return true;
+bool Lockstep::running(const World& world, int64_t t_ns) const {
+  for (const auto& [name, joint] : joints_)
+    if (joint.waited_for && world.jointEffortActive(name, t_ns)) return true;
   return false;
+}
+
+std::optional<int64_t> Lockstep::wakeTime(const World& world, int64_t t_ns) const {
+  std::optional<int64_t> period;
+  JointInfo unused;
+  for (const auto& [name, joint] : joints_) {
+    if (!joint.waited_for || !world.jointInfo(name, &unused).ok()) continue;
+    if (world.jointEffortActive(name, t_ns) || joint.period_ns <= 0) return std::nullopt;
+    period = std::min(period.value_or(joint.period_ns), joint.period_ns);
+  }
+  if (!period) return std::nullopt;
+  return t_ns + *period;
+}
+
+Lockstep::Clock::time_point Lockstep::lastRequest(const std::vector<Awaited>& joints) const {
+  Clock::time_point latest;
+  for (const Awaited& awaited : joints) {
+    auto found = last_request_.find(awaited.caller);
+    if (found != last_request_.end()) latest = std::max(latest, found->second);
+  }
+  return latest;
 }
 
 void Lockstep::giveUp(const std::vector<Awaited>& joints) {

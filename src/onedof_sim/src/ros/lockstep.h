@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,16 +52,29 @@ class Lockstep {
   // clients have no valid time before the first nonzero /clock and sleep a whole period from the
   // first time they see, so their next command comes after that job's end.
   bool heard(const std::string& joint, const std::string& caller, bool until_cleared,
-             int64_t now_ns);
+             int64_t now_ns, int64_t duration_ns);
 
   // The lock-stepped joints with no effort acting in the step that starts at t_ns.
   std::vector<Awaited> awaited(const World& world, int64_t t_ns) const;
 
-  // Whether any joint is lock-stepped now.
-  bool holding() const;
+  // Whether a lock-stepped joint's effort acts in the step that starts at t_ns: the world is
+  // between two stops.
+  bool running(const World& world, int64_t t_ns) const;
+
+  // Where the clock may be shown ahead of the world stopped at t_ns, to wake controllers that
+  // slept past the stop: the earliest end of the next period, when every lock-stepped joint is
+  // awaited (each controller commanding its usual period now could not stop the world before it).
+  // Empty when some controller has commanded and is asleep until later: it would wake early.
+  std::optional<int64_t> wakeTime(const World& world, int64_t t_ns) const;
 
   // The world gave up waiting for these: they are left out until they command again.
   void giveUp(const std::vector<Awaited>& joints);
+
+  // A controller's request (get_joint_properties or apply_joint_effort) at wall time `at`.
+  void heardFrom(const std::string& caller, Clock::time_point at) { last_request_[caller] = at; }
+
+  // The latest request of the callers of these joints (the epoch if none).
+  Clock::time_point lastRequest(const std::vector<Awaited>& joints) const;
 
   // reset_simulation: every joint leaves; controllers join again with their next command.
   void reset() { joints_.clear(); }
@@ -69,10 +83,12 @@ class Lockstep {
   struct Joint {
     std::string caller;
     bool waited_for = true;  // false after a timeout or a command at time 0, until the next one
+    int64_t period_ns = 0;   // the duration of its latest job
   };
 
   Options options_;
   std::map<std::string, Joint> joints_;
+  std::map<std::string, Clock::time_point> last_request_;  // by caller
 };
 
 }  // namespace onedof_sim
