@@ -18,7 +18,7 @@ import signal
 import pytest
 
 from api_client import GazeboApi
-from conftest import TUTORIAL_URDF, start_sim
+from conftest import ENGINES, TUTORIAL_URDF, start_sim
 from onedof_sim.tutorial import physics
 from onedof_sim.private_ros import wait_until
 from onedof_sim.transforms import quaternion_multiply
@@ -29,6 +29,9 @@ LOCKSTEP = ['_lockstep:=true']  # at the default max_update_rate: real-time fact
 # How far the rest angle may be from the closed form: the engines' joint error (core_test) and the
 # 0.5 s tail mean of a link still settling by less than that.
 REST_TOLERANCE = 2e-4
+# What the controller does with its topics, commands and a lost or reset simulator does not depend
+# on the engine: those tests run against the first one only; the physics runs on every engine.
+ONE_ENGINE = pytest.mark.parametrize('engine', ENGINES[:1], indirect=True)
 
 
 def start_controller(ros, args=()):
@@ -223,6 +226,7 @@ def caught_up_counts(robot, api):
                                              robot.jnt_trq)]
 
 
+@ONE_ENGINE
 def test_joint_states_carry_the_joint_and_match_jnt_pos(robot):
     robot.command(1.0)
     robot.wait_sim_time(1.0)
@@ -235,6 +239,7 @@ def test_joint_states_carry_the_joint_and_match_jnt_pos(robot):
     assert sum(msg.position[0] in positions for msg in recent) >= len(recent) - 2
 
 
+@ONE_ENGINE
 def test_joint_states_drive_robot_state_publisher(ros, robot):
     from tf2_msgs.msg import TFMessage
     rospy = robot.rospy
@@ -277,6 +282,7 @@ def test_joint_states_drive_robot_state_publisher(ros, robot):
         assert (t.x, t.y, t.z) == pytest.approx((0, 0, 1), abs=1e-9)
 
 
+@ONE_ENGINE
 def test_controller_survives_a_killed_simulator_and_resumes_after_restart(ros, engine, robot):
     assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
     os.killpg(robot.sim.pid, signal.SIGKILL)
@@ -303,6 +309,7 @@ def test_controller_survives_a_killed_simulator_and_resumes_after_restart(ros, e
     assert log.count('lost the simulator') == 1, log
 
 
+@ONE_ENGINE
 def test_controller_keeps_control_across_reset_simulation(robot):
     assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
     before = robot.now()
@@ -318,6 +325,7 @@ def test_controller_keeps_control_across_reset_simulation(robot):
     assert 'lost the simulator' not in robot.controller_log()
 
 
+@ONE_ENGINE
 def test_non_finite_command_is_ignored_with_a_warning(robot):
     assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
     start = robot.command(float('nan'))
@@ -334,6 +342,7 @@ def test_non_finite_command_is_ignored_with_a_warning(robot):
     robot.assert_controller_alive()
 
 
+@ONE_ENGINE
 def test_controller_waits_for_the_joint_and_takes_it_once_spawned(ros, engine, sim_time_client):
     robot = ControlledRobot(ros, engine, sim_time_client, spawn=False)
     wait_until(robot.missing_joint_warnings, 60, what='the controller to warn that joint1 is missing')
@@ -351,6 +360,7 @@ def test_controller_waits_for_the_joint_and_takes_it_once_spawned(ros, engine, s
     assert_holds_at(robot.wait_settled(since=robot.now()), 1.0)
 
 
+@ONE_ENGINE
 def test_tutorial_plot_command_records_the_controller_in_sim_time(ros, robot, tmp_path):
     from onedof_sim.tools.plot import read_csv
     robot.command(2.0)
