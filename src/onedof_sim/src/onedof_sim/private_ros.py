@@ -263,20 +263,26 @@ class PrivateRos:
             return ''
 
     @staticmethod
-    def terminate(proc, timeout=10):
-        proc.stopped = True
-        if proc.poll() is not None:
-            return
+    def terminate(*procs, timeout=10):
+        """Ends the processes' groups: SIGINT to all at once (each shuts down on its own, side by
+        side), then SIGTERM and SIGKILL to those still running `timeout` s later."""
+        running = list(procs)
         for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
-            try:
-                os.killpg(proc.pid, sig)
-            except ProcessLookupError:
+            for proc in running:
+                proc.stopped = True
+                try:
+                    os.killpg(proc.pid, sig)
+                except ProcessLookupError:
+                    pass
+            deadline = time.monotonic() + timeout
+            for proc in running:
+                try:
+                    proc.wait(timeout=max(0.0, deadline - time.monotonic()))
+                except subprocess.TimeoutExpired:
+                    pass
+            running = [proc for proc in running if proc.poll() is None]
+            if not running:
                 return
-            try:
-                proc.wait(timeout=timeout)
-                return
-            except subprocess.TimeoutExpired:
-                continue
 
     @staticmethod
     def kill(proc):
@@ -288,7 +294,10 @@ class PrivateRos:
         proc.wait()
 
     def stop(self):
-        # Nodes first, roscore last, so nodes can unregister cleanly.
-        for proc in reversed(self.processes):
-            self.terminate(proc)
+        # Nodes first, so they can unregister cleanly; then roscore, killed: the master keeps
+        # nothing, and roslaunch's orderly stop of it and rosout took most of a second.
+        nodes = [proc for proc in self.processes if proc is not getattr(self, 'roscore', None)]
+        self.terminate(*nodes)
+        if getattr(self, 'roscore', None) in self.processes:
+            self.kill(self.roscore)
         self.processes.clear()
