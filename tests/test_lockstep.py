@@ -130,6 +130,9 @@ def test_lockstep_wakes_a_controller_that_slept_past_the_stop(ros, engine, api, 
         ends."""
         api.reset_simulation()
         start_ns = api.step_simulation(10).sim_time.to_nsec()
+        # The run starts on this run's clock, not the last one's still on its way.
+        wait_until(lambda: clock_ns and clock_ns[-1] == start_ns, 30, interval=0.001,
+                   what='the clock at %.3f s' % (start_ns * 1e-9))
         for k in range(PERIODS):
             wake_ns = start_ns + (k + (k == overslept)) * period_ns
             wait_until(lambda: clock_ns and clock_ns[-1] >= wake_ns, 30, interval=0.001,
