@@ -140,3 +140,20 @@ def test_a_wait_ignores_processes_that_may_exit_or_were_stopped(tmp_path):
         assert graph.wait_until(lambda: 'done', 5) == 'done'
     finally:
         graph.stop()
+
+
+def test_stop_leaves_no_process_of_the_graph(tmp_path):
+    """The roscore's master and rosout run in sessions of their own (roslaunch starts them so):
+    stopping the graph ends them too, not only the processes it started itself."""
+    import psutil
+    graph = PrivateRos(log_dir=str(tmp_path))
+    graph.start_master()
+    node = graph.start([sys.executable, '-c', 'import time; time.sleep(600)'], name='sleeper')
+    code, _, master_pid = graph.master().getPid('/test')
+    assert code == 1
+    started = [psutil.Process(graph.roscore.pid)] + \
+        psutil.Process(graph.roscore.pid).children(recursive=True) + [psutil.Process(node.pid)]
+    assert master_pid in [p.pid for p in started]
+    graph.stop()
+    _, alive = psutil.wait_procs(started, timeout=10)
+    assert not alive, alive

@@ -286,11 +286,22 @@ class PrivateRos:
 
     @staticmethod
     def kill(proc):
+        """SIGKILL to the process's group and every process under it: roslaunch (roscore) starts
+        each node in a session of its own, out of its group's reach."""
         proc.stopped = True
+        try:
+            descendants = psutil.Process(proc.pid).children(recursive=True)
+        except psutil.NoSuchProcess:
+            descendants = []
         try:
             os.killpg(proc.pid, signal.SIGKILL)
         except ProcessLookupError:
             pass
+        for descendant in descendants:
+            try:
+                descendant.kill()
+            except psutil.NoSuchProcess:
+                pass
         proc.wait()
 
     def stop(self):
