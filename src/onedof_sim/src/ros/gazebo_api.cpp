@@ -851,6 +851,7 @@ void GazeboApi::run() {
     for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
     if (!out.stepped) {
       was_stepping = false;
+      publishHeldClock();
       continue;
     }
     publish(out);
@@ -998,10 +999,7 @@ bool GazeboApi::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput*
 void GazeboApi::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
   const std::optional<int64_t> wake_ns = lockstep_.wakeTime(world_, world_.timeNs());
   if (!wake_ns || *wake_ns <= last_clock_ns_) return;
-  rosgraph_msgs::Clock clock;
-  clock.clock.fromNSec(uint64_t(*wake_ns));
-  clock_pub_.publish(clock);
-  last_clock_ns_ = *wake_ns;
+  publishClock(*wake_ns);
   clock_ahead_ns_ = *wake_ns;
   ROS_DEBUG_STREAM("lock-step: nothing from " << awaited.front().caller << " for "
                    << std::chrono::duration<double>(kLockstepWakeAfter).count()
@@ -1010,15 +1008,30 @@ void GazeboApi::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
                    << " to wake a controller that slept past the stop");
 }
 
+void GazeboApi::publishClock(int64_t time_ns) {
+  last_clock_ns_ = time_ns;
+  held_clock_ns_ = -1;
+  rosgraph_msgs::Clock clock;
+  clock.clock.fromNSec(uint64_t(time_ns));
+  clock_pub_.publish(clock);
+}
+
+void GazeboApi::publishHeldClock() {
+  if (held_clock_ns_ >= 0) publishClock(held_clock_ns_);
+}
+
 void GazeboApi::publish(const StepOutput& out) {
   refreshClockFrequency();
   if (out.publish_clock) std::this_thread::sleep_until(out.clock_not_before);
   if (out.publish_clock ||
       (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
-    last_clock_ns_ = out.time_ns;
-    rosgraph_msgs::Clock clock;
-    clock.clock.fromNSec(uint64_t(out.time_ns));
-    clock_pub_.publish(clock);
+    // Latched, so roscpp wakes its poll thread for every message, subscribers or not: with
+    // none, the latest time is only kept, and goes out where the loop stops (publishHeldClock).
+    if (out.publish_clock || clock_pub_.getNumSubscribers() > 0) {
+      publishClock(out.time_ns);
+    } else {
+      held_clock_ns_ = out.time_ns;
+    }
   }
   for (const auto& publication : out.control_publications) publication();
   if (out.has_model_states) model_states_pub_.publish(out.model_states);

@@ -99,6 +99,10 @@ class GazeboApi {
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
   void publish(const StepOutput& out);
+  void publishClock(int64_t time_ns);
+  // The latest time not published for want of subscribers (-1: none), for the latched /clock
+  // once the loop stops.
+  void publishHeldClock();
   void refreshClockFrequency();
   void pace(double max_update_rate, bool resumed);
 
@@ -192,6 +196,7 @@ class GazeboApi {
   std::chrono::steady_clock::time_point next_param_refresh_;
   std::chrono::steady_clock::time_point deadline_;
   int64_t last_clock_ns_ = -1;
+  int64_t held_clock_ns_ = -1;
   int64_t last_states_ns_ = -1;
   int64_t last_markers_ns_ = -1;
 
