@@ -23,6 +23,7 @@ import collections
 import csv
 import os
 import re
+import signal
 import sys
 import threading
 import time
@@ -490,12 +491,19 @@ def show_live(recorder, title, start_paused=False, refresh_hz=10.0):
     figure.canvas.manager.set_window_title(title)
     lines = _draw_series(ax, {label: ([], []) for label in recorder.labels})
     paused = [start_paused]
+    # Ctrl-C: Python raises KeyboardInterrupt wherever the main thread is, and inside a Tk
+    # callback (a redraw, much of the time on a busy machine) tkinter reports it and carries on
+    # with the window open. So the handler only notes it, and the next frame closes the window.
+    interrupted = []
 
     def on_key(event):
         if event.key in (' ', 'p'):
             paused[0] = not paused[0]
 
     def update(_frame):
+        if interrupted:
+            plt.close(figure)
+            return []
         if paused[0]:
             return []
         now = recorder.buffer.since_origin(rospy.get_rostime().to_sec())
@@ -509,9 +517,15 @@ def show_live(recorder, title, start_paused=False, refresh_hz=10.0):
     recorder.start()
     animation = FuncAnimation(figure, update, interval=1000.0 / refresh_hz,
                               cache_frame_data=False)
-    plt.show()
-    del animation
-    recorder.stop()
+    previous_handler = signal.signal(signal.SIGINT, lambda *_: interrupted.append(True))
+    try:
+        plt.show()
+    finally:
+        signal.signal(signal.SIGINT, previous_handler)
+        del animation
+        recorder.stop()
+    if interrupted:
+        raise KeyboardInterrupt
 
 
 def parse_args(argv, prog='rosrun onedof_sim plot'):
