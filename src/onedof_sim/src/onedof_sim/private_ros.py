@@ -124,6 +124,7 @@ class PrivateRos:
         self.port = None
         self.env = None
         self.processes = []
+        self.roscore = None
         self._use_sim_time = use_sim_time
 
     @property
@@ -307,8 +308,7 @@ class PrivateRos:
     def stop(self):
         # Nodes first, so they can unregister cleanly; then roscore, killed: the master keeps
         # nothing, and roslaunch's orderly stop of it and rosout took most of a second.
-        nodes = [proc for proc in self.processes if proc is not getattr(self, 'roscore', None)]
-        self.terminate(*nodes)
-        if getattr(self, 'roscore', None) in self.processes:
+        self.terminate(*[proc for proc in self.processes if proc is not self.roscore])
+        if self.roscore in self.processes:
             self.kill(self.roscore)
         self.processes.clear()
