@@ -1,4 +1,4 @@
-"""Every command of /work/shared/docs/tutorial.md's "What the student types", as the page prints
+"""Every command of docs/tutorial.md's "What the student types", as the page prints
 it, in the page's order, one session against a private roscore: the commands are parsed from the
 page, so this test follows it, and a command it does not know fails the test.
 
@@ -28,7 +28,7 @@ from onedof_sim.private_ros import wait_until
 from onedof_sim.tutorial import physics
 from test_controller import Topic
 
-PAGE = '/work/shared/docs/tutorial.md'
+PAGE = os.path.join(WORKSPACE, 'docs', 'tutorial.md')
 REST_TOLERANCE = 0.05  # rad
 SETTLE_WINDOW = 1.0    # s of sim time within SETTLE_BAND
 SETTLE_BAND = 0.01
