@@ -26,15 +26,19 @@ OUTPUT ?= $(WS)/output
 PHYSICS ?= ode
 PYTEST_ARGS ?=
 
+# Every command the targets and tests run, with its Debian package (or requirements.txt).
+REQUIRED_COMMANDS := $(WS)/scripts/required-commands
+COMMAND_PACKAGES := $(shell awk '!/^\#/ && NF && $$2 !~ /^(requirements.txt|workspace)$$/ {print $$2}' $(REQUIRED_COMMANDS) | sort -u)
+# The libraries, headers and Python modules the build and the nodes use, and those commands' packages.
 APT_PACKAGES := \
-  make git ca-certificates build-essential cmake \
-  ros-core-dev catkin python3-rospy rosbash python3-rostopic python3-rosservice python3-roslaunch \
-  python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
+  ca-certificates build-essential cmake \
+  ros-core-dev python3-rospy python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
   python3-geometry-msgs python3-sensor-msgs libsensor-msgs-dev python3-trajectory-msgs libtrajectory-msgs-dev python3-dynamic-reconfigure libdynamic-reconfigure-config-init-mutex-dev python3-visualization-msgs python3-std-msgs python3-tf2-msgs python3-actionlib-msgs libactionlib-msgs-dev \
-  libode-dev libbullet-dev liburdfdom-dev liburdfdom-tools libsdformat-dev libgtest-dev \
+  libode-dev libbullet-dev liburdfdom-dev libsdformat-dev libgtest-dev \
   python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
-  catkin-lint xvfb xauth imagemagick procps python3-tk linux-perf
+  procps python3-tk \
+  $(COMMAND_PACKAGES)
 
 # Set-up steps print one line each (what, how long); their full output goes to SETUP_LOG, and a
 # failing step prints its own in full (scripts/step).
@@ -49,9 +53,16 @@ LOAD_MAX_SECONDS ?= 3600
 # Rebuild when any source file changes (generated and cached files excluded).
 SOURCES := $(shell find $(WS)/src -type f -not -name '*.pyc' -not -path '*/__pycache__/*' 2>/dev/null)
 
-.PHONY: setup deps venv build tutorial test test-under-load bench lint clean
+.PHONY: setup deps venv build commands tutorial test test-under-load bench lint clean
 
-setup: deps venv build
+setup: deps venv build commands
+
+# Fails set-up, naming the package to install, when a command the targets or tests run is missing.
+commands: | deps venv build
+	@missing=$$(awk '!/^#/ && NF {print $$1 " (" $$2 ")"}' $(REQUIRED_COMMANDS) | while read command from; do \
+	  PATH=$(VENV)/bin:$(WS)/$(DEVEL)/bin:$$PATH command -v "$$command" >/dev/null || echo "  $$command $$from"; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "set-up: these commands are missing (from $(REQUIRED_COMMANDS)):"; echo "$$missing"; exit 1; fi
 
 # Installs the Debian packages only when one is missing (dpkg-query answers in well under a second).
 deps:

@@ -115,3 +115,41 @@ def test_compose_services_commands_bring_up_the_controlled_robot(ros, rospy_clie
     positions = []
     rospy.Subscriber('/jnt_pos', Float64, lambda msg: positions.append(msg.data))
     wait_until(lambda: len(positions) > 10, 90, what='jnt_pos from the composed controller')
+
+
+def required_commands():
+    with open(os.path.join(WORKSPACE, 'scripts', 'required-commands')) as f:
+        return {line.split()[0] for line in f if line.strip() and not line.startswith('#')}
+
+
+# The shell's own and coreutils' commands, on every Debian machine.
+ESSENTIAL_COMMANDS = {'bash', 'sh', 'sleep', 'true'}
+
+
+def test_every_command_the_code_runs_is_installed_by_the_set_up():
+    """The first word of each command list the Python code and tests hand to subprocess or to a
+    graph's start() is in scripts/required-commands, which `make setup` checks."""
+    files = subprocess.run(['git', 'ls-files', '*.py', 'src/*/scripts/*'], cwd=WORKSPACE,
+                           capture_output=True, text=True, check=True).stdout.split()
+    run = re.compile(r"(?:subprocess\.(?:run|Popen|check_output|check_call|call)\(|start\(|"
+                     r"command\s*=\s*)\s*\[\s*'([^']+)'")
+    commands = {}
+    for name in files:
+        with open(os.path.join(WORKSPACE, name), errors='replace') as f:
+            for command in run.findall(f.read()):
+                commands.setdefault(command, name)
+    assert {'ip', 'ss', 'rosrun', 'Xvfb', 'import'} <= set(commands)  # the scan finds them
+    unlisted = {command: name for command, name in commands.items()
+                if command not in required_commands() | ESSENTIAL_COMMANDS}
+    assert not unlisted, 'run but not in scripts/required-commands: %s' % unlisted
+
+
+def test_set_up_fails_naming_a_missing_command(tmp_path):
+    listed = tmp_path / 'required-commands'
+    listed.write_text('# command  provided by\nrosrun rosbash\nno_such_command_here iproute2\n')
+    result = subprocess.run(['make', '-C', WORKSPACE, 'commands', 'BUILD=' + BUILD,
+                             'DEVEL=' + os.path.basename(DEVEL),
+                             'REQUIRED_COMMANDS=%s' % listed], capture_output=True, text=True)
+    assert result.returncode != 0
+    assert 'no_such_command_here (iproute2)' in result.stdout
+    assert 'rosrun' not in result.stdout
