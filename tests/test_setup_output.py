@@ -1,6 +1,7 @@
-"""Set-up output (issue 12 item 5): one line per step, saying what is installed or built and how
-long it took; the full output in a log file; a failing step prints its own output in full. CMake's
-"nosetests not found" and "GMock is not available" (true, and irrelevant here) stay in the log."""
+"""Set-up output: one line per step, saying what is installed or built and how long it took; a
+step that runs long prints a progress line every few seconds; the full output in a log file,
+written as it comes; a failing step prints its own output in full. CMake's "nosetests not found"
+and "GMock is not available" (true, and irrelevant here) stay in the log."""
 import os
 import re
 import subprocess
@@ -51,3 +52,47 @@ def test_every_install_and_build_command_of_the_set_up_is_a_step():
         assert runs, tool
         for command in runs:
             assert 'scripts/step ' in command.split(tool)[0], command
+
+
+def progress_step(tmp_path, what, script):
+    """Runs a step with a 1 s progress interval whose command is `script` (sh) and which may call
+    `wait_for_progress TEXT`: it returns once the step has printed TEXT (bounded at 60 s), so
+    the command stays alive exactly until the progress line it waits for is out."""
+    log, shown = tmp_path / 'setup.log', tmp_path / 'stdout'
+    helper = ('wait_for_progress() { i=0; until grep -q "$1" %s; do i=$((i+1)); '
+              '[ $i -gt 600 ] && exit 9; sleep 0.1; done; }; ' % shown)
+    with open(shown, 'w') as out:
+        result = subprocess.run([STEP, str(log), what, 'sh', '-c', helper + script],
+                                stdout=out, stderr=subprocess.STDOUT, text=True, cwd=str(tmp_path),
+                                env=dict(os.environ, STEP_PROGRESS_SECONDS='1'), timeout=120)
+    return result.returncode, shown.read_text(), log.read_text()
+
+
+def test_a_long_package_install_shows_packages_downloaded_unpacked_and_set_up(tmp_path):
+    status, shown, log = progress_step(tmp_path, 'deps: installing 3 Debian packages (a b c)', (
+        'echo "0 upgraded, 3 newly installed, 0 to remove"; echo "Get:1 http://deb a"; '
+        'wait_for_progress "1 of 3 packages downloaded"; '
+        'echo "Get:2 http://deb b"; echo "Unpacking a"; echo "Unpacking b"; '
+        'wait_for_progress "2 of 3 packages unpacked"; '
+        'echo "Setting up a"; wait_for_progress "1 of 3 packages set up"'))
+    assert status == 0, shown
+    lines = shown.splitlines()
+    assert lines[0] == 'deps: installing 3 Debian packages (a b c) ... '
+    assert re.fullmatch(r'deps: installing 3 Debian packages \(a b c\) \.\.\. done in \d+ s '
+                        r'\(full output: setup\.log\)', lines[-1])
+    progress = lines[1:-1]
+    assert progress and all(re.fullmatch(r'  deps: installing 3 Debian packages: '
+                                         r'\d of 3 packages (downloaded|unpacked|set up) \(\d+ s\)',
+                                         line) for line in progress), progress
+    assert 'Setting up a' in log
+
+
+def test_a_long_build_shows_its_percentage_and_logs_as_it_goes(tmp_path):
+    log = tmp_path / 'setup.log'
+    status, shown, _ = progress_step(tmp_path, 'build: catkin_make', (
+        'echo "[ 42%%] Building CXX object onedof_sim/CMakeFiles/world.cpp.o"; '
+        # The log holds the line while the step still runs.
+        'grep -q "Building CXX" %s || exit 8; wait_for_progress "42%%"' % log))
+    assert status == 0, shown
+    assert '  build: catkin_make: [ 42%] Building CXX object onedof_sim/CMakeFiles/world.cpp.o (' \
+        in shown
