@@ -1,0 +1,76 @@
+// The simulator node's start-up, named `gazebo` as gzserver + gazebo_ros is: its options from
+// the parameter server and the command line, then the Gazebo API until shutdown.
+#include "node_main.h"
+
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <ros/package.h>
+#include <ros/ros.h>
+
+#include "gazebo_api.h"
+
+namespace {
+
+// Where model://NAME and spawn_model -database look: this package's models/ first, so the tutorial
+// always gets the models the simulator was built for, then GAZEBO_MODEL_PATH.
+std::vector<std::string> modelPath() {
+  std::vector<std::string> folders{ros::package::getPath("onedof_sim") + "/models"};
+  const char* env = std::getenv("GAZEBO_MODEL_PATH");
+  std::istringstream entries(env ? env : "");
+  for (std::string folder; std::getline(entries, folder, ':');) folders.push_back(folder);
+  return folders;
+}
+
+}  // namespace
+
+int runSimulatorNode(int argc, char** argv,
+                     std::vector<onedof_sim::plugins::ModelPluginType> plugin_types) {
+  if (argc == 2 && std::string(argv[1]) == "--list-physics") {
+    // The engine registry, for the tools and tests that run one simulator per engine; before
+    // ros::init, so that it needs no roscore.
+    for (const std::string& name : onedof_sim::World::engineNames()) std::cout << name << "\n";
+    return 0;
+  }
+  // The node is the clock, so it must not run on its own /clock: roscpp subscribes every node to
+  // /clock when /use_sim_time is set at start-up, and then delivers each step's clock back to
+  // this process, waking a thread per step (3 to 5 times the cost of the step itself). roscpp
+  // 1.15 has no init option against it (no NoSimTime), but it reads the parameter
+  // through name remapping, so remapping that one name for this node keeps it on wall time.
+  // The node sets the real /use_sim_time for the others (SimLoop).
+  std::vector<char*> args_with_own_time(argv, argv + argc);
+  std::string own_time_remap = std::string(onedof_sim::kUseSimTime) + ":=" +
+                               onedof_sim::kUseSimTime + "_is_for_the_clock_subscribers";
+  args_with_own_time.push_back(&own_time_remap[0]);
+  int ros_argc = static_cast<int>(args_with_own_time.size());
+  ros::init(ros_argc, args_with_own_time.data(), "gazebo");  // removes the ROS remappings from it
+  // Alive until the end: when the last NodeHandle goes, roscpp shuts down (console output too).
+  ros::NodeHandle private_nh("~");
+  const std::vector<std::string> args(args_with_own_time.begin() + 1,
+                                      args_with_own_time.begin() + ros_argc);
+
+  onedof_sim::NodeOptions options;
+  std::string error;
+  if (!onedof_sim::readNodeOptions(private_nh, args, &options, &error)) {
+    ROS_FATAL_STREAM("onedof_sim: " << error);
+    return 1;
+  }
+  options.model_path = modelPath();
+  // Where -database and model:// look, for the tools that spawn into this simulator
+  // (spawn_model -database reads it), before any service is advertised.
+  private_nh.setParam("model_path", options.model_path);
+  try {
+    onedof_sim::GazeboApi api(options, std::move(plugin_types));
+    api.run();
+  } catch (const std::invalid_argument& e) {
+    // An unknown engine (World's constructor) or invalid physics parameters (setParams).
+    ROS_FATAL_STREAM("onedof_sim: " << e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,41 @@
+// The node's start-up settings: its private parameters and gzserver's command-line flags.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+#include <onedof_sim/world.h>
+
+#include "lockstep.h"
+
+namespace onedof_sim {
+
+// The parameter that puts ROS nodes on simulated time (/clock).
+constexpr const char* kUseSimTime = "/use_sim_time";
+
+// Start-up settings of the node (see readNodeOptions for the parameter names).
+struct NodeOptions {
+  std::string engine = World::engineNames().front();
+  PhysicsParams physics;
+  double max_update_rate = 1000.0;       // steps per wall second; 0 = as fast as possible
+  bool paused = false;
+  double states_publish_frequency = 0;   // Hz of sim time for model/link_states; 0 = every step
+  std::vector<std::string> model_path;   // where SDF's model:// URIs resolve (World::setModelPath)
+  Lockstep::Options lockstep;
+};
+
+// Reads the private start-up parameters and gzserver's command-line flags (args without the
+// program name and ROS remappings). Returns false and sets *error on an invalid value.
+bool readNodeOptions(const ros::NodeHandle& private_nh, const std::vector<std::string>& args,
+                     NodeOptions* options, std::string* error);
+
+// Empty if the node can pace at max_update_rate (steps per wall second), else why not.
+std::string maxUpdateRateError(double rate);
+
+// Sets /use_sim_time on the master unless it is set already: through the master, by its global
+// name, as this node remaps /use_sim_time for itself (main.cpp).
+void setUseSimTimeUnlessSet();
+
+}  // namespace onedof_sim

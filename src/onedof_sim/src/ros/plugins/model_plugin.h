@@ -1,0 +1,78 @@
+// The model-plugin seam: what a Gazebo model plugin (`<plugin filename="libgazebo_ros_XXX.so">` in
+// a spawned URDF's <gazebo> or an SDF <model>) is here.
+//
+// As in gzserver, a plugin is created when its model is spawned and lives until the model is
+// deleted; the loop (SimLoop) calls it under the world lock before and after every step, as
+// Gazebo's ConnectWorldUpdateBegin/End do, and on reset_world/reset_simulation. Messages are not
+// published under the lock: a hook hands them out (takePublications) and the loop publishes them
+// once the world is unlocked. A plugin is one file in this folder and one entry in registry.cpp.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+#include <onedof_sim/world.h>
+
+namespace onedof_sim::plugins {
+
+// Takes the lock the loop holds around the world.
+using LockWorld = std::function<std::unique_lock<std::mutex>()>;
+// A message to publish once the world is unlocked.
+using Publication = std::function<void()>;
+
+// Where a hook is called: the world's sim time and step count at that moment (before a step:
+// those the step starts from; after it: those it reached).
+struct StepTime {
+  int64_t time_ns = 0;
+  uint64_t step = 0;
+};
+
+// What a plugin is created with.
+struct ModelPluginContext {
+  std::string model;          // the spawned model's name
+  std::string name;           // <plugin name="...">
+  std::string filename;       // <plugin filename="...">, the registry's key
+  std::string plugin_xml;     // the <plugin> element, as XML text
+  std::string model_xml;      // the whole URDF or SDF the model was spawned from
+  ModelFormat format = ModelFormat::Urdf;
+  std::string robot_namespace;  // <robotNamespace>, empty if the plugin has none
+  ros::NodeHandle node;         // in robot_namespace ("/" when empty)
+  const World* world = nullptr;  // read it only under lock_world()
+  LockWorld lock_world;
+};
+
+class ModelPlugin {
+ public:
+  // Destroyed with the world unlocked: its services and subscribers wait for their callbacks in
+  // flight, which may be waiting for the world.
+  virtual ~ModelPlugin() = default;
+
+  // World locked, around every step of the world.
+  virtual void beforeStep(World& /*world*/, const StepTime& /*at*/) {}
+  virtual void afterStep(World& /*world*/, const StepTime& /*at*/) {}
+  // World locked: reset_world or reset_simulation.
+  virtual void reset(World& /*world*/) {}
+  // World locked: the model is deleted; the plugin is destroyed right after, unlocked.
+  virtual void stop(World& /*world*/) {}
+  // World locked, after the hooks of a step: the messages to publish once it is unlocked.
+  virtual std::vector<Publication> takePublications() { return {}; }
+};
+
+// Creates a plugin, called unlocked (it may advertise and subscribe). Null and *error (why it
+// was not started) when its <plugin> or its model does not suit it.
+using ModelPluginFactory =
+    std::function<std::unique_ptr<ModelPlugin>(const ModelPluginContext&, std::string* error)>;
+
+// A registry entry: the plugin's Gazebo filename and its factory.
+struct ModelPluginType {
+  std::string filename;
+  ModelPluginFactory create;
+};
+
+}  // namespace onedof_sim::plugins

@@ -1,0 +1,94 @@
+#include "model_plugins.h"
+
+#include <set>
+
+#include <tinyxml2.h>
+
+namespace onedof_sim::plugins {
+namespace {
+
+std::string attribute(const tinyxml2::XMLElement* element, const char* name) {
+  const char* value = element->Attribute(name);
+  return value ? value : "";
+}
+
+std::string childText(const tinyxml2::XMLElement* element, const char* name) {
+  const tinyxml2::XMLElement* child = element->FirstChildElement(name);
+  const char* text = child ? child->GetText() : nullptr;
+  return text ? text : "";
+}
+
+PluginElement toPluginElement(const tinyxml2::XMLElement* plugin) {
+  tinyxml2::XMLPrinter printer;
+  plugin->Accept(&printer);
+  PluginElement element;
+  element.name = attribute(plugin, "name");
+  element.filename = attribute(plugin, "filename");
+  element.xml = printer.CStr();
+  element.robot_namespace = childText(plugin, "robotNamespace");
+  return element;
+}
+
+void addPlugins(const tinyxml2::XMLElement* parent, std::vector<PluginElement>* out) {
+  for (auto* plugin = parent->FirstChildElement("plugin"); plugin;
+       plugin = plugin->NextSiblingElement("plugin"))
+    out->push_back(toPluginElement(plugin));
+}
+
+}  // namespace
+
+std::vector<PluginElement> findModelPlugins(const std::string& model_xml, ModelFormat format) {
+  std::vector<PluginElement> found;
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(model_xml.c_str(), model_xml.size()) != tinyxml2::XML_SUCCESS) return found;
+  if (format == ModelFormat::Urdf) {
+    const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+    if (!robot) return found;
+    for (auto* gazebo = robot->FirstChildElement("gazebo"); gazebo;
+         gazebo = gazebo->NextSiblingElement("gazebo"))
+      addPlugins(gazebo, &found);
+    return found;
+  }
+  const tinyxml2::XMLElement* sdf = doc.FirstChildElement("sdf");
+  const tinyxml2::XMLElement* model = sdf ? sdf->FirstChildElement("model") : nullptr;
+  if (model) addPlugins(model, &found);
+  return found;
+}
+
+std::vector<std::unique_ptr<ModelPlugin>> createModelPlugins(
+    const std::vector<ModelPluginType>& types, const std::string& model,
+    const std::string& model_xml, ModelFormat format, const World& world, LockWorld lock_world) {
+  std::vector<std::unique_ptr<ModelPlugin>> created;
+  std::set<std::string> unknown;
+  for (const PluginElement& element : findModelPlugins(model_xml, format)) {
+    const ModelPluginType* type = nullptr;
+    for (const ModelPluginType& candidate : types)
+      if (candidate.filename == element.filename) type = &candidate;
+    if (!type) {
+      if (unknown.insert(element.filename).second)
+        ROS_WARN_STREAM("model '" << model << "': plugin '" << element.name << "' ("
+                        << element.filename << ") is not simulated here and is ignored; the "
+                        << "model works without it");
+      continue;
+    }
+    ModelPluginContext context;
+    context.model = model;
+    context.name = element.name;
+    context.filename = element.filename;
+    context.plugin_xml = element.xml;
+    context.model_xml = model_xml;
+    context.format = format;
+    context.robot_namespace = element.robot_namespace;
+    context.node = ros::NodeHandle(element.robot_namespace.empty() ? "/" : element.robot_namespace);
+    context.world = &world;
+    context.lock_world = lock_world;
+    std::string error;
+    std::unique_ptr<ModelPlugin> plugin = type->create(context, &error);
+    if (plugin) created.push_back(std::move(plugin));
+    else if (!error.empty())
+      ROS_ERROR_STREAM(element.filename << " for model '" << model << "' not started: " << error);
+  }
+  return created;
+}
+
+}  // namespace onedof_sim::plugins

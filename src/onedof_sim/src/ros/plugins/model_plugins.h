@@ -1,0 +1,31 @@
+// The plugins a spawned model names, created from the registry.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model_plugin.h"
+
+namespace onedof_sim::plugins {
+
+// A <plugin> element of a model description.
+struct PluginElement {
+  std::string name;
+  std::string filename;
+  std::string xml;              // the element, as XML text
+  std::string robot_namespace;  // its <robotNamespace>, or empty
+};
+
+// The model plugins a URDF (<gazebo><plugin>, with or without a reference) or an SDF
+// (<model><plugin>) names, in document order. Sensor plugins (inside <sensor>) are not among them.
+std::vector<PluginElement> findModelPlugins(const std::string& model_xml, ModelFormat format);
+
+// Creates the plugins `model` names, unlocked, from `types` (the registry, and any a caller adds).
+// A filename no type has is logged once, by name, and the model keeps going without it, as
+// Gazebo does; so is a plugin that refuses its <plugin> or its model.
+std::vector<std::unique_ptr<ModelPlugin>> createModelPlugins(
+    const std::vector<ModelPluginType>& types, const std::string& model,
+    const std::string& model_xml, ModelFormat format, const World& world, LockWorld lock_world);
+
+}  // namespace onedof_sim::plugins

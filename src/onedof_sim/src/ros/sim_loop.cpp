@@ -1,0 +1,480 @@
+#include "sim_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+#include <gazebo_msgs/LinkStates.h>
+#include <gazebo_msgs/ModelStates.h>
+#include <rosgraph_msgs/Clock.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "conversions.h"
+#include "status_text.h"
+
+namespace onedof_sim {
+namespace {
+
+// If the paced loop falls further behind than this, it drops the backlog instead of racing.
+constexpr std::chrono::milliseconds kMaxPacingLag(100);
+constexpr std::chrono::milliseconds kPacingSlice(50);
+constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
+// A client's two clock readings after a call are microseconds apart; a millisecond leaves them
+// room on a busy machine and bounds a lock-stepped 1 kHz controller to real time, about what
+// roscpp's sim-time sleep (it polls every millisecond) allows anyway.
+constexpr std::chrono::milliseconds kLockstepClockDelay(1);
+// How long a stopped world waits for a controller's command before it shows the clock ahead to
+// wake one that slept past the stop (awaitControllers): well beyond a live controller's answer.
+constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
+// In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
+constexpr std::chrono::seconds kStopWaitLimit(1);
+constexpr std::chrono::milliseconds kStopWaitSlice(50);
+
+// Whether a throttled output is due at sim time now_ns (frequency <= 0: every step). Time going
+// back (reset_simulation) makes it due at once.
+bool isDue(int64_t now_ns, int64_t last_ns, double frequency) {
+  if (frequency <= 0 || last_ns < 0 || now_ns < last_ns) return true;
+  return double(now_ns - last_ns) >= 1e9 / frequency;
+}
+
+}  // namespace
+
+struct SimLoop::StepOutput {
+  bool stepped = false;
+  bool on_request = false;     // a step of step_simulation: not paced
+  bool publish_clock = false;  // whatever pub_clock_frequency says: the world stops here
+  bool hold_clock = false;     // lock-stepped controllers' efforts run: only stops are published
+  Lockstep::Clock::time_point clock_not_before;  // of a lock-step stop (see stepOnce)
+  bool resumed = false;  // the pacing must restart (after a pause or a rate change)
+  int64_t time_ns = 0;
+  double max_update_rate = 0;
+  bool has_model_states = false;
+  bool has_link_states = false;
+  bool has_markers = false;
+  gazebo_msgs::ModelStates model_states;
+  gazebo_msgs::LinkStates link_states;
+  std::vector<CollisionShape> shapes;
+  std::vector<std::string> warnings;  // what the world had to do on its own during the step
+  std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
+};
+
+SimLoop::Lock::Lock(SimLoop& api) {
+  ++api.waiting_callbacks_;
+  lock_ = std::unique_lock<std::mutex>(api.mutex_);
+  --api.waiting_callbacks_;
+  // In lock-step a request lands where the world stops, never inside a controller's period: a
+  // controller that slept past a stop and was woken (awaitControllers) sends the next period's
+  // request at once, and must find the world at that period's start, as it would have on time.
+  // Bounded, so that a world paced very slowly still answers.
+  const auto limit = std::chrono::steady_clock::now() + kStopWaitLimit;
+  while (api.between_stops_ && !api.paused_ && ros::ok() &&
+         std::chrono::steady_clock::now() < limit)
+    api.at_stop_.wait_for(lock_, kStopWaitSlice);
+}
+
+SimLoop::SimLoop(const NodeOptions& options)
+    : private_nh_("~"),
+      world_(options.engine),
+      paused_(options.paused),
+      max_update_rate_(options.max_update_rate),
+      lockstep_(options.lockstep),
+      states_publish_frequency_(options.states_publish_frequency) {
+  const Status params = world_.setParams(options.physics);
+  if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
+  world_.setModelPath(options.model_path);
+  setUseSimTimeUnlessSet();
+
+  // Latched: a node started while the world is paused learns the time at once, instead of
+  // running on time 0 (no valid time to roscpp and rospy) until the world moves.
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100, true);
+  model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
+  link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
+  markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
+}
+
+SimLoop::~SimLoop() {
+  wake_loop_.notify_all();
+  steps_done_.notify_all();
+}
+
+void SimLoop::run() {
+  bool was_stepping = false;
+  double paced_rate = -1;
+  while (ros::ok()) {
+    StepOutput out;
+    stepOnce(&out);
+    for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
+    if (!out.stepped) {
+      was_stepping = false;
+      publishHeldClock();
+      continue;
+    }
+    publish(out);
+    if (out.on_request) continue;  // step_simulation runs its steps as fast as it can
+    out.resumed = !was_stepping || out.max_update_rate != paced_rate;
+    was_stepping = true;
+    paced_rate = out.max_update_rate;
+    pace(out.max_update_rate, out.resumed);
+  }
+}
+
+void SimLoop::stepOnce(StepOutput* out) {
+  const bool want_model_states = model_states_pub_.getNumSubscribers() > 0;
+  const bool want_link_states = link_states_pub_.getNumSubscribers() > 0;
+  const bool want_markers = markers_pub_.getNumSubscribers() > 0;
+
+  // Let waiting service callbacks in first; they hold the lock only for one world call.
+  while (waiting_callbacks_.load() > 0) std::this_thread::yield();
+  std::unique_lock<std::mutex> lock(mutex_);
+  const bool requested = step_request_.remaining > 0;
+  const bool request_ending = step_request_.active && !requested;
+  if (paused_ && !requested && !request_ending) {
+    // Wakes on unpause or a step request; the timeout lets run() notice a shutdown.
+    wake_loop_.wait_for(lock, std::chrono::milliseconds(50));
+    return;
+  }
+  if (lockstep_.enabled() && !awaitControllers(lock, out)) return;
+  if (request_ending) {
+    step_request_.active = false;
+    steps_done_.notify_all();
+    return;
+  }
+  // The plugins act at the step's start and end time, as Gazebo's at the world's update begin
+  // and end, and never wait: lock-step waits only for apply_joint_effort's clients.
+  for (auto& [model, plugins] : plugins_)
+    for (auto& plugin : plugins) plugin->beforeStep(world_, {world_.timeNs(), world_.stepCount()});
+  world_.step();
+  for (auto& [model, plugins] : plugins_) {
+    for (auto& plugin : plugins) {
+      plugin->afterStep(world_, {world_.timeNs(), world_.stepCount()});
+      for (auto& publication : plugin->takePublications())
+        out->plugin_publications.push_back(std::move(publication));
+    }
+  }
+  if (requested) --step_request_.remaining;
+  out->stepped = true;
+  out->on_request = requested;
+  const std::vector<std::string> world_warnings = world_.takeWarnings();
+  out->warnings.insert(out->warnings.end(), world_warnings.begin(), world_warnings.end());
+  out->time_ns = world_.timeNs();
+  out->max_update_rate = max_update_rate_;
+  // Where the world stops (the last requested step, or a controller's effort running out in
+  // lock-step), its time must reach the clients even when /clock is throttled: they wait for it.
+  // While lock-stepped controllers' efforts run, only those stops are published: roscpp's and
+  // rospy's rates read the clock twice (sleep for a remainder counted from the second reading),
+  // and a clock that moves between the two readings puts their wake-up past the stop they are
+  // waited for at. Held still between stops, it cannot move there.
+  const bool stop = (requested && step_request_.remaining == 0) ||
+                    (lockstep_.enabled() && !lockstep_.awaited(world_, out->time_ns).empty());
+  out->publish_clock = stop;
+  out->hold_clock = !stop && lockstep_.enabled() && lockstep_.running(world_, out->time_ns);
+  between_stops_ = out->hold_clock;
+  if (!between_stops_) at_stop_.notify_all();
+  // After a wake-up clock (awaitControllers) the clients' time is ahead of the world's: nothing
+  // earlier goes out, clocks never move back.
+  if (clock_ahead_ns_ >= 0 && out->time_ns < clock_ahead_ns_) {
+    out->publish_clock = false;
+    out->hold_clock = true;
+  } else {
+    clock_ahead_ns_ = -1;
+  }
+  // And a stop's clock goes out no sooner than kLockstepClockDelay after the latest command: a
+  // roscpp client reads the clock twice right after its call returns, and the next stop's clock
+  // must not land between the two readings (as fast as possible it would, about once in a few
+  // hundred 1 kHz periods, and the client would sleep past the stop).
+  if (stop && lockstep_.enabled()) out->clock_not_before = last_command_at_ + kLockstepClockDelay;
+
+  collectStates(out, want_model_states, want_link_states, want_markers);
+}
+
+// The states and shapes due at this step that someone subscribes to, world locked.
+void SimLoop::collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
+                            bool want_markers) {
+  const bool states_due = isDue(out->time_ns, last_states_ns_, states_publish_frequency_);
+  if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
+  if (states_due && want_model_states) {
+    out->has_model_states = true;
+    for (const auto& name : world_.modelNames()) {
+      Pose pose;
+      Twist twist;
+      if (!world_.modelState(name, "", &pose, &twist).ok()) continue;
+      out->model_states.name.push_back(name);
+      out->model_states.pose.push_back(toMsg(pose));
+      out->model_states.twist.push_back(toMsg(twist));
+    }
+  }
+  if (states_due && want_link_states) {
+    out->has_link_states = true;
+    for (const auto& name : world_.linkNames()) {
+      Pose pose;
+      Twist twist;
+      if (!world_.linkState(name, "", &pose, &twist).ok()) continue;
+      out->link_states.name.push_back(name);
+      out->link_states.pose.push_back(toMsg(pose));
+      out->link_states.twist.push_back(toMsg(twist));
+    }
+  }
+  if (want_markers && isDue(out->time_ns, last_markers_ns_, kCollisionMarkersFrequency)) {
+    last_markers_ns_ = out->time_ns;
+    out->has_markers = true;
+    out->shapes = world_.collisionShapes();
+  }
+}
+
+// Lock-step: holds the world until every lock-stepped joint has an effort acting in the coming
+// step, giving up (and saying so once) on those silent for the timeout. Returns false when the wait
+// ends for another reason (paused meanwhile, shutdown): the caller starts over.
+bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out) {
+  const auto began = Lockstep::Clock::now();
+  const auto deadline = began + lockstep_.timeout();
+  bool woken = false;
+  for (;;) {
+    const std::vector<Lockstep::Awaited> awaited = lockstep_.awaited(world_, world_.timeNs());
+    if (awaited.empty()) return true;
+    const auto now = Lockstep::Clock::now();
+    if (now >= deadline) {
+      lockstep_.giveUp(awaited);
+      out->warnings.push_back(lockstepTimeoutText(awaited, world_.timeNs(), lockstep_.timeout()));
+      return true;
+    }
+    // Woken when the awaited controllers have sent nothing for a while, here or before: one
+    // still at work on its period (it asked for the joint) is left to finish it.
+    const auto wake_at = std::max(began, lockstep_.lastRequest(awaited)) + kLockstepWakeAfter;
+    if (!woken && now >= wake_at) {
+      woken = true;
+      showWakeUpClock(awaited);
+    }
+    // In slices, to notice a shutdown.
+    auto until = std::min(deadline, now + std::chrono::milliseconds(50));
+    if (!woken) until = std::min(until, wake_at);
+    wake_loop_.wait_until(lock, until);
+    if (!ros::ok()) return false;
+    if (paused_ && !step_request_.active) return false;
+  }
+}
+
+// roscpp's Rate (the book's C++ loop) and rospy's read the clock twice, before and after their
+// sleep's start, and sleep for the remainder counted from the second reading. When the stop's
+// clock lands between the two readings (a client preempted there, on a busy machine), or a
+// command is lost in transport, the client sleeps one period past the stop, where the world waits
+// for it: the clock is then shown at the next period's earliest end, the world staying where it
+// is. The client wakes and commands for the stop (its job starts at the world's time, also when it
+// names the time shown: applyJointEffort), then asks for the next period at once: that request
+// waits for the next stop (Lock). The run is as if the client had woken on time.
+void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
+  const std::optional<int64_t> wake_ns = lockstep_.wakeTime(world_, world_.timeNs());
+  if (!wake_ns || *wake_ns <= last_clock_ns_) return;
+  publishClock(*wake_ns);
+  clock_ahead_ns_ = *wake_ns;
+  ROS_DEBUG_STREAM("lock-step: nothing from " << awaited.front().caller << " for "
+                   << std::chrono::duration<double>(kLockstepWakeAfter).count()
+                   << " s (wall) at sim time " << simSeconds(world_.timeNs())
+                   << "; showing the clock at " << simSeconds(*wake_ns)
+                   << " to wake a controller that slept past the stop");
+}
+
+void SimLoop::publishClock(int64_t time_ns) {
+  last_clock_ns_ = time_ns;
+  held_clock_ns_ = -1;
+  rosgraph_msgs::Clock clock;
+  clock.clock.fromNSec(uint64_t(time_ns));
+  clock_pub_.publish(clock);
+}
+
+void SimLoop::publishHeldClock() {
+  if (held_clock_ns_ >= 0) publishClock(held_clock_ns_);
+}
+
+void SimLoop::publish(const StepOutput& out) {
+  refreshClockFrequency();
+  if (out.publish_clock) std::this_thread::sleep_until(out.clock_not_before);
+  if (out.publish_clock ||
+      (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
+    // Latched, so roscpp wakes its poll thread for every message, subscribers or not: with
+    // none, the latest time is only kept, and goes out where the loop stops (publishHeldClock).
+    if (out.publish_clock || clock_pub_.getNumSubscribers() > 0) {
+      publishClock(out.time_ns);
+    } else {
+      held_clock_ns_ = out.time_ns;
+    }
+  }
+  for (const auto& publication : out.plugin_publications) publication();
+  if (out.has_model_states) model_states_pub_.publish(out.model_states);
+  if (out.has_link_states) link_states_pub_.publish(out.link_states);
+  if (out.has_markers) {
+    visualization_msgs::MarkerArray markers;
+    // Clear first, so shapes of deleted models disappear.
+    visualization_msgs::Marker clear;
+    clear.header.frame_id = "world";
+    clear.action = visualization_msgs::Marker::DELETEALL;
+    markers.markers.push_back(clear);
+    for (size_t i = 0; i < out.shapes.size(); ++i) {
+      markers.markers.push_back(toMarker(out.shapes[i], int(i)));
+    }
+    markers_pub_.publish(markers);
+  }
+}
+
+// pub_clock_frequency may be changed while running; reading it at every step would cost more
+// than the step, so it is re-read ten times per wall second.
+void SimLoop::refreshClockFrequency() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_param_refresh_) return;
+  next_param_refresh_ = now + std::chrono::milliseconds(100);
+  double frequency = 0;
+  if (!private_nh_.getParamCached("pub_clock_frequency", frequency) || !std::isfinite(frequency)) {
+    frequency = 0;
+  }
+  clock_frequency_ = frequency;
+}
+
+// Sleeps until this step's absolute deadline (no drift: deadlines are origin + n periods).
+void SimLoop::pace(double max_update_rate, bool resumed) {
+  using std::chrono::steady_clock;
+  const auto now = steady_clock::now();
+  if (max_update_rate <= 0) return;
+  if (resumed) deadline_ = now;
+  deadline_ += std::chrono::duration_cast<steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / max_update_rate));
+  if (deadline_ > now) {
+    // In slices: a new max_update_rate takes effect at once (run() re-paces from the next step),
+    // and a shutdown (SIGINT) is noticed, however long the period.
+    while (ros::ok() && steady_clock::now() < deadline_) {
+      std::this_thread::sleep_until(std::min(deadline_, steady_clock::now() + kPacingSlice));
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (max_update_rate_ != max_update_rate) return;
+    }
+  } else if (now - deadline_ > kMaxPacingLag) {
+    deadline_ = now;  // far behind (a loaded machine): run on from now rather than race
+  }
+}
+
+// --- requests of the service callbacks ----------------------------------------------------------
+
+SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
+  EffortResult result;
+  {
+    Lock lock(*this);
+    if (lockstep_.enabled()) lockstep_.heardFrom(command.caller, Lockstep::Clock::now());
+    // Under a wake-up clock a client's "now" is the time shown, ahead of the world's: it means
+    // the world's.
+    int64_t start_ns = command.start_ns;
+    if (clock_ahead_ns_ >= 0 && start_ns > world_.timeNs() && start_ns <= clock_ahead_ns_)
+      start_ns = world_.timeNs();
+    result.status = world_.applyJointEffort(command.joint, command.effort, start_ns,
+                                            command.duration_ns, &result.job);
+    if (result.status.ok() && result.job.queued) {
+      last_command_at_ = Lockstep::Clock::now();
+      result.joined_lockstep =
+          lockstep_.heard(command.joint, command.caller, command.duration_ns < 0,
+                          world_.timeNs(), command.duration_ns);
+      // The last awaited command: the world moves on, and the next request waits for the next
+      // stop (Lock) even when it comes before the loop has taken its first step.
+      const int64_t now_ns = world_.timeNs();
+      if (!paused_ && lockstep_.running(world_, now_ns) && lockstep_.awaited(world_, now_ns).empty())
+        between_stops_ = true;
+    }
+  }
+  if (lockstep_.enabled()) wake_loop_.notify_all();
+  return result;
+}
+
+bool SimLoop::paused() {
+  Lock lock(*this);
+  return paused_;
+}
+
+void SimLoop::setPaused(bool paused) {
+  {
+    Lock lock(*this);
+    paused_ = paused;
+  }
+  if (!paused) wake_loop_.notify_all();
+}
+
+SimLoop::StepsDone SimLoop::runSteps(uint64_t steps) {
+  Lock lock(*this);
+  paused_ = true;
+  step_request_ = {true, steps};
+  wake_loop_.notify_all();
+  while (step_request_.active && ros::ok())
+    steps_done_.wait_for(lock.held(), std::chrono::milliseconds(100));
+  StepsDone done{!step_request_.active, world_.timeNs(), world_.stepCount()};
+  if (step_request_.active) step_request_ = {};
+  return done;
+}
+
+void SimLoop::resetSimulation() {
+  {
+    Lock lock(*this);
+    world_.resetSimulation();
+    lockstep_.reset();
+    between_stops_ = false;
+    clock_ahead_ns_ = -1;
+    for (auto& [model, plugins] : plugins_)
+      for (auto& plugin : plugins) plugin->reset(world_);
+  }
+  wake_loop_.notify_all();
+}
+
+void SimLoop::resetWorld() {
+  Lock lock(*this);
+  world_.resetWorld();
+  for (auto& [model, plugins] : plugins_)
+    for (auto& plugin : plugins) plugin->reset(world_);
+}
+
+PhysicsSettings SimLoop::physics() {
+  Lock lock(*this);
+  return {world_.params(), max_update_rate_};
+}
+
+Status SimLoop::setPhysics(const PhysicsSettings& settings) {
+  Lock lock(*this);
+  const Status set = world_.setParams(settings.params);
+  if (set.ok()) max_update_rate_ = settings.max_update_rate;
+  return set;
+}
+
+// --- model plugins ----------------------------------------------------------------------------
+
+plugins::LockWorld SimLoop::lockWorld() {
+  return [this] {
+    Lock lock(*this);
+    return std::move(lock.held());
+  };
+}
+
+void SimLoop::attachPlugins(const std::string& model,
+                            std::vector<std::unique_ptr<plugins::ModelPlugin>> plugins) {
+  if (plugins.empty()) return;
+  Lock lock(*this);
+  ModelInfo unused;
+  if (!world_.modelProperties(model, &unused).ok()) {
+    lock.held().unlock();  // deleted meanwhile: its plugins go, unlocked
+    return;
+  }
+  auto& attached = plugins_[model];
+  for (auto& plugin : plugins) attached.push_back(std::move(plugin));
+}
+
+Status SimLoop::deleteModel(const std::string& model) {
+  Status deleted;
+  std::vector<std::unique_ptr<plugins::ModelPlugin>> detached;
+  {
+    Lock lock(*this);
+    deleted = world_.deleteModel(model);
+    auto found = plugins_.find(model);
+    if (deleted.ok() && found != plugins_.end()) {
+      for (auto& plugin : found->second) plugin->stop(world_);
+      detached = std::move(found->second);
+      plugins_.erase(found);
+    }
+  }
+  detached.clear();  // unlocked: see ModelPlugin's destructor
+  return deleted;
+}
+
+}  // namespace onedof_sim

@@ -1,0 +1,169 @@
+// The loop that owns the world and its time, as gzserver does: the World, the fixed-step loop and
+// its pacing, pause and step requests, lock-step waiting, the model plugins' hooks around each
+// step, and the publication of /clock, model_states, link_states and the collision markers.
+//
+// Service callbacks (GazeboApi) run on their spinners and reach the world only through this
+// class: a function run under the world lock (withWorld), a step request (runSteps), a
+// controller's command (applyJointEffort). They share one mutex with the loop, held only for
+// world calls, never while doing ROS I/O (stage_ros). Requests that change how the world advances
+// only set state under that mutex and wake the loop; the loop alone steps.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+#include <onedof_sim/world.h>
+
+#include "lockstep.h"
+#include "node_options.h"
+#include "physics_config.h"
+#include "plugins/model_plugin.h"
+
+namespace onedof_sim {
+
+class SimLoop {
+ public:
+  // Throws std::invalid_argument for an unknown engine or invalid physics parameters.
+  explicit SimLoop(const NodeOptions& options);
+  ~SimLoop();
+
+  // Steps the world at the configured pace until ROS shuts down (SIGINT).
+  void run();
+
+  // Runs f(World&) under the world lock and returns what it returns. In lock-step the lock is
+  // taken where the world stops, never inside a controller's period (see Lock).
+  template <class F>
+  auto withWorld(F&& f) {
+    Lock lock(*this);
+    return f(world_);
+  }
+  // The same for a request of a controller (its caller name): lock-step notes it is at work.
+  template <class F>
+  auto withWorldFor(const std::string& caller, F&& f) {
+    Lock lock(*this);
+    if (lockstep_.enabled()) lockstep_.heardFrom(caller, Lockstep::Clock::now());
+    return f(world_);
+  }
+
+  // apply_joint_effort from `caller`: the job, and in lock-step the joint joins or goes on
+  // being waited for; the loop is woken.
+  struct EffortCommand {
+    std::string caller;
+    std::string joint;
+    double effort = 0;
+    int64_t start_ns = 0;
+    int64_t duration_ns = 0;  // < 0: until cleared
+  };
+  struct EffortResult {
+    Status status;
+    JobOutcome job;
+    bool joined_lockstep = false;  // the joint's first command in lock-step: say so once
+  };
+  EffortResult applyJointEffort(const EffortCommand& command);
+
+  bool paused();
+  void setPaused(bool paused);
+
+  // Pauses the world and runs exactly `steps` steps (in lock-step, until the controllers have
+  // acted at the last one); returns once they are done, or false on shutdown.
+  struct StepsDone {
+    bool done = false;
+    int64_t time_ns = 0;
+    uint64_t iterations = 0;
+  };
+  StepsDone runSteps(uint64_t steps);
+
+  void resetSimulation();
+  void resetWorld();
+
+  // The world's physics parameters and the loop's pace.
+  PhysicsSettings physics();
+  // Sets both, or neither (the world's refusal).
+  Status setPhysics(const PhysicsSettings& settings);
+
+  // The model's plugins join the loop's hooks if the model is still there; else they are
+  // destroyed, unlocked.
+  void attachPlugins(const std::string& model,
+                     std::vector<std::unique_ptr<plugins::ModelPlugin>> plugins);
+  // Deletes the model; its plugins stop under the lock and are destroyed after it, unlocked.
+  Status deleteModel(const std::string& model);
+  // The world, for plugins to read at creation under lockWorld().
+  const World& world() const { return world_; }
+  plugins::LockWorld lockWorld();
+
+ private:
+  // Locks the world for a service callback. Counts waiting callbacks so that the step loop, which
+  // re-locks right after unlocking when running as fast as possible, lets them in first. In
+  // lock-step it waits (bounded) until the world is at a stop.
+  class Lock {
+   public:
+    explicit Lock(SimLoop& loop);
+    std::unique_lock<std::mutex>& held() { return lock_; }
+
+   private:
+    std::unique_lock<std::mutex> lock_;
+  };
+
+  struct StepOutput;
+  void stepOnce(StepOutput* out);
+  void collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
+                     bool want_markers);
+  bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
+  void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
+  void publish(const StepOutput& out);
+  void publishClock(int64_t time_ns);
+  // The latest time not published for want of subscribers (-1: none), for the latched /clock
+  // once the loop stops.
+  void publishHeldClock();
+  void refreshClockFrequency();
+  void pace(double max_update_rate, bool resumed);
+
+  ros::NodeHandle nh_;
+  ros::NodeHandle private_nh_;
+
+  // Guarded by mutex_.
+  std::mutex mutex_;
+  std::condition_variable wake_loop_;  // unpaused, steps requested, a controller's command
+  std::condition_variable steps_done_;
+  World world_;
+  bool paused_;
+  double max_update_rate_;
+  Lockstep lockstep_;
+  Lockstep::Clock::time_point last_command_at_;  // the latest accepted apply_joint_effort
+  bool between_stops_ = false;  // a lock-stepped controller's period runs (requests wait)
+  std::condition_variable at_stop_;
+  int64_t clock_ahead_ns_ = -1;  // the wake-up clock shown ahead of the world, until it gets there
+  struct StepRequest {
+    bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
+    uint64_t remaining = 0;
+  } step_request_;
+  std::atomic<int> waiting_callbacks_{0};
+  // Each model's plugins, called in this order around every step.
+  std::map<std::string, std::vector<std::unique_ptr<plugins::ModelPlugin>>> plugins_;
+
+  // Step-loop state (only the loop thread touches these).
+  double states_publish_frequency_;
+  double clock_frequency_ = 0;  // /gazebo/pub_clock_frequency; <= 0: every step
+  std::chrono::steady_clock::time_point next_param_refresh_;
+  std::chrono::steady_clock::time_point deadline_;
+  int64_t last_clock_ns_ = -1;
+  int64_t held_clock_ns_ = -1;
+  int64_t last_states_ns_ = -1;
+  int64_t last_markers_ns_ = -1;
+
+  ros::Publisher clock_pub_;
+  ros::Publisher model_states_pub_;
+  ros::Publisher link_states_pub_;
+  ros::Publisher markers_pub_;
+};
+
+}  // namespace onedof_sim
