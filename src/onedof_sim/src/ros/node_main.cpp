@@ -2,6 +2,7 @@
 // the parameter server and the command line, then the Gazebo API until shutdown.
 #include "node_main.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -23,7 +24,10 @@ std::vector<std::string> modelPath() {
   std::vector<std::string> folders{ros::package::getPath("onedof_sim") + "/models"};
   const char* env = std::getenv("GAZEBO_MODEL_PATH");
   std::istringstream entries(env ? env : "");
-  for (std::string folder; std::getline(entries, folder, ':');) folders.push_back(folder);
+  for (std::string folder; std::getline(entries, folder, ':');) {
+    if (!folder.empty() && std::find(folders.begin(), folders.end(), folder) == folders.end())
+      folders.push_back(folder);
+  }
   return folders;
 }
 
