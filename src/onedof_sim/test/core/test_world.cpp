@@ -1136,7 +1136,7 @@ TEST_P(LinkProperties, WeldedLinksChangeTheirLumpedBodyAndShareOneGravityMode) {
   EXPECT_EQ(split.subject, "gravity_mode");
 }
 
-// --- bad input (issue 12's findings): refused up front with the range, never a crash -------------
+// --- bad input: refused up front with the range, never a crash -------------------------------
 
 // A chain of `links` links welded by fixed joints: one rigid body.
 std::string fixedChainUrdf(int links) {
@@ -1179,7 +1179,8 @@ void expectStillRunning(World* world) {
   EXPECT_NE(jointPosition(*world, "joint1"), before);
 }
 
-// Finding 1: 1e308 in a twist, a position, a reference point or an inertia killed the node.
+// 1e308 in a twist, a position, a reference point or an inertia is finite, yet overflows inside
+// the step, where ODE aborts the process.
 TEST_P(BadInput, HugeButFiniteStatesAndInertialsAreRefusedNamingTheRange) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1220,7 +1221,7 @@ TEST_P(BadInput, HugeButFiniteStatesAndInertialsAreRefusedNamingTheRange) {
   expectStillRunning(&world);
 }
 
-// Finding 2: a 20000-link fixed chain overflowed the stack while the URDF was walked.
+// A 20000-link fixed chain takes 20000 nested calls to walk and would overflow the stack.
 TEST_P(BadInput, ModelSizeIsLimitedAndRefusedBeyond) {
   World world(GetParam());
   expectRejected(world.spawn("chain", fixedChainUrdf(20000), ModelFormat::Urdf, Pose()),
@@ -1231,8 +1232,8 @@ TEST_P(BadInput, ModelSizeIsLimitedAndRefusedBeyond) {
   steps(&world, 10);
 }
 
-// Finding 3: time_step 1e6 ran sim time past ROS time's 32-bit seconds; 1e10 was refused as "under
-// 1 ns" (the nanosecond count overflowed).
+// A time_step of 1e6 runs sim time past ROS time's 32-bit seconds, and 1e10 overflows the
+// nanosecond count: both are refused with the step's range, as are steps too small.
 TEST_P(BadInput, StepOutsideItsRangeIsRefusedWithTheRange) {
   World world(GetParam());
   for (double step : {1e6, 1e10, 1e-7, 0.0}) {
@@ -1246,8 +1247,8 @@ TEST_P(BadInput, StepOutsideItsRangeIsRefusedWithTheRange) {
   EXPECT_EQ(world.params().step, 0.1);
 }
 
-// Finding 5: a force of 1e200 was answered "clamped" but |force| overflowed to infinity and the
-// clamp scaled it to nothing.
+// A force of 1e200: |force| must not overflow to infinity, which would scale the clamped force to
+// nothing; it is applied at its bound, as a merely large force is.
 TEST_P(BadInput, HugeWrenchIsClampedToItsBoundAndApplied) {
   const auto risesAfter = [&](double force, JobOutcome* job) {
     World world(GetParam(), withoutGravity());
@@ -1270,7 +1271,8 @@ TEST_P(BadInput, HugeWrenchIsClampedToItsBoundAndApplied) {
   EXPECT_EQ(huge_speed, large_speed);
 }
 
-// Finding 6: joint1 = 1e17 was accepted and read back as 1e17 for ever while the link swung.
+// joint1 = 1e17: past 1e6 a step's motion is lost in rounding, and the joint would read 1e17 for
+// ever while the link swings.
 TEST_P(BadInput, JointPositionOutOfRangeIsRefused) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1284,8 +1286,8 @@ TEST_P(BadInput, JointPositionOutOfRangeIsRefused) {
   EXPECT_NE(jointPosition(world, "joint1"), 1000.5);
 }
 
-// Finding 7: a link of mass 1e308 (or z 1e308, cfm 1e308) spawned, then every step went
-// non-finite and was undone: the whole world froze.
+// A link of mass 1e308 (or z 1e308, cfm 1e308) would make every step non-finite, and every step
+// undone would freeze the whole world.
 TEST_P(BadInput, InputThatWouldFreezeTheWorldIsRefused) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1307,7 +1309,7 @@ TEST_P(BadInput, InputThatWouldFreezeTheWorldIsRefused) {
   EXPECT_TRUE(world.takeWarnings().empty());
 }
 
-// Finding 8: what the parsers dropped or only printed.
+// What the parsers drop or only print is refused with the reason.
 TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
   World world(GetParam());
   const std::string body = inertial(1, 1, 1, 1);
@@ -1341,7 +1343,7 @@ TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
                           ModelFormat::Sdf, at(0, 0, 1)).ok());
 }
 
-// Finding 9: a model named "one_DOF_robot::link2" took over that frame for other requests.
+// A model named "one_DOF_robot::link2" would take over that frame for other requests.
 TEST_P(BadInput, ModelNamesThatMakeScopedNamesAmbiguousAreRefused) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1353,8 +1355,8 @@ TEST_P(BadInput, ModelNamesThatMakeScopedNamesAmbiguousAreRefused) {
   EXPECT_EQ(world.modelNames(), std::vector<std::string>{"one_DOF_robot"});
 }
 
-// Finding 10: jobs accumulated without bound, and 500 jobs each clamped to the limit summed far
-// past it.
+// Jobs are bounded in number per joint, and jobs each clamped to the limit are held to it as a
+// sum (500 of them would sum far past it).
 TEST_P(EffortJobs, PendingJobsAreBoundedPerJoint) {
   for (int i = 0; i < 1000; ++i)
     ASSERT_TRUE(world.applyJointEffort("spin", 0.001, 1000 * kMs, -1).ok()) << i;
