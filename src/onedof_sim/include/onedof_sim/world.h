@@ -90,13 +90,13 @@ struct JobOutcome {
 struct PhysicsParams {
   double step = 0.001;  // seconds, > 0
   Vec3 gravity{0, 0, -9.8};
-  // false: dWorldStep (exact LCP); true: dWorldQuickStep. dWorldStep is the default by
-  // measurement at the 1 ms step: both meet every core_test accuracy figure alike (pendulum
-  // period error 0.0006 %, energy drift 0.17 % over 10 s), but a stack of three boxes (10 kg on
-  // top) sinks 0.4 mm with dWorldStep and 2.4 mm with QuickStep (50 iterations), and an
-  // undamped 7-joint arm steps about 3 times faster with dWorldStep (same timing runs: 0.2 s vs
-  // 0.6 s per 10k steps on a quiet machine). The exact LCP's cubic cost would only show with
-  // many simultaneous contacts, which these scenes lack.
+  // false: dWorldStep (exact LCP); true: dWorldQuickStep. dWorldStep is the default: at the
+  // 1 ms step both meet every core_test accuracy figure alike (pendulum period error 0.0006 %,
+  // energy drift 0.17 % over 10 s), but a stack of three boxes (10 kg on top) sinks 0.4 mm with
+  // dWorldStep and 2.4 mm with QuickStep (50 iterations), and an undamped 7-joint arm steps
+  // about 3 times faster with dWorldStep (0.2 s vs 0.6 s per 10k steps on an idle machine). The
+  // exact LCP's cubic cost would only show with many simultaneous contacts, which these scenes
+  // lack.
   bool quick_step = false;
   bool auto_disable_bodies = false;
   uint32_t sor_pgs_precon_iters = 0;
@@ -192,7 +192,7 @@ class World {
                const Pose& pose, const std::string& reference_frame = "");
   // Folders where SDF's model://NAME URIs are looked up, in this order, as gzserver looks them
   // up in GAZEBO_MODEL_PATH: an <include>d model, a mesh. Relative folders are taken from the
-  // current directory now. Empty until set.
+  // current directory at the time of the call. Empty until set.
   void setModelPath(const std::vector<std::string>& folders);
   Status deleteModel(const std::string& name);
   std::vector<std::string> modelNames() const;  // in spawn order
@@ -250,7 +250,8 @@ class World {
   // Drops every pending job on joints of that bare name (any model).
   void clearJointForces(const std::string& joint);
   // Whether an effort job acts on the joint in the step that starts at t_ns; false for a joint
-  // that does not exist (any more). For the owner to see where a controller's command runs out.
+  // that does not exist, a deleted model's included. For the owner to see where a controller's
+  // command runs out.
   bool jointEffortActive(const std::string& joint, int64_t t_ns) const;
 
   // Wrench on a link, force and torque in reference_frame's orientation, force applied at

@@ -26,7 +26,7 @@ constexpr const char* kWorldLink = "world";
 // (lever arm times force) stay far from overflow; no robot needs more room.
 constexpr double kMaxPosition = 1e6;
 // A collision shape's size, per dimension: a building or a field. A 1e6 m box on a 1 kg body
-// made ODE's contact solver abort the process (dxLDLTRemove).
+// makes ODE's contact solver abort the process (dxLDLTRemove).
 constexpr double kMaxShapeSize = 1e3;  // m
 // A link's mass: 0 (a massless link, carried by the link it is welded to) or 1 mg to 1000 t, a
 // small sensor part to a heavy machine; outside, the mass ratios at a joint leave the solver
@@ -39,8 +39,8 @@ constexpr double kMinMoment = 1e-12, kMaxMoment = 1e9;  // kg m^2
 // applies damping as an explicit effort, so a huge value only makes it unstable.
 constexpr double kMaxJointDamping = 1e6, kMaxJointFriction = 1e6;
 // Links per model. A humanoid has about 50, a long snake robot a few hundred; the world's
-// per-model bookkeeping grows with links times joints, and a 20000-link URDF spent 20000 nested
-// calls (the stack) before this limit.
+// per-model bookkeeping grows with links times joints, and walking a 20000-link URDF takes 20000
+// nested calls, past what the stack holds.
 constexpr size_t kMaxModelLinks = 1000;
 
 struct CollisionDescription {

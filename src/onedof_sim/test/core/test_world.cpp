@@ -11,6 +11,9 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
+
+#include <tinyxml2.h>
 
 #include "onedof_sim/world.h"
 
@@ -22,14 +25,82 @@ constexpr double kStep = 0.001;
 constexpr int64_t kMs = 1000000;  // ns
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The tutorial robot: link2 (m = 1, COM at d = 0.5 from joint1, iyy = 0.1 about the COM).
-constexpr double kMass = 1, kArm = 0.5, kInertiaAboutJoint = 0.1 + kMass * kArm * kArm;
-
 std::string tutorialUrdf() {
   std::ifstream file(ONEDOF_SOURCE_DIR "/src/minimal_robot_description/minimal_robot_description.urdf");
   std::stringstream text;
   text << file.rdbuf();
   return text.str();
+}
+
+// The tutorial robot's figures for the closed forms, read from its URDF, their one source: link2's
+// mass, the distance of its COM from joint1's axis (the arm), its moment of inertia about the
+// axis through its COM, and the height of joint1 above the model frame (link1 is welded to
+// `world` at the model frame). Read with tinyxml2, apart from the loader under test.
+struct TutorialRobotFigures {
+  double mass = 0, arm = 0, inertia_about_com = 0, joint_height = 0;
+  double inertiaAboutJoint() const { return inertia_about_com + mass * arm * arm; }
+};
+
+const tinyxml2::XMLElement& child(const tinyxml2::XMLElement& parent, const char* tag,
+                                  const char* name = nullptr) {
+  for (const tinyxml2::XMLElement* e = parent.FirstChildElement(tag); e;
+       e = e->NextSiblingElement(tag))
+    if (!name || (e->Attribute("name") && std::string(e->Attribute("name")) == name)) return *e;
+  throw std::runtime_error(std::string("the tutorial URDF has no <") + tag + "> " +
+                           (name ? name : "") + " in <" + parent.Name() + ">");
+}
+
+double number(const tinyxml2::XMLElement& element, const char* attribute) {
+  double value = 0;
+  if (element.QueryDoubleAttribute(attribute, &value) != tinyxml2::XML_SUCCESS)
+    throw std::runtime_error(std::string("the tutorial URDF's <") + element.Name() + "> has no " +
+                             attribute);
+  return value;
+}
+
+Vec3 triple(const tinyxml2::XMLElement& element, const char* attribute) {
+  const char* text = element.Attribute(attribute);
+  std::istringstream in(text ? text : "0 0 0");
+  Vec3 v;
+  in >> v.x >> v.y >> v.z;
+  return v;
+}
+
+TutorialRobotFigures readTutorialRobot() {
+  const std::string urdf = tutorialUrdf();
+  tinyxml2::XMLDocument document;
+  if (document.Parse(urdf.c_str()) != tinyxml2::XML_SUCCESS || !document.RootElement())
+    throw std::runtime_error("the tutorial URDF does not parse");
+  const tinyxml2::XMLElement& robot = *document.RootElement();
+  const tinyxml2::XMLElement& joint = child(robot, "joint", "joint1");
+  const tinyxml2::XMLElement& inertial = child(child(robot, "link", "link2"), "inertial");
+  const tinyxml2::XMLElement& inertia = child(inertial, "inertia");
+  const Vec3 joint_rpy = triple(child(joint, "origin"), "rpy");
+  const Vec3 com_rpy = triple(child(inertial, "origin"), "rpy");
+  // The closed forms below take joint1's axis and link2's inertia in the model frame's axes.
+  if (joint_rpy.x != 0 || joint_rpy.y != 0 || joint_rpy.z != 0 || com_rpy.x != 0 ||
+      com_rpy.y != 0 || com_rpy.z != 0)
+    throw std::runtime_error("the tutorial URDF turns joint1's origin or link2's inertial frame");
+  const Vec3 axis = triple(child(joint, "axis"), "xyz");  // unit, in link2's frame
+  const Vec3 com = triple(child(inertial, "origin"), "xyz");  // from joint1, in link2's frame
+  const double along = com.x * axis.x + com.y * axis.y + com.z * axis.z;
+  const Vec3 across{com.x - along * axis.x, com.y - along * axis.y, com.z - along * axis.z};
+  TutorialRobotFigures figures;
+  figures.mass = number(child(inertial, "mass"), "value");
+  figures.arm = std::hypot(across.x, across.y, across.z);
+  // u^T I u for the joint's unit axis u.
+  figures.inertia_about_com =
+      number(inertia, "ixx") * axis.x * axis.x + number(inertia, "iyy") * axis.y * axis.y +
+      number(inertia, "izz") * axis.z * axis.z +
+      2 * (number(inertia, "ixy") * axis.x * axis.y + number(inertia, "ixz") * axis.x * axis.z +
+           number(inertia, "iyz") * axis.y * axis.z);
+  figures.joint_height = triple(child(joint, "origin"), "xyz").z;
+  return figures;
+}
+
+const TutorialRobotFigures& tutorialRobot() {
+  static const TutorialRobotFigures figures = readTutorialRobot();
+  return figures;
 }
 
 // The tutorial robot with joint1 turned into a revolute joint with these limits.
@@ -112,9 +183,10 @@ PhysicsParams withoutGravity() {
   return params;
 }
 
-// The tutorial robot lifted 0.5 m so that link2 hanging down clears the ground.
+// The tutorial robot lifted kLift so that link2 hanging down clears the ground.
+constexpr double kLift = 0.5;
 void spawnLiftedRobot(World* world) {
-  ASSERT_TRUE(world->spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, at(0, 0, 0.5)).ok());
+  ASSERT_TRUE(world->spawn("one_DOF_robot", tutorialUrdf(), ModelFormat::Urdf, at(0, 0, kLift)).ok());
 }
 
 // One fixture per suite, each instantiated for every engine (see the end of the file).
@@ -175,7 +247,9 @@ TEST_P(TutorialRobot, SmallSwingHasTheCompoundPendulumPeriod) {
   World world(GetParam());
   spawnLiftedRobot(&world);
   const double period = smallSwingPeriod(&world);
-  const double expected = 2 * M_PI * std::sqrt(kInertiaAboutJoint / (kMass * kG * kArm));
+  const TutorialRobotFigures& robot = tutorialRobot();
+  const double expected =
+      2 * M_PI * std::sqrt(robot.inertiaAboutJoint() / (robot.mass * kG * robot.arm));
   std::printf("[ figures  ] period %.5f s, expected %.5f s, error %.4f %%\n", period, expected,
               100 * (period / expected - 1));
   EXPECT_NEAR(period, expected, 0.005 * expected);
@@ -187,9 +261,11 @@ TEST_P(TutorialRobot, UndampedSwingKeepsItsEnergy) {
   spawnLiftedRobot(&world);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
   // COM height above its lowest point is d (1 + cos q).
+  const TutorialRobotFigures& robot = tutorialRobot();
   auto energy = [&] {
     const double q = jointPosition(world, "joint1"), w = jointRate(world, "joint1");
-    return 0.5 * kInertiaAboutJoint * w * w + kMass * kG * kArm * (1 + std::cos(q));
+    return 0.5 * robot.inertiaAboutJoint() * w * w +
+           robot.mass * kG * robot.arm * (1 + std::cos(q));
   };
   const double initial = energy();
   double worst = 0;
@@ -205,8 +281,9 @@ TEST_P(TutorialRobot, UndampedSwingKeepsItsEnergy) {
 // 3. Sign convention (axis +y): q > 0 tilts link2 toward +x, gravity's torque about +y is
 // +m g d sin q, so the effort that holds it at q is -m g d sin q.
 TEST_P(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
+  const TutorialRobotFigures& robot = tutorialRobot();
   const double hold = 2.0;
-  const double effort = -kMass * kG * kArm * std::sin(hold);
+  const double effort = -robot.mass * kG * robot.arm * std::sin(hold);
   for (double sign : {1.0, -1.0}) {
     World world(GetParam());
     spawnLiftedRobot(&world);
@@ -232,8 +309,8 @@ TEST_P(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
   spawnLiftedRobot(&world);
   ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {hold}).ok());
   world.step();
-  EXPECT_NEAR(jointRate(world, "joint1"), kStep * kMass * kG * kArm * std::sin(hold) / kInertiaAboutJoint,
-              1e-6);
+  EXPECT_NEAR(jointRate(world, "joint1"),
+              kStep * robot.mass * kG * robot.arm * std::sin(hold) / robot.inertiaAboutJoint(), 1e-6);
 }
 
 // 4. A free prismatic joint along z under gravity: q = -g t^2 / 2. ODE integrates semi-implicitly
@@ -883,7 +960,7 @@ TEST_P(State, SetModelStateMovesTheWholeModel) {
   Twist twist;
   ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &pose, &twist).ok());
   EXPECT_NEAR(pose.position.x, 1, 1e-6);
-  EXPECT_NEAR(pose.position.z, 1.5, 1e-6);
+  EXPECT_NEAR(pose.position.z, 0.5 + tutorialRobot().joint_height, 1e-6);
   EXPECT_NEAR(jointPosition(world, "joint1"), M_PI, 1e-6);
 }
 
@@ -896,7 +973,7 @@ TEST_P(State, SetModelConfigurationPutsTheJointAtTheAngle) {
   Pose pose;
   Twist twist;
   ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &pose, &twist).ok());
-  EXPECT_NEAR(pose.position.z, 1.0, 1e-12);
+  EXPECT_NEAR(pose.position.z, tutorialRobot().joint_height, 1e-12);
   EXPECT_NEAR(pose.orientation.w, std::cos(1.25), 1e-12);
   EXPECT_NEAR(pose.orientation.y, std::sin(1.25), 1e-12);
 }
@@ -951,11 +1028,12 @@ TEST_P(Robustness, HugeEffortNeverProducesNaN) {
   Pose pose;
   Twist twist;
   ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &pose, &twist).ok());
-  // Still on its joint: link2's frame is at the joint, (0, 0, 1.5).
+  // Still on its joint: link2's frame is at the joint, (0, 0, kLift + joint height).
+  const double joint_z = kLift + tutorialRobot().joint_height;
   std::printf("[ figures  ] after 3 s of effort 1e12: joint error %.2e m, rate %.1f rad/s\n",
-              std::hypot(pose.position.x, pose.position.y, pose.position.z - 1.5),
+              std::hypot(pose.position.x, pose.position.y, pose.position.z - joint_z),
               jointRate(world, "joint1"));
-  EXPECT_LT(std::hypot(pose.position.x, pose.position.y, pose.position.z - 1.5), 0.05);
+  EXPECT_LT(std::hypot(pose.position.x, pose.position.y, pose.position.z - joint_z), 0.05);
   EXPECT_FALSE(world.takeWarnings().empty());
 }
 
@@ -992,19 +1070,21 @@ void expectSamePose(const Pose& a, const Pose& b) {
 }
 
 TEST_P(LinkProperties, DoubledMassGivesTheClosedFormPeriod) {
+  const TutorialRobotFigures& robot = tutorialRobot();
   World world(GetParam());
   spawnLiftedRobot(&world);
   LinkInfo link = link2Properties(world);
-  link.mass = 2 * kMass;
+  link.mass = 2 * robot.mass;
   const Status set = world.setLinkProperties("one_DOF_robot::link2", link);
   ASSERT_TRUE(set.ok()) << set;
-  EXPECT_EQ(link2Properties(world).mass, 2 * kMass);
+  EXPECT_EQ(link2Properties(world).mass, 2 * robot.mass);
   const double period = smallSwingPeriod(&world);
-  const double expected = compoundPendulumPeriod(2 * kMass, link.iyy, kArm);
+  const double expected = compoundPendulumPeriod(2 * robot.mass, link.iyy, robot.arm);
   std::printf("[ figures  ] period with link2 at 2 kg %.5f s, expected %.5f s\n", period, expected);
   EXPECT_NEAR(period, expected, 0.005 * expected);
   // The closed form moves by more than the tolerance: the mass did change the swing.
-  EXPECT_GT(std::abs(expected - compoundPendulumPeriod(kMass, link.iyy, kArm)), 0.02 * expected);
+  EXPECT_GT(std::abs(expected - compoundPendulumPeriod(robot.mass, link.iyy, robot.arm)),
+            0.02 * expected);
 }
 
 TEST_P(LinkProperties, MovedCentreOfMassKeepsTheLinksAndGivesTheNewPeriod) {
@@ -1018,8 +1098,9 @@ TEST_P(LinkProperties, MovedCentreOfMassKeepsTheLinksAndGivesTheNewPeriod) {
   const double rate_before = jointRate(world, "joint1");
   const double position_before = jointPosition(world, "joint1");
   LinkInfo link = link2Properties(world);
-  const double arm = 0.8;  // from 0.5: the COM slides along the link, away from joint1
-  link.com.position.z += arm - kArm;
+  const TutorialRobotFigures& robot = tutorialRobot();
+  const double arm = 0.8;  // the COM slides along the link, further from joint1
+  link.com.position.z += arm - robot.arm;
   const Status set = world.setLinkProperties("one_DOF_robot::link2", link);
   ASSERT_TRUE(set.ok()) << set;
   ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &after_pose, &after_twist).ok());
@@ -1030,7 +1111,7 @@ TEST_P(LinkProperties, MovedCentreOfMassKeepsTheLinksAndGivesTheNewPeriod) {
   EXPECT_NEAR(jointPosition(world, "joint1"), position_before, 1e-9);
   EXPECT_NEAR(jointRate(world, "joint1"), rate_before, 1e-9);
   const double period = smallSwingPeriod(&world);
-  const double expected = compoundPendulumPeriod(kMass, link.iyy, arm);
+  const double expected = compoundPendulumPeriod(robot.mass, link.iyy, arm);
   std::printf("[ figures  ] period with link2's COM at %.1f m %.5f s, expected %.5f s\n", arm, period,
               expected);
   EXPECT_NEAR(period, expected, 0.005 * expected);
@@ -1136,7 +1217,7 @@ TEST_P(LinkProperties, WeldedLinksChangeTheirLumpedBodyAndShareOneGravityMode) {
   EXPECT_EQ(split.subject, "gravity_mode");
 }
 
-// --- bad input (issue 12's findings): refused up front with the range, never a crash -------------
+// --- bad input: refused up front with the range, never a crash -------------------------------
 
 // A chain of `links` links welded by fixed joints: one rigid body.
 std::string fixedChainUrdf(int links) {
@@ -1179,7 +1260,8 @@ void expectStillRunning(World* world) {
   EXPECT_NE(jointPosition(*world, "joint1"), before);
 }
 
-// Finding 1: 1e308 in a twist, a position, a reference point or an inertia killed the node.
+// 1e308 in a twist, a position, a reference point or an inertia is finite, yet overflows inside
+// the step, where ODE aborts the process.
 TEST_P(BadInput, HugeButFiniteStatesAndInertialsAreRefusedNamingTheRange) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1220,7 +1302,7 @@ TEST_P(BadInput, HugeButFiniteStatesAndInertialsAreRefusedNamingTheRange) {
   expectStillRunning(&world);
 }
 
-// Finding 2: a 20000-link fixed chain overflowed the stack while the URDF was walked.
+// A 20000-link fixed chain takes 20000 nested calls to walk and would overflow the stack.
 TEST_P(BadInput, ModelSizeIsLimitedAndRefusedBeyond) {
   World world(GetParam());
   expectRejected(world.spawn("chain", fixedChainUrdf(20000), ModelFormat::Urdf, Pose()),
@@ -1231,8 +1313,8 @@ TEST_P(BadInput, ModelSizeIsLimitedAndRefusedBeyond) {
   steps(&world, 10);
 }
 
-// Finding 3: time_step 1e6 ran sim time past ROS time's 32-bit seconds; 1e10 was refused as "under
-// 1 ns" (the nanosecond count overflowed).
+// A time_step of 1e6 runs sim time past ROS time's 32-bit seconds, and 1e10 overflows the
+// nanosecond count: both are refused with the step's range, as are steps too small.
 TEST_P(BadInput, StepOutsideItsRangeIsRefusedWithTheRange) {
   World world(GetParam());
   for (double step : {1e6, 1e10, 1e-7, 0.0}) {
@@ -1246,8 +1328,8 @@ TEST_P(BadInput, StepOutsideItsRangeIsRefusedWithTheRange) {
   EXPECT_EQ(world.params().step, 0.1);
 }
 
-// Finding 5: a force of 1e200 was answered "clamped" but |force| overflowed to infinity and the
-// clamp scaled it to nothing.
+// A force of 1e200: |force| must not overflow to infinity, which would scale the clamped force to
+// nothing; it is applied at its bound, as a merely large force is.
 TEST_P(BadInput, HugeWrenchIsClampedToItsBoundAndApplied) {
   const auto risesAfter = [&](double force, JobOutcome* job) {
     World world(GetParam(), withoutGravity());
@@ -1270,7 +1352,8 @@ TEST_P(BadInput, HugeWrenchIsClampedToItsBoundAndApplied) {
   EXPECT_EQ(huge_speed, large_speed);
 }
 
-// Finding 6: joint1 = 1e17 was accepted and read back as 1e17 for ever while the link swung.
+// joint1 = 1e17: past 1e6 a step's motion is lost in rounding, and the joint would read 1e17 for
+// ever while the link swings.
 TEST_P(BadInput, JointPositionOutOfRangeIsRefused) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1284,8 +1367,8 @@ TEST_P(BadInput, JointPositionOutOfRangeIsRefused) {
   EXPECT_NE(jointPosition(world, "joint1"), 1000.5);
 }
 
-// Finding 7: a link of mass 1e308 (or z 1e308, cfm 1e308) spawned, then every step went
-// non-finite and was undone: the whole world froze.
+// A link of mass 1e308 (or z 1e308, cfm 1e308) would make every step non-finite, and every step
+// undone would freeze the whole world.
 TEST_P(BadInput, InputThatWouldFreezeTheWorldIsRefused) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1307,7 +1390,7 @@ TEST_P(BadInput, InputThatWouldFreezeTheWorldIsRefused) {
   EXPECT_TRUE(world.takeWarnings().empty());
 }
 
-// Finding 8: what the parsers dropped or only printed.
+// What the parsers drop or only print is refused with the reason.
 TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
   World world(GetParam());
   const std::string body = inertial(1, 1, 1, 1);
@@ -1341,7 +1424,7 @@ TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
                           ModelFormat::Sdf, at(0, 0, 1)).ok());
 }
 
-// Finding 9: a model named "one_DOF_robot::link2" took over that frame for other requests.
+// A model named "one_DOF_robot::link2" would take over that frame for other requests.
 TEST_P(BadInput, ModelNamesThatMakeScopedNamesAmbiguousAreRefused) {
   World world(GetParam());
   spawnLiftedRobot(&world);
@@ -1353,8 +1436,8 @@ TEST_P(BadInput, ModelNamesThatMakeScopedNamesAmbiguousAreRefused) {
   EXPECT_EQ(world.modelNames(), std::vector<std::string>{"one_DOF_robot"});
 }
 
-// Finding 10: jobs accumulated without bound, and 500 jobs each clamped to the limit summed far
-// past it.
+// Jobs are bounded in number per joint, and jobs each clamped to the limit are held to it as a
+// sum (500 of them would sum far past it).
 TEST_P(EffortJobs, PendingJobsAreBoundedPerJoint) {
   for (int i = 0; i < 1000; ++i)
     ASSERT_TRUE(world.applyJointEffort("spin", 0.001, 1000 * kMs, -1).ok()) << i;

@@ -1,0 +1,307 @@
+// World's private parts, shared by the files that implement it. Private to the core.
+//
+//   world.cpp             the lifecycle: engine and parameters, spawn and delete, reset, the step
+//   world_models.cpp      building a model's records and engine spec, and placing it
+//   world_state.cpp       lookups, and the state and property getters and setters
+//   world_jobs.cpp        effort and wrench jobs: their bounds, windows and application
+//   world_inertia.cpp     lumping the links welded into one body
+//   world_validation.cpp  the checks of parameters, poses and states; Status formatting
+//
+// Frames. Every link has a link frame (URDF/SDF) and, if it moves, an engine body. Bodies sit at
+// the centre of mass of their links with the axes of their reference link, and each link keeps
+// the exact link-frame pose in its body frame. Links joined by fixed joints share one body (their
+// masses lumped here): a rigid weld is exact that way, where an engine's fixed joint would only
+// be held by error correction and drift. Links fixed to `world` (and all links of a static model)
+// have no body: their collision shapes are anchored to the environment, and joints to them attach
+// to it.
+//
+// Placing a model always goes through the zero configuration first (the engine attaches the
+// joints there, so that they read zero there), then to the wanted joint positions by forward
+// kinematics; see placeModel().
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine.h"
+#include "model_description.h"
+#include "onedof_sim/world.h"
+#include "pose_math.h"
+
+namespace onedof_sim {
+namespace core {
+
+constexpr int64_t kForever = std::numeric_limits<int64_t>::max();
+constexpr const char* kGroundModel = "ground_plane";
+// Gazebo's ground plane surface.
+constexpr double kGroundMu = 100, kGroundMu2 = 50;
+// Above this a link crosses 0.1 m per default step: contacts tunnel and the state means nothing,
+// so it is a blow-up being born, not motion. Nothing in a robot arm gets near it.
+constexpr double kMaxLinearSpeed = 100;
+// At most this many step warnings are kept between two takeWarnings() calls; a stuck model would
+// otherwise fill memory at the step rate.
+constexpr size_t kMaxWarnings = 100;
+// The step: below 1 us a second of sim time takes a million steps, hours of wall time for motion
+// no robot has; above 0.1 s the angular speed cap (0.1 rad per step) falls to 1 rad/s, too slow
+// for the tutorial's pendulum to swing.
+constexpr double kMinStep = 1e-6, kMaxStep = 0.1;  // s
+// Sim time ends where ROS time does (32-bit seconds): /clock and every stamp would overflow.
+constexpr int64_t kEndOfTimeNs = int64_t(0xffffffff) * 1000000000;
+// Pending effort jobs per joint and wrench jobs per link. A controller keeps one or two pending
+// (the book's: 10 ms jobs at 100 Hz); 1000 leave room for a queued sequence, while each step
+// looks at every job, so an endless queue (50000 jobs: real-time factor 0.59) slows the world.
+constexpr size_t kMaxPendingJobs = 1000;
+
+// Engines integrate rotation linearly, so a link turning by more than about 0.1 rad per step
+// leaves its joints visibly apart (the chord error is r * angle^2 / 2 per step, and error
+// correction only removes a fifth of it per step). 0.1 rad per step is 100 rad/s at 1 kHz, well
+// above any robot joint. It also keeps the joint unwrapping (which adds wrap(raw - last_raw) each
+// step) far from its limit of pi per step.
+inline double maxAngularSpeed(double step) { return 0.1 / step; }
+// A joint effort or body wrench may take its bodies from rest to the speed caps in no fewer steps
+// than this: past that the caps would clip every step and the joints come apart. A real actuator
+// is orders of magnitude weaker.
+constexpr double kStepsToSpeedCap = 10;
+
+struct LinkRecord {
+  LinkDescription desc;
+  int parent_joint = -1;
+  int body = -1;                  // -1: anchored to the static environment
+  bool sets_body_pose = false;    // the reference link of its body: the one that places it
+  Pose link_in_body;              // exact link frame in the body (COM) frame
+  Pose anchored_pose;             // world pose, when anchored
+  int first_anchored_shape = -1;  // its collisions' index in ModelSpec::anchored_shapes
+};
+
+struct JointRecord {
+  JointDescription desc;
+  int parent = -1;        // link index; -1: the static environment (`world`)
+  int child = -1;
+  int engine_joint = -1;  // -1 for fixed joints: those are welded bodies or anchored links
+  double position = 0;    // unwrapped
+  double last_raw = 0;    // the engine's wrapped reading at the last update
+  std::vector<int> moved_bodies;  // the bodies below the joint
+};
+
+struct ModelRecord {
+  std::string name;
+  bool is_static = false;
+  std::vector<LinkRecord> links;  // parents before children
+  std::vector<JointRecord> joints;
+  std::vector<BodySpec> bodies;   // mass and inertia, for the effort bounds
+  std::unique_ptr<EngineModel> engine_model;
+  size_t canonical = 0;
+  Pose frame_pose;  // world pose of the model frame, where joints to `world` are anchored
+  Pose spawn_pose;
+  bool velocity_capped = false;  // warned already, until a step passes without capping
+  bool blown_up = false;  // the last step left it non-finite: held, its jobs not applied
+  int64_t last_blow_up_warning_ns = -1;
+};
+
+struct JointEffortJob {
+  const ModelRecord* model;
+  size_t joint;
+  double effort;
+  int64_t start_ns, end_ns;  // window [start, end)
+};
+
+// An effort for the coming step alone (World::setJointEffortCommand), already clamped.
+struct JointEffortCommand {
+  const ModelRecord* model;
+  size_t joint;
+  double effort;
+};
+
+struct BodyWrenchJob {
+  const ModelRecord* model;
+  size_t link;
+  std::string reference_frame;
+  Vec3 point, force, torque;
+  int64_t start_ns, end_ns;
+};
+
+struct BodyState {
+  EngineModel* model;
+  int body;
+  Pose pose;
+  Twist twist;
+};
+
+// --- world_models.cpp ------------------------------------------------------------------------
+
+ShapeSpec shapeSpec(const CollisionDescription& collision);
+// The link that places a moving body: the first of the links welded into it.
+const LinkRecord& referenceLink(const ModelRecord& model, int body);
+
+// --- world_inertia.cpp -----------------------------------------------------------------------
+
+// u^T I u for a unit axis u given in the tensor's frame.
+double momentAbout(const BodySpec& body, const Vec3& u);
+
+// Why the links welded into a body make no rigid body, or none the engines can step (Limits).
+enum class LumpFault { None, NoMass, NotPositiveDefinite, MomentOutOfRange };
+
+// One body from the inertials of the links welded into it: the lumped mass, the inertia about the
+// lumped centre of mass in the reference link's axes, the reference link's gravity mode and every
+// link's collisions. On success, also places each of its links in the new body frame
+// (link_in_body); on a fault, changes nothing.
+LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out);
+
+// --- world_validation.cpp --------------------------------------------------------------------
+
+bool isFinite(const Twist& t);
+// OutOfRange for the field, with the accepted range.
+Status outOfRange(std::string field, double min, double max);
+// The refusals of World::setParams.
+Status validateParams(const PhysicsParams& p);
+// Each coordinate within kMaxPosition.
+bool withinPosition(const Vec3& v);
+// A pose the world can place something at.
+Status checkPose(const Pose& pose);
+// A pose and twist to set a model or link to: speeds up to the caps the step holds every model
+// to (guardStates), which a larger one would only meet clipped.
+Status checkState(const Pose& pose, const Twist& twist, double step);
+
+}  // namespace core
+
+// World's parts are written against the core's private types (every file that includes this
+// one implements World).
+using namespace core;
+
+struct World::Impl {
+  std::string engine_name;
+  std::unique_ptr<Engine> engine;
+  PhysicsParams params;
+  int64_t step_ns = 0;
+  int64_t time_ns = 0;
+  uint64_t steps = 0;
+  std::vector<std::unique_ptr<ModelRecord>> models;  // spawn order; records never move
+  std::vector<JointEffortJob> joint_jobs;
+  std::vector<JointEffortCommand> joint_commands;  // for the next step only
+  std::vector<BodyWrenchJob> wrench_jobs;
+  std::vector<std::string> warnings;
+  std::vector<BodyState> saved_states;
+  bool engine_struggled = false;  // warned already, until a step passes without a solver message
+  bool time_ended = false;        // warned already that sim time reached kEndOfTimeNs
+  std::vector<std::string> model_path;  // absolute
+
+  Impl(const std::string& name, const PhysicsParams& p);
+  ~Impl();
+
+  // --- lifecycle and stepping (world.cpp) ----------------------------------------------------
+
+  void applyParams(const PhysicsParams& p);
+  void warn(const std::string& text);
+  void destroyModel(size_t index);
+
+  template <typename Predicate>
+  void dropJobs(Predicate on_model) {
+    joint_jobs.erase(std::remove_if(joint_jobs.begin(), joint_jobs.end(),
+                                    [&](const JointEffortJob& j) { return on_model(j.model); }),
+                     joint_jobs.end());
+    joint_commands.erase(
+        std::remove_if(joint_commands.begin(), joint_commands.end(),
+                       [&](const JointEffortCommand& c) { return on_model(c.model); }),
+        joint_commands.end());
+    wrench_jobs.erase(std::remove_if(wrench_jobs.begin(), wrench_jobs.end(),
+                                     [&](const BodyWrenchJob& j) { return on_model(j.model); }),
+                      wrench_jobs.end());
+  }
+
+  void applyDamping();
+  void saveStates();
+  bool isBlownUp(const ModelRecord& model) const;
+
+  // One engine step from the saved states. A non-finite state is unrecoverable for an engine,
+  // and a step moves all models at once, so a step that blows a model up is undone and redone
+  // with that model at rest and its jobs left out: the rest of the world runs on. A model the
+  // step leaves non-finite is held where the step started, at rest, and takes part in the next
+  // step again (as at first: a model that blew up once is usually only too fast); the first
+  // finite step releases it. Logged at most once per model per second of sim time: a model that
+  // keeps blowing up would otherwise log at the step rate.
+  void stepEngine();
+  void holdAtSavedState(const ModelRecord& model);
+
+  // After the engine step (stepEngine): every model's speed is capped (see kMaxLinearSpeed and
+  // maxAngularSpeed), scaling all its bodies alike so that its joints stay consistent.
+  void guardStates();
+  void step();
+
+  // --- state of links and joints, lookups (world_state.cpp) ----------------------------------
+
+  Pose linkWorldPose(const ModelRecord& model, const LinkRecord& link) const;
+  Twist linkWorldTwist(const ModelRecord& model, const LinkRecord& link) const;
+  double jointRate(const ModelRecord& model, const JointRecord& joint) const;
+
+  // The joint's anchor and axis in the world as the child sits now.
+  JointFrame jointFrame(const ModelRecord& model, const JointRecord& joint) const;
+  void updateJointPositions(ModelRecord* model);
+  ModelRecord* findModel(const std::string& name) const;
+
+  // "model::link"; nested SDF link names contain "::" too, so match the model name as a prefix.
+  bool findLink(const std::string& scoped, ModelRecord** model, size_t* link) const;
+
+  // Scoped "model::joint" first, then the bare name in spawn order.
+  bool findJoint(const std::string& name, ModelRecord** model, size_t* joint) const;
+
+  // World pose and twist of an entity used as a reference frame: "" or "world", a model (its
+  // canonical link frame) or a scoped link.
+  bool resolveFrame(const std::string& name, Pose* pose, Twist* twist) const;
+
+  // --- building and placing (world_models.cpp) ----------------------------------------------
+
+  // Everything that can fail is checked here, before the engine sees the model, so that a
+  // refused spawn leaves the world as it was. Fills the link/joint records and the engine's spec.
+  Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec) const;
+
+  // World poses of all links at joint positions q, with joints to `world` anchored at the model
+  // frame pose and each free root link (no parent joint) at root_poses[link].
+  std::vector<Pose> forwardKinematics(const ModelRecord& model, const Pose& frame_pose,
+                                      const std::vector<Pose>& root_poses,
+                                      const std::vector<double>& q) const;
+
+  // The bodies' poses for the links' poses; anchored links take theirs (and their shapes) now.
+  std::vector<Pose> placeLinks(ModelRecord* model, const std::vector<Pose>& poses);
+
+  // Puts the model at joint positions q (fixed joints ignored) with zero velocity.
+  void placeModel(ModelRecord* model, const Pose& frame_pose, const std::vector<Pose>& root_poses,
+                  const std::vector<double>& q);
+  std::vector<Pose> currentLinkPoses(const ModelRecord& model) const;
+
+  // Gives a moving link a new inertial and its body the new lump; the links keep their poses and
+  // velocities, the body frame (at the new centre of mass) moves under them.
+  Status reweighLink(ModelRecord* model, size_t index, const LinkDescription& desc);
+  std::vector<double> currentPositions(const ModelRecord& model) const;
+  void resetModel(ModelRecord* model);
+
+  // --- jobs (world_jobs.cpp) -----------------------------------------------------------------
+
+  // The largest effort that, on the bodies below the joint taken as one rigid body, reaches the
+  // speed cap from rest in kStepsToSpeedCap steps. The real (articulated) inertia can only be
+  // smaller, so this is not a guarantee; the per-step speed cap and the non-finite rollback catch
+  // the rest.
+  double safeEffortBound(const ModelRecord& model, const JointRecord& joint) const;
+
+  // Overlapping jobs on a joint sum; the sum is held to what one job may be (applyJointEffort):
+  // the joint's effort limit and the bound on its bodies. Blown-up models are held (guardStates).
+  void applyJobs(int64_t t);
+  void dropExpiredJobs(int64_t next_step_start);
+
+  // The joint an effort job or command is for, or why it cannot have one.
+  Status effortTarget(const std::string& joint_name, double effort, ModelRecord** model,
+                      size_t* index) const;
+
+  // What one job or command may be: the joint's effort limit, then the bound on its bodies.
+  double clampEffort(const ModelRecord& model, const JointRecord& joint, double effort,
+                     JobOutcome* done) const;
+
+  // The job window for the contract's rules, or false for a zero duration (outcome->queued).
+  bool jobWindow(int64_t start_ns, int64_t duration_ns, int64_t* start, int64_t* end,
+                 JobOutcome* outcome) const;
+};
+
+}  // namespace onedof_sim
