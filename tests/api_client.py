@@ -7,7 +7,7 @@ windows are exact only on the step grid), and running the paused world for a kno
 import math
 
 from conftest import TUTORIAL_URDF
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 ROBOT = 'one_DOF_robot'
 STEP_NS = 1000000  # the default 1 ms step

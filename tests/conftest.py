@@ -19,8 +19,8 @@ import tempfile
 
 import pytest
 
+from onedof_harness.private_ros import PrivateRos, wait_until
 from onedof_sim.engines import engine_names, node_command
-from onedof_sim.private_ros import PrivateRos, wait_until
 
 WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',

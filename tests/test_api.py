@@ -17,7 +17,7 @@ from api_client import (BOX_SDF, FOREVER_NS, GRAVITY, LINK2_COM, LINK2_INERTIA, 
                         SERVICE_TYPES, STEP_NS, GazeboApi, pendulum_period, pose, ros_duration, ros_time,
                         tutorial_urdf)
 from conftest import start_sim
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 # Noetic's gazebo_msgs (gazebo_ros_pkgs noetic-devel), every type: the sums genmsg computes from
 # its definitions (cross-checked against the sums in code generated from the real package).

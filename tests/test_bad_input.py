@@ -123,7 +123,7 @@ def _publish_until_read(api, topic, message_type, message):
     (a topic has no reply: the node's log is its only answer)."""
     import rospy
     from rosgraph_msgs.msg import Log
-    from onedof_sim.private_ros import wait_until
+    from onedof_harness.private_ros import wait_until
     logged = []
     log = rospy.Subscriber('/rosout_agg', Log, lambda entry: logged.append(entry.msg))
     publisher = rospy.Publisher(topic, message_type, queue_size=1, latch=True)

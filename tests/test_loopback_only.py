@@ -12,7 +12,7 @@ import socket
 import pytest
 
 from listening import WILDCARD, listening_sockets, process_tree
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial.player import RvizView
 
 

@@ -10,7 +10,7 @@ import pytest
 
 from api_client import ROBOT, GazeboApi, pose
 from conftest import ENGINES, TUTORIAL_URDF, WORKSPACE, start_sim
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
 PACKAGE_MODELS = os.path.join(WORKSPACE, 'src', 'onedof_sim', 'models')

@@ -18,7 +18,7 @@ import pytest
 from api_client import GazeboApi
 from conftest import running_graph
 from listening import listening_sockets, process_tree
-from onedof_sim.private_ros import PrivateRos, listening_environment, wait_until
+from onedof_harness.private_ros import PrivateRos, listening_environment, wait_until
 from onedof_sim.tutorial import physics
 from test_controller import Topic
 

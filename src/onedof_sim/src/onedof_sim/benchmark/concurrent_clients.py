@@ -16,8 +16,8 @@ import os
 import subprocess
 import time
 
+from onedof_harness.private_ros import PrivateRos, wait_until
 from onedof_sim.engines import engine_names, node_command
-from onedof_sim.private_ros import PrivateRos, wait_until
 
 BOX_SDF = ('<?xml version="1.0"?><sdf version="1.6"><model name="box"><link name="body">'
            '<inertial><mass>1</mass><inertia><ixx>0.00667</ixx><iyy>0.00667</iyy>'

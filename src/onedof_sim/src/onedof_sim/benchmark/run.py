@@ -26,11 +26,12 @@ import xmlrpc.client
 
 import rospkg
 
+from onedof_harness import book_client
+from onedof_harness.busy import busy_processes
+from onedof_harness.private_ros import PrivateRos, wait_until
 from onedof_sim.benchmark import report as bm
 from onedof_sim.engines import engine_names, node_command
-from onedof_sim.private_ros import PrivateRos, wait_until
-from onedof_sim.tools import book_client, workspace_root
-from onedof_sim.tools.busy import busy_processes
+from onedof_sim.tools import workspace_root
 from onedof_sim.tutorial import player
 
 # The engine whose physics library pybullet wraps: its node is also set against bare pybullet.

@@ -1,6 +1,5 @@
 """Command-line tools beside the simulator node: plot (rqt_plot's syntax) and spawn_cli
-(spawn_model's arguments and model sources); and what the tests and the benchmark both run:
-book_client (the book-shaped C++ client's overlay build), busy (CPU-bound processes)."""
+(spawn_model's arguments and model sources)."""
 import os
 
 import rospkg

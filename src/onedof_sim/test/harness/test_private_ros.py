@@ -10,8 +10,8 @@ import xmlrpc.server
 
 import pytest
 
-from onedof_sim import private_ros
-from onedof_sim.private_ros import PrivateRos, ProcessExited, free_port, is_descendant
+from onedof_harness import private_ros
+from onedof_harness.private_ros import PrivateRos, ProcessExited, free_port, is_descendant
 
 
 def ports_taken_first(monkeypatch, taken):
