@@ -8,3 +8,9 @@ import rospkg
 def workspace_root():
     """The catkin workspace this package is built from (<workspace>/src/onedof_sim)."""
     return os.path.dirname(os.path.dirname(rospkg.RosPack().get_path('onedof_sim')))
+
+
+def workspace_venv_bin():
+    """bin/ of the workspace venv (make venv), where pybullet's python and py-spy live: rosrun
+    runs the tools under the system python, which has neither."""
+    return os.path.join(workspace_root(), '.venv', 'bin')
