@@ -28,7 +28,7 @@ from onedof_sim.benchmark import (busy_machine, lockstep_speed, loop_speed, real
                                   round_trips, scaling, startup)
 from onedof_sim.benchmark import report as bm
 from onedof_sim.benchmark.graph import Bench, read_file, say
-from onedof_sim.engines import engine_names
+from onedof_sim.engines import default_engine, engine_names
 
 
 @dataclasses.dataclass
@@ -123,7 +123,7 @@ def items(bench, engines, sizes):
     # The controller's loop is measured on the default engine, the others' pacing alone.
     found += [({4, 5}, '4, 5 control loop and pacing, ' + e,
                lambda e=e: real_time_factor.measure(bench, e, sizes.pacing_s,
-                                                    control=e == engine_names()[0]))
+                                                    control=e == default_engine()))
               for e in engines]
     # Lock-step on the run's first engine (the default unless --engines says otherwise): the
     # controller sets the pace, not the engine.
