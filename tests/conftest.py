@@ -178,9 +178,10 @@ def rospy_client(ros):
     return init_rospy(ros)
 
 
-def start_sim(ros, engine=ENGINES[0], args=(), wait=True):
-    """Starts the simulator node of `engine` and waits until it serves its last service."""
-    proc = ros.start(node_command(engine) + list(args), name='sim_' + engine)
+def start_sim(ros, engine=ENGINES[0], args=(), wait=True, env=None):
+    """Starts the simulator node of `engine` (with `env` added to the graph's environment) and
+    waits until it serves its last service."""
+    proc = ros.start(node_command(engine) + list(args), name='sim_' + engine, env=env)
     if wait:
         wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'),
                    60, what='the %s simulator to serve /gazebo/unpause_physics' % engine)
