@@ -31,7 +31,7 @@ ENGINES = engine_names()
 
 def pytest_configure(config):
     # Started in the background by a non-interactive shell, the suite inherits SIGINT ignored and
-    # so would every node it starts: Ctrl-C (SIGINT) would no longer stop them, as it does in a
+    # so would every node it starts: Ctrl-C (SIGINT) would not stop them, as it does in a
     # user's terminal. A handler is reset to the default in the programs this process starts.
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)

@@ -1,4 +1,4 @@
-"""ros_control inside the simulator (issue 13), over real ROS on every engine: a URDF carrying
+"""ros_control inside the simulator, over real ROS on every engine: a URDF carrying
 gazebo_ros_control's plugin tag gets controller_manager's services in its robotNamespace, the
 book's controllers run inside the step loop, and bad configurations are refused with the
 simulator alive.

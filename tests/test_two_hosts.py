@@ -1,4 +1,4 @@
-"""ROS across two hosts (issue 12, item 3): the simulator and the tutorial's controller on two
+"""ROS across two hosts: the simulator and the tutorial's controller on two
 network namespaces joined by a virtual link, as on two machines, set up as docker/compose.yaml
 sets up its two services.
 

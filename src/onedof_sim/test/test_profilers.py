@@ -1,4 +1,4 @@
-"""The benchmark's profilers (issue 12 item 4): `make setup` installs both (perf from linux-perf,
+"""The benchmark's profilers: `make setup` installs both (perf from linux-perf,
 py-spy in the venv) and they work; a missing one is said plainly, never a failure. Run on a
 spinning process, so the profiling path is tested on every run, not only when a busy machine
 makes the benchmark miss an aim."""

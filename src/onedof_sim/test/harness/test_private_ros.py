@@ -1,6 +1,5 @@
-"""The private roscore never takes someone else's port for its own (issue 12, finding 1): the port
-it chose can be taken between choosing and binding it. A wait notices at once when a process the
-graph started dies (issue 12, item 5)."""
+"""The private roscore never takes someone else's port for its own: the port it chose can be taken
+between choosing and binding it. A wait notices at once when a process the graph started dies."""
 import os
 import socket
 import subprocess

@@ -1,4 +1,4 @@
-"""Issue 12, finding 12: N clients, each spawning and deleting boxes back to back on fresh
+"""Many clients at once: N clients, each spawning and deleting boxes back to back on fresh
 connections (a service lookup at the roscore and a new TCP connection per call, as rosservice and
 a non-persistent rospy ServiceProxy do), for a bounded time. Counts the calls, the failures by
 service and reason, the models left behind, and the kernel's listen-queue overflows (its counters
