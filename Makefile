@@ -23,7 +23,8 @@ BUILD ?= build
 DEVEL ?= devel
 STAMPS := $(WS)/.make/$(BUILD)
 OUTPUT ?= $(WS)/output
-PHYSICS ?= ode
+# The engine of `make tutorial`; empty: the simulator's default (the first of its --list-physics).
+PHYSICS ?=
 PYTEST_ARGS ?=
 
 # Every command the targets and tests run, with its Debian package (or requirements.txt).
@@ -95,7 +96,7 @@ $(STAMPS)/build: $(SOURCES) $(WS)/Makefile | deps venv
 
 # The main job: the whole tutorial, headless, into $(OUTPUT).
 tutorial: setup
-	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim play_tutorial --output $(OUTPUT) --physics $(PHYSICS)
+	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim play_tutorial --output $(OUTPUT) $(if $(PHYSICS),--physics $(PHYSICS))
 
 # Every test: Python unit tests in the packages, the gtests (collected by tests/conftest.py) and
 # the end-to-end tests over real nodes, on private roscores (README, Testing).

@@ -7,17 +7,11 @@ windows are exact only on the step grid), and running the paused world for a kno
 import math
 
 from conftest import TUTORIAL_URDF
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
+from onedof_sim.tutorial import physics
 
 ROBOT = 'one_DOF_robot'
 STEP_NS = 1000000  # the default 1 ms step
-
-# Pendulum link2 about joint1 (tutorial URDF): inertia about the axis Iyy + m d^2, gravity torque
-# m g d sin q about +y.
-LINK2_MASS = 1.0
-LINK2_COM = 0.5
-LINK2_INERTIA = 0.1 + LINK2_MASS * LINK2_COM ** 2
-GRAVITY = 9.8
 
 SERVICE_TYPES = {
     'get_joint_properties': 'GetJointProperties', 'apply_joint_effort': 'ApplyJointEffort',
@@ -151,9 +145,9 @@ class GazeboApi:
         return self.run_until(self.sim_time_ns() + duration_ns, timeout)
 
 
-def pendulum_period(amplitude, mass=LINK2_MASS):
+def pendulum_period(amplitude, mass=physics.MASS):
     """Period of link2 (of that mass, inertia about its COM unchanged) swinging about its lowest
     point, with the first amplitude correction."""
-    inertia = LINK2_INERTIA + (mass - LINK2_MASS) * LINK2_COM ** 2
-    small = 2 * math.pi * math.sqrt(inertia / (mass * GRAVITY * LINK2_COM))
+    inertia = physics.INERTIA_ABOUT_JOINT + (mass - physics.MASS) * physics.COM_DISTANCE ** 2
+    small = 2 * math.pi * math.sqrt(inertia / (mass * physics.GRAVITY * physics.COM_DISTANCE))
     return small * (1 + amplitude ** 2 / 16)

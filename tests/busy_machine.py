@@ -12,7 +12,7 @@ import signal
 import subprocess
 import sys
 
-from onedof_sim.tools.busy import busy_processes
+from onedof_harness.busy import busy_processes
 
 
 def run_beside_spinners(command, processes, max_seconds):

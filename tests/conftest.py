@@ -19,8 +19,8 @@ import tempfile
 
 import pytest
 
+from onedof_harness.private_ros import PrivateRos, wait_until
 from onedof_sim.engines import engine_names, node_command
-from onedof_sim.private_ros import PrivateRos, wait_until
 
 WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
@@ -31,7 +31,7 @@ ENGINES = engine_names()
 
 def pytest_configure(config):
     # Started in the background by a non-interactive shell, the suite inherits SIGINT ignored and
-    # so would every node it starts: Ctrl-C (SIGINT) would no longer stop them, as it does in a
+    # so would every node it starts: Ctrl-C (SIGINT) would not stop them, as it does in a
     # user's terminal. A handler is reset to the default in the programs this process starts.
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
@@ -178,9 +178,10 @@ def rospy_client(ros):
     return init_rospy(ros)
 
 
-def start_sim(ros, engine=ENGINES[0], args=(), wait=True):
-    """Starts the simulator node of `engine` and waits until it serves its last service."""
-    proc = ros.start(node_command(engine) + list(args), name='sim_' + engine)
+def start_sim(ros, engine=ENGINES[0], args=(), wait=True, env=None):
+    """Starts the simulator node of `engine` (with `env` added to the graph's environment) and
+    waits until it serves its last service."""
+    proc = ros.start(node_command(engine) + list(args), name='sim_' + engine, env=env)
     if wait:
         wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'),
                    60, what='the %s simulator to serve /gazebo/unpause_physics' % engine)

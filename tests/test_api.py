@@ -13,11 +13,11 @@ import time
 
 import pytest
 
-from api_client import (BOX_SDF, FOREVER_NS, GRAVITY, LINK2_COM, LINK2_INERTIA, LINK2_MASS, ROBOT,
-                        SERVICE_TYPES, STEP_NS, GazeboApi, pendulum_period, pose, ros_duration, ros_time,
-                        tutorial_urdf)
+from api_client import (BOX_SDF, FOREVER_NS, ROBOT, SERVICE_TYPES, STEP_NS, GazeboApi, pendulum_period,
+                        pose, ros_duration, ros_time, tutorial_urdf)
 from conftest import start_sim
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
+from onedof_sim.tutorial import physics
 
 # Noetic's gazebo_msgs (gazebo_ros_pkgs noetic-devel), every type: the sums genmsg computes from
 # its definitions (cross-checked against the sums in code generated from the real package).
@@ -187,7 +187,7 @@ def test_small_swing_period_matches_closed_form(shared_sim, api):
 def test_constant_effort_holds_link_at_balance(shared_sim, api):
     api.spawn_robot()
     balance = 2.5  # on the stable side of the horizontal
-    effort = -LINK2_MASS * GRAVITY * LINK2_COM * math.sin(balance)
+    effort = -physics.MASS * physics.GRAVITY * physics.COM_DISTANCE * math.sin(balance)
     assert api.set_model_configuration(ROBOT, '', ['joint1'], [balance]).success
     res = api.apply_joint_effort('joint1', effort, ros_time(0), ros_duration(FOREVER_NS))
     assert res.success, res.status_message
@@ -210,7 +210,8 @@ def weightless(shared_sim, api):
 
 
 def step_effort(steps):
-    """Rate gained by link2 under effort LINK2_INERTIA for `steps` steps of 1 ms: 1e-3 per step."""
+    """Rate gained by link2 under an effort equal to its inertia about joint1, for `steps` steps of
+    1 ms: 1e-3 per step."""
     return steps * 1e-3
 
 
@@ -225,7 +226,7 @@ def apply(api, effort, start_ns, duration_ns, joint='joint1'):
 def test_10ms_job_acts_on_exactly_10_steps(weightless):
     api = weightless
     start = aligned_future(api)
-    res = apply(api, LINK2_INERTIA, start, 10 * STEP_NS)
+    res = apply(api, physics.INERTIA_ABOUT_JOINT, start, 10 * STEP_NS)
     assert (res.success, res.status_message) == (True, EFFORT_SET)
     api.run_until(start + 50 * STEP_NS)
     assert api.joint()[1] == pytest.approx(step_effort(10), abs=1e-7)
@@ -233,7 +234,7 @@ def test_10ms_job_acts_on_exactly_10_steps(weightless):
 
 def test_job_starting_in_the_past_starts_now(weightless):
     api = weightless
-    assert apply(api, LINK2_INERTIA, 0, 10 * STEP_NS).success  # start 0: now
+    assert apply(api, physics.INERTIA_ABOUT_JOINT, 0, 10 * STEP_NS).success  # start 0: now
     api.run_for(50 * STEP_NS)
     assert api.joint()[1] == pytest.approx(step_effort(10), abs=1e-7)
 
@@ -242,7 +243,7 @@ def test_back_to_back_jobs_give_a_constant_torque(weightless):
     api = weightless
     start = aligned_future(api)
     for k in range(5):  # a 100 Hz controller's jobs, each 10 ms
-        assert apply(api, LINK2_INERTIA, start + k * 10 * STEP_NS, 10 * STEP_NS).success
+        assert apply(api, physics.INERTIA_ABOUT_JOINT, start + k * 10 * STEP_NS, 10 * STEP_NS).success
     paused_at = api.run_until(start + 25 * STEP_NS)
     steps = min((paused_at - start) // STEP_NS, 50)  # mid-way: one effort per step so far
     assert api.joint()[1] == pytest.approx(step_effort(steps), abs=1e-7)
@@ -254,8 +255,8 @@ def test_back_to_back_jobs_give_a_constant_torque(weightless):
 def test_two_jobs_on_one_joint_sum(weightless):
     api = weightless
     start = aligned_future(api)
-    assert apply(api, 0.25 * LINK2_INERTIA, start, 10 * STEP_NS).success
-    assert apply(api, 0.75 * LINK2_INERTIA, start + 5 * STEP_NS, 10 * STEP_NS).success
+    assert apply(api, 0.25 * physics.INERTIA_ABOUT_JOINT, start, 10 * STEP_NS).success
+    assert apply(api, 0.75 * physics.INERTIA_ABOUT_JOINT, start + 5 * STEP_NS, 10 * STEP_NS).success
     api.run_until(start + 50 * STEP_NS)
     assert api.joint()[1] == pytest.approx(0.25 * step_effort(10) + 0.75 * step_effort(10),
                                            abs=1e-7)
@@ -263,7 +264,7 @@ def test_two_jobs_on_one_joint_sum(weightless):
 
 def test_endless_job_acts_until_cleared(weightless):
     api = weightless
-    res = api.apply_joint_effort('joint1', LINK2_INERTIA, ros_time(0),
+    res = api.apply_joint_effort('joint1', physics.INERTIA_ABOUT_JOINT, ros_time(0),
                                  ros_duration(FOREVER_NS))  # duration -1 s
     assert res.success, res.status_message
     api.run_for(30 * STEP_NS)
@@ -277,7 +278,7 @@ def test_endless_job_acts_until_cleared(weightless):
 
 def test_zero_duration_job_does_nothing_and_says_so(weightless):
     api = weightless
-    res = apply(api, LINK2_INERTIA, 0, 0)
+    res = apply(api, physics.INERTIA_ABOUT_JOINT, 0, 0)
     assert res.success and res.status_message.startswith('ApplyJointEffort: ')
     assert res.status_message != EFFORT_SET, 'status_message must say nothing was queued'
     api.run_for(30 * STEP_NS)
@@ -287,7 +288,7 @@ def test_zero_duration_job_does_nothing_and_says_so(weightless):
 def test_job_shorter_than_a_step_acts_on_one_step_and_says_so(weightless):
     api = weightless
     start = aligned_future(api)
-    res = apply(api, LINK2_INERTIA, start, 400000)  # 0.4 ms
+    res = apply(api, physics.INERTIA_ABOUT_JOINT, start, 400000)  # 0.4 ms
     assert res.success and res.status_message.startswith('ApplyJointEffort: ')
     assert res.status_message != EFFORT_SET, 'status_message must say it acts for one step'
     api.run_until(start + 30 * STEP_NS)
@@ -768,13 +769,13 @@ def joint_config(**fields):
 def test_set_joint_properties_damping_acts(shared_sim, api):
     api.spawn_robot()
     api.set_gravity(0, 0, 0)
-    res = api.set_joint_properties('joint1', joint_config(damping=[LINK2_INERTIA]))
+    res = api.set_joint_properties('joint1', joint_config(damping=[physics.INERTIA_ABOUT_JOINT]))
     assert (res.success, res.status_message) == (True, 'SetJointProperties: properties set')
-    assert api.get_joint_properties('joint1').damping == (LINK2_INERTIA,)
+    assert api.get_joint_properties('joint1').damping == (physics.INERTIA_ABOUT_JOINT,)
     # A kick of 1 rad/s decays as exp(-t) under damping I. The world pauses some steps after the
     # time asked for (later on a busy machine), so the decay is taken at the times it paused at.
     start = aligned_future(api)
-    assert apply(api, LINK2_INERTIA * 1000.0, start, STEP_NS).success
+    assert apply(api, physics.INERTIA_ABOUT_JOINT * 1000.0, start, STEP_NS).success
     first_ns = api.run_until(start + STEP_NS)
     first = api.joint()[1]
     assert first == pytest.approx(math.exp(-(first_ns - start - STEP_NS) * 1e-9), rel=0.01)
@@ -817,7 +818,7 @@ def test_set_link_properties_changes_the_swing_and_refuses_what_no_body_has(shar
     props = api.get_link_properties(link)
     res = api.set_link_properties(link_name=link, **link_properties_request(props))
     assert (res.success, res.status_message) == (True, 'SetLinkProperties: properties set')
-    heavy = 2 * LINK2_MASS
+    heavy = 2 * physics.MASS
     res = api.set_link_properties(link_name=link, **link_properties_request(props, mass=heavy))
     assert (res.success, res.status_message) == (True, 'SetLinkProperties: properties set')
     assert api.get_link_properties(link).mass == heavy

@@ -1,5 +1,5 @@
-"""Bad input over real ROS (issue 12's findings 1-10): the node answers with what is wrong, naming
-the field and the accepted range, keeps its world as it was and goes on answering and stepping.
+"""Bad input over real ROS: the node answers with what is wrong, naming the field and the accepted
+range, keeps its world as it was and goes on answering and stepping.
 
 One simulator per engine serves the whole module (conftest's shared_sim), started paused; before
 each test the world is reset to the tutorial robot alone with the default physics.
@@ -71,13 +71,13 @@ def spawn_urdf(api, name, urdf, z=0.0):
     return api.spawn_urdf_model(name, urdf, '', pose(z=z), '')
 
 
-# --- finding 1: one accepted request killed the node ------------------------------------------
+# --- huge but finite values: refused, the node keeps serving -------------------------------------
 
 def test_huge_but_finite_values_are_refused_naming_the_field_and_range(api):
     from gazebo_msgs.msg import LinkState, ModelState
     before = world_state(api)
     state = ModelState(model_name=ROBOT, pose=pose())
-    state.twist.linear.x = 1.0e308  # the issue's rosservice call
+    state.twist.linear.x = 1.0e308
     assert_refused(api.set_model_state(state), 'SetModelState: the speed |twist.linear| must be '
                    'at most 100 m/s')
     link = LinkState(link_name=ROBOT + '::link2', pose=pose())
@@ -123,7 +123,7 @@ def _publish_until_read(api, topic, message_type, message):
     (a topic has no reply: the node's log is its only answer)."""
     import rospy
     from rosgraph_msgs.msg import Log
-    from onedof_sim.private_ros import wait_until
+    from onedof_harness.private_ros import wait_until
     logged = []
     log = rospy.Subscriber('/rosout_agg', Log, lambda entry: logged.append(entry.msg))
     publisher = rospy.Publisher(topic, message_type, queue_size=1, latch=True)
@@ -136,7 +136,7 @@ def _publish_until_read(api, topic, message_type, message):
     log.unregister()
 
 
-# --- finding 2: a 20000-link chain segfaulted the node ----------------------------------------
+# --- a model too large to load: refused before it reaches the engine -----------------------------
 
 def fixed_chain_urdf(links):
     parts = ['<robot name="chain"><link name="l0"><inertial><mass value="1"/><inertia ixx="1" '
@@ -156,7 +156,7 @@ def test_a_model_beyond_the_size_limit_is_refused(api):
     assert_still_running(api)
 
 
-# --- finding 3: time_step 1e6 ran sim time past ROS time; 1e10 got the wrong reason -------------
+# --- time_step: within [1e-6, 0.1] s, so sim time stays within ROS time --------------------------
 
 def test_time_step_outside_its_range_is_refused_with_the_range(api):
     for time_step in (1.0e6, 1.0e10):
@@ -166,7 +166,7 @@ def test_time_step_outside_its_range_is_refused_with_the_range(api):
     assert_still_running(api)
 
 
-# --- finding 4: max_update_rate 0.01 hung the loop ---------------------------------------------
+# --- max_update_rate: 0 or at least 1 step per wall second; a new one at once --------------------
 
 def test_a_crawling_max_update_rate_is_refused_and_a_new_rate_takes_effect_at_once(api):
     assert_refused(set_physics(api, max_update_rate=0.01),
@@ -181,7 +181,7 @@ def test_a_crawling_max_update_rate_is_refused_and_a_new_rate_takes_effect_at_on
     assert_still_running(api)
 
 
-# --- finding 5: a 1e200 force was answered "clamped" and applied as nothing --------------------
+# --- a huge wrench: clamped to what the reply says, and applied ----------------------------------
 
 def test_a_huge_wrench_is_clamped_to_what_is_said_and_applied(api):
     assert api.spawn_sdf_model('box', BOX_SDF, '', pose(x=2.0, z=0.1), '').success
@@ -201,7 +201,7 @@ def test_a_huge_wrench_is_clamped_to_what_is_said_and_applied(api):
     assert state.twist.linear.z > 50
 
 
-# --- finding 6: joint1 = 1e17 was accepted and read back for ever -------------------------------
+# --- joint positions: within [-1e6, 1e6] ---------------------------------------------------------
 
 def test_a_joint_position_out_of_range_is_refused(api):
     before = world_state(api)
@@ -212,9 +212,9 @@ def test_a_joint_position_out_of_range_is_refused(api):
     assert_still_running(api)
 
 
-# --- finding 7: one bad model froze the whole world ---------------------------------------------
+# --- masses, positions and solver settings that would stop the whole world -----------------------
 
-def test_input_that_froze_the_world_is_refused(api):
+def test_input_that_would_stop_the_world_is_refused(api):
     from gazebo_msgs.msg import ModelState
     before = world_state(api)
     assert_refused(spawn_urdf(api, 'heavy', urdf_with_link2_inertial(1.0e308, 0.1), z=3.0),
@@ -240,7 +240,7 @@ def _com():
     return com
 
 
-# --- finding 8: parser gaps ---------------------------------------------------------------------
+# --- what urdfdom and libsdformat accept or only print: refused with the reason ------------------
 
 INERTIAL = ('<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" '
             'izz="1"/></inertial>')
@@ -257,13 +257,13 @@ INERTIAL = ('<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1"
     ('<sdf version="99"><model name="m"><link name="l"/></model></sdf>',
      "SpawnModel: invalid SDF: version '99' is not one this libsdformat reads (1.0 to 1.9)"),
 ], ids=['joint-parent-is-its-child', 'nan-box-size', 'sdf-version-99'])
-def test_what_the_parsers_dropped_or_only_printed_is_refused_with_the_reason(api, xml, why):
+def test_what_the_parsers_accept_or_only_print_is_refused_with_the_reason(api, xml, why):
     before = world_state(api)
     assert_refused(api.spawn_sdf_model('r', xml, '', pose(z=1.0), ''), why)
     assert world_state(api) == before
 
 
-# --- finding 9: a model named "one_DOF_robot::link2" took over that frame ----------------------
+# --- model names that would make scoped names ambiguous ("one_DOF_robot::link2") -----------------
 
 def test_model_names_that_make_scoped_names_ambiguous_are_refused(api):
     before = world_state(api)
@@ -276,7 +276,7 @@ def test_model_names_that_make_scoped_names_ambiguous_are_refused(api):
     assert abs(frame.link_state.pose.position.z + 1.0) < 1e-9  # link1 sits 1 m below link2
 
 
-# --- finding 10: effort jobs without bound ------------------------------------------------------
+# --- effort jobs: bounded per joint, the effort limit holds their sum ----------------------------
 
 ROTOR_INERTIA = 0.5
 ROTOR_LIMIT = 2.0

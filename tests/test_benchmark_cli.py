@@ -23,7 +23,7 @@ def table_rows(text):
 ROW_GROUPS = ('1,2,3,4,5,6,7', '8', '9')
 # Each group's run is stopped well before pytest's own timeout would end the whole worker.
 RUN_TIMEOUT = 600
-# The aims of the issues, each reported met or not (the Bullet node's against bare pybullet
+# The aims, each reported met or not (the Bullet node's against bare pybullet
 # among them), by the rows that carry them.
 AIMS = {'1': '>= 0.5', '2': '>= 0.3', '3': 'p50 <= 1.3x', '4': '0 missed', '5': 'within 1 %',
         '7': 'flat: anonymous growth < 2 %'}
@@ -67,7 +67,7 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, rows):
             assert AIMS[item] in aims, AIMS[item]
 
     if '8' in items:
-        # Lock-step (issue 11): the tutorial with each controller at each rate, with the times
+        # Lock-step: the tutorial with each controller at each rate, with the times
         # the world gave up waiting for it (to be seen, not asserted here: the lock-step tests
         # do).
         lockstep = [row for row in table if row[0] == '8']

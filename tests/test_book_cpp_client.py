@@ -15,8 +15,8 @@ import pytest
 
 from api_client import GazeboApi
 from conftest import start_sim
-from onedof_sim.private_ros import wait_until
-from onedof_sim.tools import book_client
+from onedof_harness import book_client
+from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
 
 LOCKSTEP = ['_lockstep:=true']

@@ -12,7 +12,7 @@ import yaml
 from api_client import ROBOT, GazeboApi
 from conftest import TUTORIAL_URDF, WORKSPACE, start_sim
 from controller_manager_cli import NS, listing
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
 JNT_CTL_URDF = os.path.join(DESCRIPTION_DIR, 'minimal_robot_description_w_jnt_ctl.urdf')

@@ -7,7 +7,7 @@ import subprocess
 import sys
 import time
 
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'busy_machine.py')
 

@@ -19,9 +19,9 @@ import pytest
 
 from api_client import GazeboApi
 from conftest import ENGINES, TUTORIAL_URDF, start_sim
-from onedof_sim.tutorial import physics
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 from onedof_sim.transforms import quaternion_multiply
+from onedof_sim.tutorial import physics
 
 CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
 RATE_HZ = 100.0

@@ -9,7 +9,7 @@ import pytest
 
 from api_client import ROBOT, GazeboApi, pose
 from conftest import ENGINES, TUTORIAL_URDF, WORKSPACE
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 STANDIN = "this workspace's simulator, standing in for Gazebo"
 NO_GUI = 'no Gazebo GUI in this workspace; instead rviz shows the simulated world'

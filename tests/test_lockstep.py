@@ -9,7 +9,7 @@ import pytest
 
 from api_client import GazeboApi
 from conftest import start_sim
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 STEP_NS = 1000000  # the default 1 ms step
 

@@ -1,4 +1,4 @@
-"""The main job and the tests listen on loopback only (issue 12, finding 11): the tutorial's nodes,
+"""The main job and the tests listen on loopback only: the tutorial's nodes,
 started through PrivateRos as the player starts them, bind no TCP or UDP socket to the wildcard or
 to an external address, even when the user's shell names the machine in ROS_HOSTNAME.
 
@@ -12,7 +12,7 @@ import socket
 import pytest
 
 from listening import WILDCARD, listening_sockets, process_tree
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial.player import RvizView
 
 

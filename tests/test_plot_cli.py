@@ -13,8 +13,8 @@ import threading
 
 import pytest
 
+from onedof_harness.private_ros import wait_until
 from onedof_sim.tools.plot import read_csv
-from onedof_sim.private_ros import wait_until
 from onedof_sim.tutorial.player import free_display
 
 PLOT = ['rosrun', 'onedof_sim', 'plot']

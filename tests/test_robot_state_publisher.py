@@ -5,7 +5,7 @@ import math
 import pytest
 
 from conftest import TUTORIAL_URDF
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 
 @pytest.fixture

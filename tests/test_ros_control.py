@@ -1,4 +1,4 @@
-"""ros_control inside the simulator (issue 13), over real ROS on every engine: a URDF carrying
+"""ros_control inside the simulator, over real ROS on every engine: a URDF carrying
 gazebo_ros_control's plugin tag gets controller_manager's services in its robotNamespace, the
 book's controllers run inside the step loop, and bad configurations are refused with the
 simulator alive.
@@ -13,7 +13,7 @@ import yaml
 from api_client import pose
 from conftest import start_sim
 from controller_manager_cli import NS
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
 # The book's controller configuration and the tutorial robot with its transmission and
 # gazebo_ros_control tag (minimal_robot_w_jnt_ctl.launch loads both).

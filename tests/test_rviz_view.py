@@ -10,7 +10,7 @@ import re
 
 import yaml
 
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 DESCRIPTION = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'src',
                            'minimal_robot_description')

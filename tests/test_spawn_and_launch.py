@@ -10,7 +10,7 @@ import pytest
 
 from api_client import ROBOT, GazeboApi, pose
 from conftest import ENGINES, TUTORIAL_URDF, WORKSPACE, start_sim
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
 PACKAGE_MODELS = os.path.join(WORKSPACE, 'src', 'onedof_sim', 'models')
@@ -314,27 +314,61 @@ BOX_MODEL = """<?xml version="1.0"?>
 """
 
 
-def test_gazebo_model_path_folders_are_searched(ros, running_sim, rospy_client, tmp_path):
+def model_path_param(ros):
+    code, _, value = ros.master().getParam('/test', '/gazebo/model_path')
+    return value if code == 1 else None
+
+
+def restart_sim(ros, sim, engine, env):
+    """Stops sim and starts another simulator once the first has left the graph."""
+    ros.terminate(sim)
+    wait_until(lambda: not ros.has_service('/gazebo/unpause_physics'), 60,
+               what='the stopped simulator to leave the graph')
+    return start_sim(ros, engine, env=env)
+
+
+def test_model_path_is_the_package_models_then_gazebo_model_path(ros):
+    """The simulator says where model://NAME resolves in its parameter ~model_path: this package's
+    models first (the tutorial always gets the models the simulator was built for), then the
+    folders of its GAZEBO_MODEL_PATH, empty entries and repeats left out."""
+    sim = start_sim(ros, env={'GAZEBO_MODEL_PATH': '/a::/b:%s:/a' % PACKAGE_MODELS})
+    assert model_path_param(ros) == [PACKAGE_MODELS, '/a', '/b']
+    restart_sim(ros, sim, ENGINES[0], env={'GAZEBO_MODEL_PATH': ''})
+    assert model_path_param(ros) == [PACKAGE_MODELS]
+
+
+def test_gazebo_model_path_folders_are_searched(ros, rospy_client, engine, tmp_path):
+    """-database searches the model path of the simulator it spawns into: its GAZEBO_MODEL_PATH,
+    not spawn_model's."""
     empty, models = tmp_path / 'empty', tmp_path / 'models'
     (models / 'test_box').mkdir(parents=True)
     (models / 'test_box' / 'model.sdf').write_text(BOX_MODEL)
     empty.mkdir()
-
-    unset = spawn_model(ros, '-database', 'test_box', '-sdf', '-model', 'box1',
-                        env={'GAZEBO_MODEL_PATH': ''})
-    assert unset.returncode != 0 and 'in %s (' % PACKAGE_MODELS in unset.stderr, succeeded(unset)
-
     path = '%s:%s' % (empty, models)
+
+    unset = start_sim(ros, engine, env={'GAZEBO_MODEL_PATH': ''})
+    unset_result = spawn_model(ros, '-database', 'test_box', '-sdf', '-model', 'box1',
+                               env={'GAZEBO_MODEL_PATH': path})
+    assert unset_result.returncode != 0, succeeded(unset_result)
+    assert 'in %s (' % PACKAGE_MODELS in unset_result.stderr, succeeded(unset_result)
+
+    restart_sim(ros, unset, engine, env={'GAZEBO_MODEL_PATH': path})
     result = spawn_model(ros, '-database', 'test_box', '-sdf', '-model', 'box1', '-x', '2', '-z', '0.15',
-                         env={'GAZEBO_MODEL_PATH': path})
+                         env={'GAZEBO_MODEL_PATH': ''})
     assert result.returncode == 0, succeeded(result)
     state = GazeboApi(rospy_client).get_model_state('box1', '')
     assert state.success and state.pose.position.x == pytest.approx(2.0)
 
-    missing = spawn_model(ros, '-database', 'other_box', '-sdf', '-model', 'box2',
-                          env={'GAZEBO_MODEL_PATH': path})
+    missing = spawn_model(ros, '-database', 'other_box', '-sdf', '-model', 'box2')
     assert missing.returncode != 0
     assert 'in %s, %s, %s (' % (PACKAGE_MODELS, empty, models) in missing.stderr, succeeded(missing)
+
+    # A simulator that does not say where its models are: -database has nothing to search.
+    ros.master().deleteParam('/test', '/gazebo/model_path')
+    unsaid = spawn_model(ros, '-database', 'test_box', '-sdf', '-model', 'box3')
+    assert unsaid.returncode != 0
+    assert ('spawn_model: error: parameter /gazebo/model_path does not exist: the simulator in '
+            '/gazebo does not say where its models are' in unsaid.stderr), succeeded(unsaid)
 
 
 def test_ground_plane_model_spawns_and_holds_a_box_on_z0(ros, running_sim, rospy_client):

@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from onedof_sim.tools.busy import busy_processes
+from onedof_harness.busy import busy_processes
 from onedof_sim.tutorial import physics
 
 PHASE_DURATION = 5.0

@@ -24,7 +24,7 @@ import yaml
 
 from api_client import BOX_SDF, GazeboApi, ROBOT
 from conftest import WORKSPACE
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
 from test_controller import Topic
 

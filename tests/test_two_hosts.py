@@ -1,4 +1,4 @@
-"""ROS across two hosts (issue 12, item 3): the simulator and the tutorial's controller on two
+"""ROS across two hosts: the simulator and the tutorial's controller on two
 network namespaces joined by a virtual link, as on two machines, set up as docker/compose.yaml
 sets up its two services.
 
@@ -18,7 +18,7 @@ import pytest
 from api_client import GazeboApi
 from conftest import running_graph
 from listening import listening_sockets, process_tree
-from onedof_sim.private_ros import PrivateRos, listening_environment, wait_until
+from onedof_harness.private_ros import PrivateRos, listening_environment, wait_until
 from onedof_sim.tutorial import physics
 from test_controller import Topic
 

@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from conftest import WORKSPACE
-from onedof_sim.private_ros import BIND_LIBRARY, wait_until
+from onedof_harness.private_ros import BIND_LIBRARY, wait_until
 
 DEVEL = next(p for p in os.environ['CMAKE_PREFIX_PATH'].split(':')
              if os.path.isfile(os.path.join(p, '.catkin')))

@@ -1,4 +1,4 @@
-"""Cross-validation of the physics engines (issue 5): each against the closed form, each of ours
+"""Cross-validation of the physics engines: each against the closed form, each of ours
 against pybullet with its own loaders, over the tutorial scenario. All run in-process without ROS
 (ours through `rosrun onedof_sim tutorial_scenario --physics NAME`, so the devel space must be
 sourced; pybullet in this process, so it must import: the venv).

@@ -1,5 +1,5 @@
-"""Unit tests of onedof_sim.tools.spawn_cli: spawn_model's arguments, model path and model XML
-sources."""
+"""Unit tests of onedof_sim.tools.spawn_cli: spawn_model's arguments, the search of the model path
+and the model XML sources."""
 import io
 import math
 import os
@@ -100,9 +100,15 @@ def rotation(axis, angle):
                      'z': [[c, -s, 0], [s, c, 0], [0, 0, 1]]}[axis])
 
 
-def test_model_path_is_package_then_gazebo_model_path():
-    assert spawn_cli.model_path('/pkg/models', None) == ['/pkg/models']
-    assert spawn_cli.model_path('/pkg/models', '/a::/b:/pkg/models:/a') == ['/pkg/models', '/a', '/b']
+def test_model_path_is_the_simulators_parameter():
+    assert spawn_cli.model_path_param('/gazebo') == '/gazebo/model_path'
+    assert spawn_cli.model_path_param('/sim/') == '/sim/model_path'
+    assert spawn_cli.check_model_path(['/pkg/models', '/a'], '/gazebo/model_path') == [
+        '/pkg/models', '/a']
+    for value in ('/pkg/models:/a', ['/a', 3], None):
+        with pytest.raises(SpawnError, match='parameter /gazebo/model_path is not a list of '
+                                             'folders'):
+            spawn_cli.check_model_path(value, '/gazebo/model_path')
 
 
 def write_model(folder, name, files):
@@ -152,14 +158,14 @@ def test_file_is_read_relative_to_the_current_directory(tmp_path, monkeypatch):
     (tmp_path / 'robot.urdf').write_text(URDF)
     monkeypatch.chdir(tmp_path)
     args = parse('-file robot.urdf -urdf -model r')
-    assert spawn_cli.load_local_model_xml(args, [], io.StringIO()) == URDF
+    assert spawn_cli.load_local_model_xml(args, io.StringIO()) == URDF
 
 
 def test_missing_file_names_the_absolute_path(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     with pytest.raises(SpawnError, match='file nope.urdf does not exist \\(looked for %s\\)'
                        % (tmp_path / 'nope.urdf')):
-        spawn_cli.load_local_model_xml(parse('-file nope.urdf -urdf -model r'), [], io.StringIO())
+        spawn_cli.load_local_model_xml(parse('-file nope.urdf -urdf -model r'), io.StringIO())
 
 
 def test_directory_is_not_a_file(tmp_path):
@@ -173,18 +179,21 @@ def test_empty_or_malformed_xml_is_refused_naming_the_source(tmp_path, text, exp
     path = tmp_path / 'bad.urdf'
     path.write_text(text)
     with pytest.raises(SpawnError, match='file %s %s' % (path, expected)):
-        spawn_cli.load_local_model_xml(parse('-file %s -urdf -model r' % path), [], io.StringIO())
+        spawn_cli.load_local_model_xml(parse('-file %s -urdf -model r' % path), io.StringIO())
 
 
 def test_database_and_stdin_sources(tmp_path):
     write_model(tmp_path, 'box', {'model.sdf': '<sdf version="1.6"><model name="box"/></sdf>'})
-    args = parse('-database box -sdf -model b')
-    assert 'model name="box"' in spawn_cli.load_local_model_xml(args, [str(tmp_path)], io.StringIO())
+    assert parse('-database box -sdf -model b').database == 'box'
+    assert 'model name="box"' in spawn_cli.database_model_xml('box', [str(tmp_path)])
     args = parse('-stdin -urdf -model r')
-    assert spawn_cli.load_local_model_xml(args, [], io.StringIO(URDF)) == URDF
+    assert spawn_cli.load_local_model_xml(args, io.StringIO(URDF)) == URDF
     with pytest.raises(SpawnError, match='read from stdin is empty'):
-        spawn_cli.load_local_model_xml(args, [], io.StringIO(''))
+        spawn_cli.load_local_model_xml(args, io.StringIO(''))
 
 
-def test_param_source_is_left_to_the_caller():
-    assert spawn_cli.load_local_model_xml(parse('-param p -urdf -model r'), [], io.StringIO()) is None
+def test_param_and_database_sources_are_left_to_the_caller():
+    # Both need the master: the parameter, and the simulator's model path.
+    assert spawn_cli.load_local_model_xml(parse('-param p -urdf -model r'), io.StringIO()) is None
+    assert spawn_cli.load_local_model_xml(parse('-database box -sdf -model b'),
+                                          io.StringIO()) is None

@@ -62,3 +62,32 @@ def test_step_metrics_downward_step():
 
 def test_tail_mean_takes_the_last_window():
     assert tp.tail_mean([0, 1, 2, 3], [5, 5, 1, 3], window=1) == 2
+
+
+def edited_urdf(tmp_path, old, new):
+    with open(tp.ROBOT_URDF) as f:
+        text = f.read()
+    assert old in text
+    path = tmp_path / 'robot.urdf'
+    path.write_text(text.replace(old, new))
+    return str(path)
+
+
+def test_read_robot_follows_an_edited_urdf(tmp_path):
+    # The closed forms describe the robot the simulator loads: a changed URDF changes them.
+    heavier = edited_urdf(tmp_path, '<mass value="1"/>\n      <inertia ixx="0.1"',
+                          '<mass value="2"/>\n      <inertia ixx="0.1"')
+    assert tp.read_robot(heavier)['mass'] == 2.0
+    higher = edited_urdf(tmp_path, '<origin xyz="0 0 1.0" rpy="0 0 0"/>\n    <axis',
+                         '<origin xyz="0 0 1.5" rpy="0 0 0"/>\n    <axis')
+    assert tp.read_robot(higher)['joint_height'] == 1.5
+
+
+@pytest.mark.parametrize('old,new,why', [
+    ('<axis xyz="0 1 0"/>', '<axis xyz="1 0 0"/>', 'joint1 must turn about y'),
+    ('<origin xyz="0 0 0.5" rpy="0 0 0"/>\n      <mass value="1"/>\n      <inertia ixx="0.1"',
+     '<origin xyz="0.1 0 0.5" rpy="0 0 0"/>\n      <mass value="1"/>\n      <inertia ixx="0.1"',
+     'centre of mass must be on its axis')])
+def test_a_robot_the_closed_forms_do_not_describe_is_refused(tmp_path, old, new, why):
+    with pytest.raises(ValueError, match=why):
+        tp.read_robot(edited_urdf(tmp_path, old, new))

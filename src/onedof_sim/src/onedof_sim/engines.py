@@ -1,5 +1,6 @@
 """The physics engines of the simulator node. Their one list lives in the C++ core
-(src/core/engines/registry.cpp); the node prints it, and every Python consumer reads it here.
+(src/core/engines/registry.cpp), whose first entry is the default; the node prints it, and every
+Python consumer reads it here.
 """
 import functools
 import subprocess
@@ -22,6 +23,12 @@ def engine_names():
                            % (' '.join(LIST_COMMAND), listed.returncode,
                               (listed.stderr or listed.stdout).strip()[-500:]))
     return names
+
+
+def default_engine():
+    """The engine the node runs when none is named (the registry's first entry): launch files
+    leave their physics argument empty for it, and the tools default to it by this name."""
+    return engine_names()[0]
 
 
 def node_command(engine):

@@ -1,4 +1,4 @@
-"""Issue 12, finding 12: N clients, each spawning and deleting boxes back to back on fresh
+"""Many clients at once: N clients, each spawning and deleting boxes back to back on fresh
 connections (a service lookup at the roscore and a new TCP connection per call, as rosservice and
 a non-persistent rospy ServiceProxy do), for a bounded time. Counts the calls, the failures by
 service and reason, the models left behind, and the kernel's listen-queue overflows (its counters
@@ -16,8 +16,8 @@ import os
 import subprocess
 import time
 
-from onedof_sim.engines import engine_names, node_command
-from onedof_sim.private_ros import PrivateRos, wait_until
+from onedof_harness.private_ros import PrivateRos, wait_until
+from onedof_sim.engines import default_engine, engine_names, node_command
 
 BOX_SDF = ('<?xml version="1.0"?><sdf version="1.6"><model name="box"><link name="body">'
            '<inertial><mass>1</mass><inertia><ixx>0.00667</ixx><iyy>0.00667</iyy>'
@@ -140,7 +140,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
     parser.add_argument('--clients', type=int, default=8)
     parser.add_argument('--seconds', type=float, default=60)
-    parser.add_argument('--physics', default=engine_names()[0], choices=engine_names())
+    parser.add_argument('--physics', default=default_engine(), choices=engine_names())
     parser.add_argument('--roscpp', type=int, metavar='CALLS')
     args = parser.parse_args()
     run(args.clients, args.seconds, args.physics, args.roscpp)

@@ -1,5 +1,5 @@
-"""The benchmarks' arithmetic and their report: plain functions, no ROS (onedof_sim.benchmark.run
-measures).
+"""The benchmarks' arithmetic and their report: plain functions, no ROS (the item modules of
+onedof_sim.benchmark measure).
 
 Every figure in the report is set against something run alongside it on the same machine in the
 same run (a bare loop, a bare service, the wall clock), and the claim is the ratio.

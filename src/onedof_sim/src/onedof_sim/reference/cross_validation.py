@@ -44,7 +44,7 @@ HOLDING_ANGLES = (1.0, 2.0)
 TABLE_PHASE = next(index for index, phase in enumerate(PHASES) if phase.before is not None)
 # The last part of a phase over which its settled angle is averaged.
 SETTLED_WINDOW = 0.5
-# The aims (issue 5) for the RMS difference of an engine's q(t) from the reference's, per part of
+# The aims for the RMS difference of an engine's q(t) from the reference's, per part of
 # the scenario.
 RMS_AIMS = collections.OrderedDict((('before the table', 0.01), ('with the table', 0.02)))
 

@@ -1,6 +1,5 @@
 """Command-line tools beside the simulator node: plot (rqt_plot's syntax) and spawn_cli
-(spawn_model's arguments and model sources); and what the tests and the benchmark both run:
-book_client (the book-shaped C++ client's overlay build), busy (CPU-bound processes)."""
+(spawn_model's arguments and model sources)."""
 import os
 
 import rospkg
@@ -9,3 +8,9 @@ import rospkg
 def workspace_root():
     """The catkin workspace this package is built from (<workspace>/src/onedof_sim)."""
     return os.path.dirname(os.path.dirname(rospkg.RosPack().get_path('onedof_sim')))
+
+
+def workspace_venv_bin():
+    """bin/ of the workspace venv (make venv), where pybullet's python and py-spy live: rosrun
+    runs the tools under the system python, which has neither."""
+    return os.path.join(workspace_root(), '.venv', 'bin')

@@ -1,6 +1,6 @@
 """The command line of `rosrun onedof_sim spawn_model` (and `rosrun gazebo_ros spawn_model`):
-gazebo_ros' spawn_model arguments, the model path that `-database` searches, and the model XML each
-source yields.
+gazebo_ros' spawn_model arguments, how `-database` finds a model in the simulator's model path,
+and the model XML each source yields.
 
 Free of rospy so it can be unit-tested; onedof_sim.tools.spawn_model makes the ROS calls. Every problem a
 user can cause is raised as SpawnError with a message meant for them.
@@ -36,8 +36,9 @@ def build_parser():
     source.add_argument('-param', metavar='PARAM_NAME',
                         help='read the model XML from a ROS parameter')
     source.add_argument('-database', metavar='MODEL_NAME',
-                        help='read MODEL_NAME/model.sdf from the model path (the models/ folder of '
-                             'onedof_sim, then every folder of GAZEBO_MODEL_PATH)')
+                        help='read MODEL_NAME/model.sdf from the model path of the simulator '
+                             '(its parameter GAZEBO_NAMESPACE/model_path: the models/ folder of '
+                             'onedof_sim, then every folder of its GAZEBO_MODEL_PATH)')
     source.add_argument('-stdin', action='store_true', help='read the model XML from stdin')
     parser.add_argument('-model', metavar='MODEL_NAME', required=True,
                         help='name of the model to spawn')
@@ -83,17 +84,18 @@ def parse_args(argv):
     return args
 
 
-def model_path(package_models_dir, gazebo_model_path):
-    """Folders -database searches, in order: the package's models/ folder, then GAZEBO_MODEL_PATH.
+def model_path_param(gazebo_namespace):
+    """The parameter in which the simulator says where its models are (the folders model://NAME
+    resolves in, in order), set before it serves its services."""
+    return service_name(gazebo_namespace, 'model_path')
 
-    The package's folder comes first so that the tutorial's models are always the ones the
-    simulator was built for, whatever else a user's GAZEBO_MODEL_PATH holds.
-    """
-    folders = [package_models_dir]
-    for folder in (gazebo_model_path or '').split(':'):
-        if folder and folder not in folders:
-            folders.append(folder)
-    return folders
+
+def check_model_path(value, param):
+    """The folders of the simulator's model path parameter (its value, as read); SpawnError when
+    it is not a list of folder names."""
+    if not isinstance(value, list) or not all(isinstance(folder, str) for folder in value):
+        raise SpawnError('parameter %s is not a list of folders: %r' % (param, value))
+    return value
 
 
 def _version_key(version):
@@ -130,8 +132,8 @@ def find_database_model(name, folders):
             if os.path.isfile(sdf):
                 return sdf
     raise SpawnError('model %r not found in the model path: no %s/model.sdf in %s '
-                     '(add its parent folder to GAZEBO_MODEL_PATH, colon-separated)'
-                     % (name, name, ', '.join(folders)))
+                     '(add its parent folder to the simulator\'s GAZEBO_MODEL_PATH, '
+                     'colon-separated)' % (name, name, ', '.join(folders)))
 
 
 def read_file(path):
@@ -159,16 +161,20 @@ def check_model_xml(xml, source):
     return xml
 
 
-def load_local_model_xml(args, folders, stdin):
-    """The checked model XML from -file, -database or -stdin; None for -param (needs the master)."""
+def load_local_model_xml(args, stdin):
+    """The checked model XML from -file or -stdin; None for -param and -database (they need the
+    master and the simulator)."""
     if args.file is not None:
         return check_model_xml(read_file(args.file), 'file %s' % args.file)
-    if args.database is not None:
-        path = find_database_model(args.database, folders)
-        return check_model_xml(read_file(path), 'model file %s' % path)
     if args.stdin:
         return check_model_xml(stdin.read(), 'the model XML read from stdin')
     return None
+
+
+def database_model_xml(name, folders):
+    """The checked model XML of -database NAME, found in the model path `folders`."""
+    path = find_database_model(name, folders)
+    return check_model_xml(read_file(path), 'model file %s' % path)
 
 
 def service_name(gazebo_namespace, service):

@@ -5,12 +5,10 @@ both run main().
 Exits non-zero with the reason on any failure; with -b it stays alive and deletes the model when
 stopped.
 """
-import os
 import signal
 import sys
 import time
 
-import rospkg
 import rospy
 from gazebo_msgs.srv import (DeleteModel, GetWorldProperties, SetModelConfiguration, SpawnModel,
                              SpawnModelRequest)
@@ -50,6 +48,26 @@ def param_model_xml(param):
     return spawn_cli.check_model_xml(xml, 'parameter %s' % name)
 
 
+def database_model_xml(args):
+    """The model XML of -database, from the model path of the simulator it spawns into: the
+    folders it resolves model://NAME in, which it sets as a parameter before serving."""
+    param = spawn_cli.model_path_param(args.gazebo_namespace)
+    try:
+        folders = rospy.get_param(param)
+    except KeyError:
+        raise SpawnError('parameter %s does not exist: the simulator in %s does not say where its '
+                         'models are, so -database %s has no model path to search'
+                         % (param, args.gazebo_namespace, args.database))
+    return spawn_cli.database_model_xml(args.database,
+                                        spawn_cli.check_model_path(folders, param))
+
+
+def wait_for_simulator(args):
+    service = spawn_cli.spawn_service_name(args)
+    say('waiting for service %s' % service)
+    rospy.wait_for_service(service)
+
+
 def wait_for_model(args):
     say('waiting for model %s' % args.wait)
     while args.wait not in call(args.gazebo_namespace, 'get_world_properties',
@@ -65,8 +83,6 @@ def spawn(args, xml):
         initial_pose=Pose(Point(args.x, args.y, args.z),
                           Quaternion(*quaternion_from_rpy(args.R, args.P, args.Y))))
     service = spawn_cli.spawn_service_name(args)
-    say('waiting for service %s' % service)
-    rospy.wait_for_service(service)
     if args.wait:
         wait_for_model(args)
     try:
@@ -118,14 +134,14 @@ def main():
         args = spawn_cli.parse_args(rospy.myargv(sys.argv)[1:])
         say('spawning %s into onedof_sim, this workspace\'s simulator standing in for Gazebo'
             % args.model)
-        folders = spawn_cli.model_path(
-            os.path.join(rospkg.RosPack().get_path('onedof_sim'), 'models'),
-            os.environ.get('GAZEBO_MODEL_PATH'))
         # Local sources are checked before contacting the master, so a typo fails at once.
-        xml = spawn_cli.load_local_model_xml(args, folders, sys.stdin)
+        xml = spawn_cli.load_local_model_xml(args, sys.stdin)
         rospy.init_node('spawn_model', anonymous=True, disable_signals=True)
-        if xml is None:
+        if args.param is not None:
             xml = param_model_xml(args.param)
+        wait_for_simulator(args)
+        if args.database is not None:
+            xml = database_model_xml(args)
         spawn(args, xml)
         if args.joints:
             set_joints(args)

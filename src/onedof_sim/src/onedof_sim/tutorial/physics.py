@@ -3,16 +3,69 @@ metrics the main job reports. Plain functions: the tests and the tutorial player
 
 Conventions: joint1 turns about +y, q = 0 points link2 straight up, q > 0 tilts it toward +x.
 Gravity's torque about the joint is +m g d sin q (it pulls the link away from upright).
+
+The robot's constants are read from its URDF (minimal_robot_description.urdf), the one place
+they are written, so the closed forms always describe the robot the simulator loads.
 """
 import math
+import os
+import xml.etree.ElementTree as ElementTree
 
-MASS = 1.0            # link2, kg
-COM_DISTANCE = 0.5    # joint1 to link2's centre of mass, m
-GRAVITY = 9.8
-LINK_LENGTH = 1.0
-LINK_RADIUS = 0.1
-JOINT_HEIGHT = 1.0    # joint1 above the ground, m
-INERTIA_ABOUT_JOINT = 0.1 + MASS * COM_DISTANCE ** 2  # iyy at the COM + m d^2
+import rospkg
+
+ROBOT_URDF = os.path.join(rospkg.RosPack().get_path('minimal_robot_description'),
+                          'minimal_robot_description.urdf')
+
+
+def _numbers(text):
+    return [float(value) for value in text.split()]
+
+
+def _origin_xyz(element):
+    """xyz of an element's <origin> ([0, 0, 0] without one); the closed forms know no rotation."""
+    origin = element.find('origin')
+    if origin is None:
+        return [0.0, 0.0, 0.0]
+    if any(_numbers(origin.get('rpy', '0 0 0'))):
+        raise ValueError('%s: the closed forms take no rotated origin (%s %s)'
+                         % (ROBOT_URDF, element.tag, element.get('name', '')))
+    return _numbers(origin.get('xyz', '0 0 0'))
+
+
+def read_robot(path):
+    """link2's mass (kg), the distance from joint1 to its centre of mass (m), its iyy about that
+    centre (kg m^2), its collision cylinder's length and radius (m), and joint1's height above
+    the world's origin (m), from the tutorial robot's URDF. Raises ValueError where the robot is
+    not the one the closed forms describe: joint1 about y, link2's centre of mass on its axis."""
+    robot = ElementTree.parse(path).getroot()
+    joints = {joint.find('child').get('link'): joint for joint in robot.findall('joint')}
+    joint1 = robot.find("joint[@name='joint1']")
+    if _numbers(joint1.find('axis').get('xyz')) != [0.0, 1.0, 0.0]:
+        raise ValueError('%s: joint1 must turn about y' % path)
+    link2 = robot.find("link[@name='%s']" % joint1.find('child').get('link'))
+    inertial = link2.find('inertial')
+    com = _origin_xyz(inertial)
+    if com[:2] != [0.0, 0.0]:
+        raise ValueError('%s: link2\'s centre of mass must be on its axis (z)' % path)
+    cylinder = link2.find('collision/geometry/cylinder')
+    height, parent = _origin_xyz(joint1)[2], joint1.find('parent').get('link')
+    while parent in joints:  # down to the world: the heights of the joints below joint1
+        height += _origin_xyz(joints[parent])[2]
+        parent = joints[parent].find('parent').get('link')
+    return dict(mass=float(inertial.find('mass').get('value')), com_distance=com[2],
+                iyy=float(inertial.find('inertia').get('iyy')),
+                length=float(cylinder.get('length')), radius=float(cylinder.get('radius')),
+                joint_height=height)
+
+
+_ROBOT = read_robot(ROBOT_URDF)
+MASS = _ROBOT['mass']                  # link2, kg
+COM_DISTANCE = _ROBOT['com_distance']  # joint1 to link2's centre of mass, m
+LINK_LENGTH = _ROBOT['length']
+LINK_RADIUS = _ROBOT['radius']
+JOINT_HEIGHT = _ROBOT['joint_height']  # joint1 above the ground, m
+INERTIA_ABOUT_JOINT = _ROBOT['iyy'] + MASS * COM_DISTANCE ** 2  # iyy at the COM + m d^2
+GRAVITY = 9.8  # the simulator's default gravity, m/s^2 (-z)
 
 KP = 10.0
 KV = 3.0

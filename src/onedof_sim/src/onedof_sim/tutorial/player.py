@@ -28,9 +28,9 @@ import time
 
 import yaml
 
+from onedof_harness.private_ros import PrivateRos
 from onedof_sim.tools.plot import held_window
 from onedof_sim.tutorial import physics
-from onedof_sim.private_ros import PrivateRos
 
 Phase = collections.namedtuple('Phase', 'name command before')
 

@@ -1,6 +1,5 @@
-"""The private roscore never takes someone else's port for its own (issue 12, finding 1): the port
-it chose can be taken between choosing and binding it. A wait notices at once when a process the
-graph started dies (issue 12, item 5)."""
+"""The private roscore never takes someone else's port for its own: the port it chose can be taken
+between choosing and binding it. A wait notices at once when a process the graph started dies."""
 import os
 import socket
 import subprocess
@@ -10,8 +9,8 @@ import xmlrpc.server
 
 import pytest
 
-from onedof_sim import private_ros
-from onedof_sim.private_ros import PrivateRos, ProcessExited, free_port, is_descendant
+from onedof_harness import private_ros
+from onedof_harness.private_ros import PrivateRos, ProcessExited, free_port, is_descendant
 
 
 def ports_taken_first(monkeypatch, taken):

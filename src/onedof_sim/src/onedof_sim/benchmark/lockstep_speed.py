@@ -1,0 +1,116 @@
+"""Item 8, lock-step speed: the real-time factor of the lock-stepped tutorial run as fast as the
+controller allows (_lockstep:=true, _max_update_rate:=0, stepped with /gazebo/step_simulation),
+with the rospy controller and the book-shaped C++ client, each at 100 Hz and 1 kHz, and the
+lock-step timeouts the simulator logged."""
+import subprocess
+import time
+
+from onedof_harness import book_client
+from onedof_harness.private_ros import wait_until
+from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label
+from onedof_sim.tutorial import player
+
+COMMAND = 1.0  # the tutorial's first command step, rad
+TIMEOUT_TEXT = 'lock-step: the world waited'  # the simulator's line when it gives up
+
+
+def measure(bench, engine):
+    """The lock-stepped tutorial as fast as each controller allows: the rospy controller and the
+    book-shaped C++ client, each at 100 Hz and at 1 kHz."""
+    from std_msgs.msg import Float64
+    # One publisher for every run: a latched rospy publisher unregistered and made again on the
+    # same topic delivers nothing to the next subscriber.
+    pos_cmd = bench.rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
+    try:
+        setup, build_error = book_client.build_overlay(bench.work), None
+    except (RuntimeError, subprocess.TimeoutExpired) as error:
+        setup, build_error = None, str(error)
+    for rate in (100, 1000):
+        controllers = [('rospy minimal_joint_controller', player.CONTROLLER_NODE,
+                        ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller',
+                         '_rate:=%g' % rate]),
+                       ('book-shaped C++ client (%s)' % book_client.EXECUTABLES[rate],
+                        book_client.NODE, book_client.command(setup, rate) if setup else None)]
+        for label, node, command in controllers:
+            what = ('real-time factor of the lock-stepped tutorial (_lockstep:=true, '
+                    '_max_update_rate:=0: as fast as the controller allows), command step '
+                    '0 -> %g at the start, %g s of sim time through /gazebo/step_simulation; '
+                    '%s at %d Hz (%s)' % (COMMAND, bench.sizes.lockstep_s, label, rate,
+                                          node_label(engine)))
+            if command is None:
+                bench.not_measured('8', what, 'the overlay build failed: ' + build_error[-200:])
+                continue
+            try:
+                run = lockstep_run(bench, engine, command, node, 'lockstep_%s_%d' % (
+                    'cpp' if node == book_client.NODE else 'rospy', rate), pos_cmd)
+            except (NotMeasured, TimeoutError) as error:
+                bench.not_measured('8', what, str(error)[:300])
+                continue
+            bench.add('8', what, '%.2f (lock-step timeouts in the simulator\'s log: %d)'
+                      % (run['rtf'], run['timeouts']),
+                      'real time: the free-running tutorial\'s real-time factor', '1.0',
+                      run['rtf'])
+            if run['timeouts']:
+                bench.notes.append('8: %s at %d Hz: the simulator gave up waiting %d times; '
+                                   'the first: %s' % (label, rate, run['timeouts'],
+                                                      run['timeout_lines'][0]))
+            bench.results.setdefault('lockstep_speed', {})['%s at %d Hz' % (label, rate)] = run
+
+
+def lockstep_run(bench, engine, controller_command, node, name, pos_cmd):
+    """Starts the lock-stepped simulator paused with the tutorial's robot, steps it through one
+    period so that the controller starts on a valid ROS time, starts the controller with the
+    command latched on /pos_cmd, waits for it to join the lock-step and to hear /clock, and times
+    /gazebo/step_simulation through lockstep_s of sim time. Returns the real-time factor and the
+    lock-step timeouts the simulator logged."""
+    from onedof_sim.srv import StepSimulation
+    sim = controller = None
+    # The simulators of one engine share a log: this one's lines are those after this offset.
+    log_start = len(bench.ros.log_text('sim_' + engine))
+
+    def sim_log():
+        return bench.ros.log_text(sim)[log_start:]
+    try:
+        sim, _ = bench.start_sim(engine, max_update_rate=0, paused=True, lockstep=True)
+        bench.spawn(bench.tutorial_models[:1])
+        step = bench.proxy('/gazebo/step_simulation', StepSimulation)
+        period_steps = round(player.CONTROL_PERIOD / STEP)
+        stepped(step, period_steps)
+        pos_cmd.publish(pos_cmd.data_class(COMMAND))
+        controller = bench.ros.start(controller_command, name=name)
+
+        def joined():
+            if controller.poll() is not None:
+                raise NotMeasured('%s exited: %s' % (name, bench.ros.log_text(controller)[-300:]))
+            return ('lock-step: joint1 is commanded by ' + node in sim_log()
+                    and bench.hears_clock(node))
+        # A roscpp client can command before it has heard any /clock (its time still 0); its
+        # ros::Rate then sleeps a whole period from the first time it hears, and a world stepped
+        # on before that would wait for a command that comes a period too late. Its /clock
+        # connection up, the latched time it hears first is the one the world stands at.
+        wait_until(joined, 60, what='%s to join the lock-step and hear /clock' % name)
+        steps = round(bench.sizes.lockstep_s / STEP)
+        start = time.monotonic()
+        sim_start = stepped(step, 0)  # where the controller stands
+        sim_end = stepped(step, steps)
+        wall = time.monotonic() - start
+        if controller.poll() is not None:
+            raise NotMeasured('%s exited: %s' % (name, bench.ros.log_text(controller)[-300:]))
+        if 'received value of pos_cmd is: %f' % COMMAND not in bench.ros.log_text(controller):
+            raise NotMeasured('%s never took the command %g' % (name, COMMAND))
+    finally:
+        for proc in (controller, sim):
+            if proc:
+                bench.stop(proc)
+    timeouts = [line for line in sim_log().splitlines() if TIMEOUT_TEXT in line]
+    return dict(rtf=(sim_end - sim_start) / wall, sim_s=sim_end - sim_start, wall_s=wall,
+                timeouts=len(timeouts), timeout_lines=timeouts)
+
+
+def stepped(step, steps):
+    """Sim seconds after /gazebo/step_simulation of `steps` (0: once the controllers have acted
+    at the current time)."""
+    reply = step(steps)
+    if not reply.success:
+        raise NotMeasured('step_simulation: ' + reply.status_message)
+    return reply.sim_time.to_sec()
