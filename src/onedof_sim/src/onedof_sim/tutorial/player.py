@@ -628,13 +628,15 @@ def play_in_sim(log_dir, physics_engine, phase_duration=IN_SIM_PHASE_DURATION, p
 
 def compared_panels(pd_series, pid_series):
     """One figure's panels [(ylabel, {label: (times, values)})]: the command and each controller's
-    position above, each controller's torque below, labelled by controller."""
+    position above, each controller's torque below, labelled by controller, each panel by its
+    unit (plot.unit_panels)."""
+    from onedof_sim.tools import plot
     labelled = (('rospy PD', pd_series), ('in-sim PID', pid_series))
     # The controllers first in both panels: each keeps its colour from one panel to the other.
-    positions = {'%s jnt_pos' % label: series['jnt_pos'] for label, series in labelled}
-    positions['pos_cmd'] = pid_series['pos_cmd']
-    torques = {'%s jnt_trq' % label: series['jnt_trq'] for label, series in labelled}
-    return [('angle (rad)', positions), ('torque (N m)', torques)]
+    series = {'%s jnt_pos' % label: data['jnt_pos'] for label, data in labelled}
+    series['pos_cmd'] = pid_series['pos_cmd']
+    series.update(('%s jnt_trq' % label, data['jnt_trq']) for label, data in labelled)
+    return plot.unit_panels(series)
 
 
 def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, pd_series,
@@ -664,7 +666,8 @@ def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, 
             title='%s (%s): rospy PD settles at %.3f, in-sim PID at %.3f'
                   % (phase.name, physics_engine, pd_row['settled'], rows[number - 1]['settled']),
             xlabel='sim time since the command (s); the rospy PD\'s phase ends at %g s, its '
-                   'last values drawn held after' % pd_phase_duration, until=phase_duration)
+                   'last values drawn held after' % pd_phase_duration, until=phase_duration,
+            zoom=True)
     plot.write_csv(whole, os.path.join(output, 'in_sim_samples.csv'))
     return rows
 
