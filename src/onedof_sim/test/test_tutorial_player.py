@@ -129,3 +129,15 @@ def test_the_compared_figure_zooms_until_the_slower_controller_settles():
     assert [ax.get_ylabel() for ax in figure.axes] == ['angle (rad)', 'torque (N m)',
                                                       'angle (rad)']
     assert whole_run.get_xlim()[1] >= player.IN_SIM_PHASE_DURATION
+
+
+def test_clear_outputs_removes_what_a_run_writes_and_nothing_else(tmp_path):
+    earlier = ['rviz_final.png', 'phase4_table_2.5.png', 'phase2_command_2.0_pd_vs_pid.png',
+               'summary.md', 'summary.json', 'samples.csv', 'in_sim_samples.csv', 'tutorial.png']
+    for name in earlier + ['notes.txt', 'phase9_mine.png']:
+        (tmp_path / name).write_text('x')
+    (tmp_path / 'logs' / 'in_sim').mkdir(parents=True)
+    (tmp_path / 'logs' / 'in_sim' / 'result.json').write_text('{}')
+    player.clear_outputs(str(tmp_path))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['notes.txt', 'phase9_mine.png']
+    assert set(earlier) <= set(player.job_outputs())
