@@ -9,7 +9,7 @@ import pytest
 
 from api_client import GazeboApi, STEP_NS, pose, tutorial_urdf
 from conftest import ENGINES
-from onedof_sim.private_ros import wait_until
+from onedof_harness.private_ros import wait_until
 
 PROBE_TOPIC = '/probe/hook_probe'
 UNKNOWN = 'libgazebo_ros_not_simulated_here.so'

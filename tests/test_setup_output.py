@@ -68,21 +68,21 @@ def progress_step(tmp_path, what, script):
     return result.returncode, shown.read_text(), log.read_text()
 
 
-def test_a_long_package_install_shows_packages_downloaded_unpacked_and_set_up(tmp_path):
+def test_a_long_package_install_shows_how_many_packages_are_downloaded_unpacked_and_set_up(tmp_path):
     status, shown, log = progress_step(tmp_path, 'deps: installing 3 Debian packages (a b c)', (
         'echo "0 upgraded, 3 newly installed, 0 to remove"; echo "Get:1 http://deb a"; '
-        'wait_for_progress "1 of 3 packages downloaded"; '
+        'wait_for_progress "3 packages: 1 downloaded, 0 unpacked, 0 set up"; '
         'echo "Get:2 http://deb b"; echo "Unpacking a"; echo "Unpacking b"; '
-        'wait_for_progress "2 of 3 packages unpacked"; '
-        'echo "Setting up a"; wait_for_progress "1 of 3 packages set up"'))
+        'wait_for_progress "3 packages: 2 downloaded, 2 unpacked, 0 set up"; '
+        'echo "Setting up a"; wait_for_progress "3 packages: 2 downloaded, 2 unpacked, 1 set up"'))
     assert status == 0, shown
     lines = shown.splitlines()
     assert lines[0] == 'deps: installing 3 Debian packages (a b c) ... '
     assert re.fullmatch(r'deps: installing 3 Debian packages \(a b c\) \.\.\. done in \d+ s '
                         r'\(full output: setup\.log\)', lines[-1])
     progress = lines[1:-1]
-    assert progress and all(re.fullmatch(r'  deps: installing 3 Debian packages: '
-                                         r'\d of 3 packages (downloaded|unpacked|set up) \(\d+ s\)',
+    assert progress and all(re.fullmatch(r'  deps: installing 3 Debian packages: 3 packages: '
+                                         r'\d downloaded, \d unpacked, \d set up \(\d+ s\)',
                                          line) for line in progress), progress
     assert 'Setting up a' in log
 

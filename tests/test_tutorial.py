@@ -13,6 +13,7 @@ import pytest
 
 from onedof_harness.busy import busy_processes
 from onedof_sim.tutorial import physics
+from onedof_sim.tutorial.player import job_outputs
 
 PHASE_DURATION = 5.0
 SAME = 1e-6  # rad: lock-step runs agree to this, whatever the machine is doing
@@ -61,6 +62,12 @@ def test_every_output_is_written(tutorial):
     for name in OUTPUTS:
         path = tutorial['output'] / name
         assert path.is_file() and path.stat().st_size > 0, name
+
+
+def test_the_output_folder_holds_this_runs_outputs_only(tutorial):
+    assert set(os.listdir(tutorial['output'])) == set(OUTPUTS) | {'logs'}
+    # A later run clears every one of them before it writes.
+    assert set(OUTPUTS) <= set(job_outputs())
 
 
 def test_each_phase_is_announced(tutorial):

@@ -11,9 +11,10 @@ from std_msgs.msg import Bool, Float64, Header
 
 from onedof_sim.tools.plot import (PlotError, SampleBuffer, expand_specs, field_accessor,
                                    header_stamp, held_window, make_figure,
-                                   make_panels_figure, parse_args,
+                                   make_panels_figure, motion_span, parse_args,
                                    parse_field_path, plottable_paths, read_csv,
-                                   split_topic_field, step_path, write_csv, write_figure)
+                                   settling_time, split_topic_field, step_path, unit_of,
+                                   unit_panels, write_csv, write_figure)
 
 
 def test_expand_specs_keeps_plain_specs():
@@ -242,6 +243,109 @@ def test_panels_figure_stacks_its_panels_on_one_time_axis():
     assert (bottom.get_title(), bottom.get_xlabel()) == ('', 'sim time (s)')
     assert list(bottom.lines[0].get_xdata()) == [0.0, 2.0]
     assert top.get_shared_x_axes().joined(top, bottom)
+
+
+def approach(final, time_constant, duration=40.0, period=0.05, start=0.0):
+    """Samples of an exponential step from `start` to `final`: settled within 5 % of the step
+    after time_constant * ln 20."""
+    times = [i * period for i in range(int(round(duration / period)) + 1)]
+    return times, [final + (start - final) * math.exp(-t / time_constant) for t in times]
+
+
+@pytest.mark.parametrize('label, ylabel', [
+    ('/jnt_pos/data', 'angle (rad)'), ('/pos_cmd', 'angle (rad)'), ('pos_cmd', 'angle (rad)'),
+    ('/jnt_vel/data', 'rate (rad/s)'), ('/ns/jnt_trq/data', 'torque (N m)'),
+    ('rospy PD jnt_trq', 'torque (N m)'), ('/jnt_position/data', None),
+    ('/joint_states/effort[0]', None),
+])
+def test_the_unit_comes_from_a_name_in_the_label(label, ylabel):
+    assert unit_of(label) == ylabel
+
+
+def test_series_of_one_unit_share_a_panel_and_an_unknown_one_gets_its_own():
+    q, v, u, z = ([0.0], [1.0]), ([0.0], [2.0]), ([0.0], [3.0]), ([0.0], [4.0])
+    series = {'/jnt_pos/data': q, '/jnt_trq/data': u, '/link/z': z, '/jnt_vel/data': v,
+              '/pos_cmd/data': q}
+    assert unit_panels(series) == [
+        ('angle (rad)', {'/jnt_pos/data': q, '/pos_cmd/data': q}),
+        ('torque (N m)', {'/jnt_trq/data': u}), ('/link/z', {'/link/z': z}),
+        ('rate (rad/s)', {'/jnt_vel/data': v})]
+
+
+def test_the_tutorial_figure_has_a_panel_per_unit_on_one_labelled_time_axis():
+    series = {'pos_cmd': ([0.0], [1.0]), 'jnt_pos': approach(1.49, 0.3, 5.0),
+              'jnt_vel': ([0.0, 1.0], [2.0, 0.0]), 'jnt_trq': approach(-4.9, 0.3, 5.0, start=10.0)}
+    figure = make_figure(series, title='phase 1', xlabel='sim time since the command (s)',
+                         until=5.0)
+    angle, rate, torque = figure.axes
+    assert [ax.get_ylabel() for ax in figure.axes] == [
+        'angle (rad)', 'rate (rad/s)', 'torque (N m)']
+    assert [line.get_label() for line in angle.lines] == ['pos_cmd', 'jnt_pos']
+    assert [line.get_label() for line in rate.lines] == ['jnt_vel']
+    assert [line.get_label() for line in torque.lines] == ['jnt_trq']
+    assert [ax.get_xlabel() for ax in figure.axes] == ['', '', 'sim time since the command (s)']
+    assert angle.get_title() == 'phase 1'
+    assert angle.get_shared_x_axes().joined(angle, rate)
+    assert angle.get_shared_x_axes().joined(angle, torque)
+
+
+def test_a_field_of_unknown_unit_is_a_panel_labelled_with_its_name():
+    figure = make_figure({'/jnt_pos/data': ([0.0], [1.0]),
+                          '/joint_states/effort[0]': ([0.0], [2.0])})
+    assert [ax.get_ylabel() for ax in figure.axes] == ['angle (rad)', '/joint_states/effort[0]']
+    assert figure.axes[1].get_xlabel() == 'ROS time since the first sample [s]'
+
+
+def test_settling_time_is_the_last_sample_outside_the_band():
+    times, values = [0.0, 1.0, 2.0, 3.0, 4.0], [0.0, 1.5, 0.85, 1.05, 1.0]
+    assert settling_time(times, values, 0.1) == 2.0
+    assert settling_time(times, values, 0.01) == 3.0
+    assert settling_time(times, values, 2.0) == 0.0
+    assert settling_time([], [], 0.1) is None
+
+
+def test_the_motion_span_runs_until_the_slowest_series_settles_with_a_margin():
+    fast, slow = approach(1.49, 0.2), approach(1.0, 2.0)
+    start, end = motion_span({'fast': fast, 'slow': slow, 'command': ([0.0], [1.0])})
+    # The slow one is within 5 % of its step from 2 ln 20 = 6.0 s on (its last sample outside
+    # the band is the one before); a quarter more is margin.
+    slow_settled = 2.0 * math.log(20)
+    assert start == 0.0
+    assert (slow_settled - 0.05) * 1.25 <= end <= slow_settled * 1.25
+    assert motion_span({'slow': slow, 'fast': fast}) == (start, end)
+    assert motion_span({'fast': fast})[1] < 1.0
+    assert motion_span({'command': ([0.0], [1.0])}) is None
+    assert motion_span({}) is None
+
+
+def test_a_zoomed_figure_shows_where_the_series_move_and_the_whole_run_below():
+    angles = {'pd': approach(1.49, 0.2, 5.0), 'pid': approach(1.0, 2.0), 'cmd': ([0.0], [1.0])}
+    torques = {'pd': approach(-4.9, 0.2, 5.0, start=10.0), 'pid': approach(-4.1, 2.0, start=10.0)}
+    figure = make_panels_figure([('angle (rad)', angles), ('torque (N m)', torques)],
+                                title='zoomed', xlabel='t (s)', until=40.0, zoom=True)
+    angle, torque, whole_run = figure.axes
+    span = motion_span(dict(angles, **{'trq ' + k: v for k, v in torques.items()}))
+    assert 5.9 * 1.25 < span[1] < 10.0
+    assert angle.get_xlim() == pytest.approx(span) and torque.get_xlim() == pytest.approx(span)
+    assert (angle.get_ylabel(), torque.get_ylabel()) == ('angle (rad)', 'torque (N m)')
+    assert (torque.get_xlabel(), whole_run.get_xlabel()) == ('t (s)', 't (s)')
+    # Below, smaller: the first panel's series over the whole run, the zoomed span shaded.
+    assert whole_run.get_ylabel() == 'angle (rad)'
+    assert [line.get_label() for line in whole_run.lines] == ['pd', 'pid', 'cmd']
+    low, high = whole_run.get_xlim()
+    assert low <= 0.0 and high >= 40.0
+    assert whole_run.get_position().height < angle.get_position().height
+    shaded = whole_run.patches[0].get_xy()
+    assert min(x for x, _ in shaded) == pytest.approx(span[0])
+    assert max(x for x, _ in shaded) == pytest.approx(span[1])
+
+
+def test_a_figure_that_moves_until_its_end_is_not_zoomed():
+    angles = {'slow': approach(1.0, 20.0)}
+    figure = make_panels_figure([('angle (rad)', angles)], until=40.0, zoom=True)
+    assert len(figure.axes) == 1
+    low, high = figure.axes[0].get_xlim()
+    assert low <= 0.0 and high >= 40.0
 
 
 @pytest.mark.parametrize('argv, message', [

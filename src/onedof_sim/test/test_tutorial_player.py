@@ -1,10 +1,12 @@
 """The tutorial player's plain pieces: samples from the controllers' messages, the newest sample of
 a step, the simulator's bus statistics, the predictions of the two controllers, the summary and
-the compared figure's series."""
+the compared figure's series and zoom."""
+import math
 import types
 
 import pytest
 
+from onedof_sim.tools import plot
 from onedof_sim.tutorial import physics
 from onedof_sim.tutorial import player
 
@@ -102,3 +104,40 @@ def test_compared_panels_put_positions_above_torques_by_controller():
     assert angles['rospy PD jnt_pos'] == ([0.0], [1.0])
     assert torques == {'rospy PD jnt_trq': ([0.0], [1.0]), 'in-sim PID jnt_trq': ([0.0], [2.0])}
     assert (angle_label, torque_label) == ('angle (rad)', 'torque (N m)')
+
+
+def settling_step(final, time_constant, duration, period, start=0.0):
+    """{topic: (times, values)} of a phase whose link approaches `final` exponentially."""
+    times = [i * period for i in range(int(round(duration / period)) + 1)]
+    decay = [math.exp(-t / time_constant) for t in times]
+    return {'pos_cmd': ([0.0], [1.0]),
+            'jnt_pos': (times, [final + (start - final) * d for d in decay]),
+            'jnt_vel': (times, [(final - start) * d / time_constant for d in decay]),
+            'jnt_trq': (times, [-4.9 + 14.9 * d for d in decay])}
+
+
+def test_the_compared_figure_zooms_until_the_slower_controller_settles():
+    pd = settling_step(1.49, 0.2, player.CONTROL_PERIOD * 500, player.CONTROL_PERIOD)
+    pid = settling_step(1.0, 2.0, player.IN_SIM_PHASE_DURATION, player.IN_SIM_SAMPLE_PERIOD)
+    figure = plot.make_panels_figure(player.compared_panels(pd, pid), xlabel='t (s)',
+                                     until=player.IN_SIM_PHASE_DURATION, zoom=True)
+    angle, torque, whole_run = figure.axes
+    # The PID is within 5 % of its step after 2 ln 20 = 6 s, the PD long before.
+    low, high = angle.get_xlim()
+    assert low == 0.0 and 6.0 < high < 10.0
+    assert torque.get_xlim() == (low, high)
+    assert [ax.get_ylabel() for ax in figure.axes] == ['angle (rad)', 'torque (N m)',
+                                                      'angle (rad)']
+    assert whole_run.get_xlim()[1] >= player.IN_SIM_PHASE_DURATION
+
+
+def test_clear_outputs_removes_what_a_run_writes_and_nothing_else(tmp_path):
+    earlier = ['rviz_final.png', 'phase4_table_2.5.png', 'phase2_command_2.0_pd_vs_pid.png',
+               'summary.md', 'summary.json', 'samples.csv', 'in_sim_samples.csv', 'tutorial.png']
+    for name in earlier + ['notes.txt', 'phase9_mine.png']:
+        (tmp_path / name).write_text('x')
+    (tmp_path / 'logs' / 'in_sim').mkdir(parents=True)
+    (tmp_path / 'logs' / 'in_sim' / 'result.json').write_text('{}')
+    player.clear_outputs(str(tmp_path))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['notes.txt', 'phase9_mine.png']
+    assert set(earlier) <= set(player.job_outputs())

@@ -8,6 +8,9 @@ command line under rqt_plot's name.
 
 Samples are drawn as held values (step_path): a value holds until the next sample, the last one
 until now (live) or the end of the recording, so a command published once is a horizontal line.
+Each unit gets a panel of its own, its y axis labelled with it, all panels on one time axis: the
+unit comes from the topic's name (UNITS: pos_cmd and jnt_pos in rad, jnt_vel in rad/s, jnt_trq in
+N m); a field of another name gets a panel labelled with its name.
 
 The pure part (parsing, field resolution, the bounded sample buffer, CSV and figure writing) is
 usable on its own: write_figure() and write_csv() take {label: (times, values)} and a path.
@@ -37,6 +40,16 @@ TIME_TYPES = frozenset(('time', 'duration'))
 # Samples kept per field: at 100 Hz, about 17 minutes; older samples are dropped first.
 DEFAULT_BUFFER_LENGTH = 100000
 TIME_LABEL = 'ROS time since the first sample [s]'
+ANGLE = 'angle (rad)'
+RATE = 'rate (rad/s)'
+TORQUE = 'torque (N m)'
+# The y-axis label of each quantity the tutorial plots, by a name a series' label carries: a topic
+# (/jnt_pos/data) or a word of it ('rospy PD jnt_pos'). Series of one label share a panel.
+UNITS = {'pos_cmd': ANGLE, 'jnt_pos': ANGLE, 'jnt_vel': RATE, 'jnt_trq': TORQUE}
+# A zoomed figure ends when every series stays within this fraction of its range of values about
+# its last value, plus this fraction of that time as a margin.
+SETTLED_BAND = 0.05
+ZOOM_MARGIN = 0.25
 
 _PATH_PART = re.compile(r'^([A-Za-z_][A-Za-z0-9_]*)(?:\[(\d+)\])?$')
 _ARRAY_TYPE = re.compile(r'^(.*)\[(\d*)\]$')
@@ -307,7 +320,54 @@ def step_path(times, values, until=None):
     return xs, ys
 
 
-def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None, until=None):
+def unit_of(label):
+    """The y-axis label (quantity and unit) UNITS gives the series `label`, from the first of its
+    names (split at '/' and spaces) that UNITS knows; None when it knows none."""
+    for name in re.split(r'[/\s]+', label):
+        if name in UNITS:
+            return UNITS[name]
+    return None
+
+
+def unit_panels(series):
+    """{label: (times, values)} as panels [(ylabel, series)]: one per unit, labelled by it (see
+    unit_of), and one per series of unknown unit, labelled by its name; in the order the series
+    come, each panel's series too."""
+    panels = {}
+    for label, data in series.items():
+        panels.setdefault(unit_of(label) or label, {})[label] = data
+    return list(panels.items())
+
+
+def settling_time(times, values, band):
+    """The time of the last sample further than `band` from the last value (the first sample's
+    time when none is): from then on the series stays within the band. None without samples."""
+    if not times:
+        return None
+    settled = times[0]
+    for t, value in zip(times, values):
+        if abs(value - values[-1]) > band:
+            settled = t
+    return settled
+
+
+def motion_span(series, band=SETTLED_BAND, margin=ZOOM_MARGIN):
+    """(start, end) of where {label: (times, values)} moves: from the earliest sample until the
+    slowest series has settled within `band` times its range of values about its last value (see
+    settling_time), plus `margin` times that span. None when nothing moves."""
+    starts, ends = [], []
+    for times, values in series.values():
+        if times:
+            starts.append(min(times))
+            ends.append(settling_time(times, values, band * (max(values) - min(values))))
+    if not ends or max(ends) <= min(starts):
+        return None
+    start = min(starts)
+    return start, max(ends) + margin * (max(ends) - start)
+
+
+def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None, until=None,
+                 legend=True):
     lines = {label: ax.plot(*step_path(times, values, until), label=label)[0]
              for label, (times, values) in series.items()}
     if xlabel:
@@ -317,44 +377,87 @@ def _draw_series(ax, series, title=None, xlabel=TIME_LABEL, ylabel=None, until=N
     if title:
         ax.set_title(title)
     ax.grid(True)
-    if series:
+    if series and legend:
         ax.legend(loc='best')
     return lines
 
 
-def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=(10, 6), until=None):
-    """A matplotlib Figure of {label: (times, values)}, one line per label, each sample held until
-    the next and the last until `until` (see step_path); independent of pyplot (so saving it works
-    on any backend, headless included)."""
-    return make_panels_figure([(ylabel, series)], title, xlabel, size, until)
+def _figure_size(panel_count, small_panel_count=0):
+    """Width and height (inches) that give every panel room for its labels."""
+    return 10, max(6.0, 1.2 + 2.4 * panel_count + 1.6 * small_panel_count)
 
 
-def make_panels_figure(panels, title=None, xlabel=TIME_LABEL, size=(10, 6), until=None):
-    """make_figure's figure with one panel per (ylabel, series) of `panels`, stacked on a shared
-    time axis: the title over the first, the time label under the last."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    figure = Figure(figsize=size)
-    FigureCanvasAgg(figure)
-    first = None
+def _draw_panels(figure, panels, title, xlabel, until, small_panel=False):
+    """Axes stacked in `figure`, one per (ylabel, series) of `panels` on a shared time axis (the
+    title over the first, the time label under the last), and a smaller one below them when
+    `small_panel`; returns (the panels' axes, the small one or None, {label: line})."""
+    grid = figure.add_gridspec(len(panels) + small_panel, 1,
+                               height_ratios=[3] * len(panels) + [2] * small_panel)
+    axes, lines, first = [], {}, None
     for index, (ylabel, series) in enumerate(panels):
-        ax = figure.add_subplot(len(panels), 1, index + 1, sharex=first)
+        ax = figure.add_subplot(grid[index], sharex=first)
         first = first or ax
         last = index == len(panels) - 1
-        _draw_series(ax, series, title if index == 0 else None, xlabel if last else None,
-                     ylabel, until)
+        lines.update(_draw_series(ax, series, title if index == 0 else None,
+                                  xlabel if last else None, ylabel, until))
+        # The time's numbers once, under the last panel of the shared axis.
+        ax.tick_params(labelbottom=last)
+        axes.append(ax)
+    return axes, figure.add_subplot(grid[-1]) if small_panel else None, lines
+
+
+def _zoom_span(panels, until):
+    """motion_span of every series of `panels`; None when they move until the run's end (its last
+    sample or `until`)."""
+    series = [data for _, panel_series in panels for data in panel_series.values()]
+    span = motion_span(dict(enumerate(series)))
+    ends = [max(times) for times, _ in series if times] + ([] if until is None else [until])
+    return span if span is not None and span[1] < max(ends) else None
+
+
+def make_figure(series, title=None, xlabel=TIME_LABEL, ylabel=None, size=None, until=None):
+    """A matplotlib Figure of {label: (times, values)}, one line per label, each sample held until
+    the next and the last until `until` (see step_path): one panel per unit (see unit_panels), or
+    one panel labelled `ylabel` when it is given; independent of pyplot (so saving it works on any
+    backend, headless included)."""
+    panels = [(ylabel, series)] if ylabel else unit_panels(series)
+    return make_panels_figure(panels, title, xlabel, size, until)
+
+
+def make_panels_figure(panels, title=None, xlabel=TIME_LABEL, size=None, until=None, zoom=False):
+    """make_figure's figure with one panel per (ylabel, series) of `panels`, stacked on a shared
+    time axis: the title over the first, the time label under the last.
+
+    With zoom, the panels show only where the series move (motion_span of all of them) and a
+    smaller panel below shows the whole run of the first panel's series, the zoomed span shaded;
+    when they move until the end, the panels show the whole run and there is no smaller one."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    span = _zoom_span(panels, until) if zoom else None
+    figure = Figure(figsize=size or _figure_size(len(panels), span is not None))
+    FigureCanvasAgg(figure)
+    axes, whole_run, _ = _draw_panels(figure, panels, title, xlabel, until, span is not None)
+    if span is not None:
+        axes[0].set_xlim(*span)
+        ylabel, series = panels[0]
+        _draw_series(whole_run, series, xlabel=xlabel, ylabel=ylabel, until=until, legend=False)
+        whole_run.axvspan(*span, color='0.85', zorder=0)
+        whole_run.set_title('the whole run (shaded: the span drawn above)', loc='left',
+                            fontsize='medium')
     figure.tight_layout()
     return figure
 
 
 def write_figure(series, path, title=None, xlabel=TIME_LABEL, ylabel=None, until=None):
-    """Writes the figure of {label: (times, values)} to `path` (format from its extension)."""
+    """Writes make_figure's figure of {label: (times, values)} to `path` (format from its
+    extension)."""
     make_figure(series, title, xlabel, ylabel, until=until).savefig(path, dpi=100)
 
 
-def write_panels_figure(panels, path, title=None, xlabel=TIME_LABEL, size=(10, 8), until=None):
+def write_panels_figure(panels, path, title=None, xlabel=TIME_LABEL, size=None, until=None,
+                        zoom=False):
     """Writes make_panels_figure's figure of [(ylabel, series)] to `path`."""
-    make_panels_figure(panels, title, xlabel, size, until).savefig(path, dpi=100)
+    make_panels_figure(panels, title, xlabel, size, until, zoom).savefig(path, dpi=100)
 
 
 # ---- ROS side: find the topics, subscribe, record or show ----
@@ -479,17 +582,20 @@ def record(recorder, duration, timeout):
 
 
 def show_live(recorder, title, start_paused=False, refresh_hz=10.0):
-    """A window redrawn at `refresh_hz` until it is closed; every value holds until the next and
-    the last until now. Space or p pauses and resumes the drawing (recording goes on)."""
+    """A window redrawn at `refresh_hz` until it is closed, a panel per unit as in the written
+    figure; every value holds until the next and the last until now. Space or p pauses and
+    resumes the drawing (recording goes on)."""
     import matplotlib.pyplot as plt
     import rospy
     from matplotlib.animation import FuncAnimation
     if plt.get_backend().lower() in ('agg', 'pdf', 'ps', 'svg', 'cairo', 'template'):
         raise PlotError('matplotlib has no interactive backend here (%s): record headless with '
                         '--duration S --png F --csv F' % plt.get_backend())
-    figure, ax = plt.subplots(figsize=(10, 6))
+    panels = unit_panels({label: ([], []) for label in recorder.labels})
+    figure = plt.figure(figsize=_figure_size(len(panels)))
     figure.canvas.manager.set_window_title(title)
-    lines = _draw_series(ax, {label: ([], []) for label in recorder.labels})
+    axes, _, lines = _draw_panels(figure, panels, None, TIME_LABEL, None)
+    figure.tight_layout()
     paused = [start_paused]
     # Ctrl-C: Python raises KeyboardInterrupt wherever the main thread is, and inside a Tk
     # callback (a redraw, much of the time on a busy machine) tkinter reports it and carries on
@@ -509,8 +615,9 @@ def show_live(recorder, title, start_paused=False, refresh_hz=10.0):
         now = recorder.buffer.since_origin(rospy.get_rostime().to_sec())
         for label, (times, values) in recorder.buffer.series().items():
             lines[label].set_data(*step_path(times, values, until=now))
-        ax.relim()
-        ax.autoscale_view()
+        for ax in axes:
+            ax.relim()
+            ax.autoscale_view()
         return list(lines.values())
 
     figure.canvas.mpl_connect('key_press_event', on_key)

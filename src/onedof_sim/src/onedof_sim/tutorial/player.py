@@ -31,6 +31,7 @@ import yaml
 from onedof_harness.private_ros import PrivateRos
 from onedof_sim.tools.plot import held_window
 from onedof_sim.tutorial import physics
+from onedof_sim.tutorial.rviz_view import RvizView
 
 Phase = collections.namedtuple('Phase', 'name command before')
 
@@ -175,94 +176,37 @@ def package_path(package):
     return rospkg.RosPack().get_path(package)
 
 
-def free_display():
-    for number in range(90, 200):
-        if not os.path.exists('/tmp/.X11-unix/X%d' % number) and \
-                not os.path.exists('/tmp/.X%d-lock' % number):
-            return number
-    raise RuntimeError('no free X display number between :90 and :199')
+# Every file the job writes into its output folder, beside logs/ (for every phase, whichever
+# phases a run plays): what a run removes before it writes, so that nothing of an earlier run
+# stays beside its outputs, and nothing else of a folder the user named.
+SCREENSHOT = 'rviz_final.png'
+WHOLE_RUN_OUTPUTS = ('tutorial.png', 'samples.csv', SCREENSHOT, 'summary.md', 'summary.json',
+                     'in_sim_samples.csv')
+PHASE_OUTPUTS = ('phase%d_%s.png', 'phase%d_%s_pd_vs_pid.png')
 
 
-class RvizView:
-    """rviz with the committed view (the robot, and the simulated world's other models as collision
-    markers), on the user's display or on a private Xvfb, and a screenshot of it once the picture
-    stops changing."""
-
-    def __init__(self, ros, work_dir):
-        self.ros = ros
-        self.env = {}
-        if not os.environ.get('DISPLAY'):
-            number = free_display()
-            self.xvfb = ros.start(['Xvfb', ':%d' % number, '-screen', '0', '1000x720x24',
-                                   '-nolisten', 'tcp'], name='xvfb')
-            ros.wait_until(lambda: os.path.exists('/tmp/.X11-unix/X%d' % number), 20,
-                           what='Xvfb on :%d' % number)
-            self.env['DISPLAY'] = ':%d' % number
-        self.display = self.env.get('DISPLAY', os.environ.get('DISPLAY'))
-        self.config = os.path.join(work_dir, 'tutorial.rviz')
-        self._write_config()
-        ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
-                  name='robot_state_publisher')
-        self.rviz = ros.start(['rosrun', 'rviz', 'rviz', '-d', self.config], name='rviz',
-                              env=dict(self.env, LIBGL_ALWAYS_SOFTWARE='1'))
-
-    def _write_config(self):
-        with open(os.path.join(package_path('minimal_robot_description'), 'rviz',
-                               'minimal_robot.rviz')) as f:
-            config = yaml.safe_load(f)
-        # rviz renders in software here: a few frames a second leave the CPU to the controller.
-        config['Visualization Manager']['Global Options']['Frame Rate'] = 5
-        with open(self.config, 'w') as f:
-            yaml.safe_dump(config, f)
-
-    def _grab(self, path):
-        result = subprocess.run(['import', '-display', self.display, '-window', 'root', path],
-                                capture_output=True, text=True)
-        return result.returncode == 0
-
-    def wait_until_up(self, timeout=90):
-        self.ros.wait_until(lambda: self._subscribed('/gazebo/collision_markers'), timeout,
-                            what='rviz to subscribe to /gazebo/collision_markers')
-
-    def screenshot(self, path, timeout=90):
-        """Waits for rviz to subscribe to the markers, then grabs frames until two in a row are
-        the same but for a few pixels (rviz's frame-rate counter) and not blank; keeps that one."""
-        self.wait_until_up(timeout)
-        previous = path + '.previous.png'
-
-        def steady_frame():
-            if os.path.exists(path):
-                os.replace(path, previous)
-            if not self._grab(path) or is_blank(path) or not os.path.exists(previous):
-                return False
-            return differing_pixels(path, previous) < STEADY_PIXELS
-
-        self.ros.wait_until(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
-        os.remove(previous)
-
-    def _subscribed(self, topic):
-        _, _, (publishers, subscribers, _) = self.ros.master().getSystemState('/tutorial')
-        return any(name == topic and any('rviz' in node for node in nodes)
-                   for name, nodes in subscribers)
+def job_outputs():
+    return list(WHOLE_RUN_OUTPUTS) + [pattern % (number, phase.name) for pattern in PHASE_OUTPUTS
+                                      for number, phase in enumerate(PHASES, 1)]
 
 
-# Pixels two frames of a still scene may differ by: rviz's frame-rate counter.
-STEADY_PIXELS = 400
+def clear_outputs(output):
+    """Removes from `output` what a run of the job writes there (job_outputs() and logs/),
+    nothing else: the folder may be the user's own."""
+    for name in job_outputs():
+        try:
+            os.remove(os.path.join(output, name))
+        except FileNotFoundError:
+            pass
+    shutil.rmtree(os.path.join(output, 'logs'), ignore_errors=True)
 
 
-def differing_pixels(png_a, png_b):
-    result = subprocess.run(['compare', '-metric', 'AE', png_a, png_b, 'null:'],
-                            capture_output=True, text=True)
-    try:
-        return float(result.stderr.split()[0])
-    except (IndexError, ValueError):
-        return math.inf
+class MissingOutputs(RuntimeError):
+    """The run wrote every output but these: {name: why it is missing}."""
 
-
-def is_blank(png_path):
-    result = subprocess.run(['identify', '-format', '%k', png_path], capture_output=True,
-                            text=True)
-    return result.returncode != 0 or result.stdout.strip() in ('', '1')
+    def __init__(self, missing):
+        self.missing = missing
+        super().__init__('; '.join('%s is missing: %s' % item for item in missing.items()))
 
 
 def pd_prediction(phase, settled):
@@ -384,6 +328,12 @@ class LockstepRun:
             raise RuntimeError('step_simulation: ' + reply.status_message)
         return reply.sim_time.to_nsec()
 
+    def refresh(self):
+        """One more control period at the final pose, after the phases: the world stands between
+        steps, so an rviz started after the phases gets the controller's joint state (its
+        transforms) and the simulator's markers only from a step."""
+        self.now_ns = self.step(int(round(CONTROL_PERIOD / self.time_step)))
+
     def phase(self, command, duration):
         """Runs one phase; returns its (start, end) in sim time."""
         taken_before = len(self.rosout.commands_taken())
@@ -411,6 +361,9 @@ class FreeRun:
 
     def before_controller(self):
         pass
+
+    def refresh(self):
+        """Nothing: the free-running world goes on publishing its pose and markers."""
 
     def start(self):
         from std_srvs.srv import Empty
@@ -628,13 +581,15 @@ def play_in_sim(log_dir, physics_engine, phase_duration=IN_SIM_PHASE_DURATION, p
 
 def compared_panels(pd_series, pid_series):
     """One figure's panels [(ylabel, {label: (times, values)})]: the command and each controller's
-    position above, each controller's torque below, labelled by controller."""
+    position above, each controller's torque below, labelled by controller, each panel by its
+    unit (plot.unit_panels)."""
+    from onedof_sim.tools import plot
     labelled = (('rospy PD', pd_series), ('in-sim PID', pid_series))
     # The controllers first in both panels: each keeps its colour from one panel to the other.
-    positions = {'%s jnt_pos' % label: series['jnt_pos'] for label, series in labelled}
-    positions['pos_cmd'] = pid_series['pos_cmd']
-    torques = {'%s jnt_trq' % label: series['jnt_trq'] for label, series in labelled}
-    return [('angle (rad)', positions), ('torque (N m)', torques)]
+    series = {'%s jnt_pos' % label: data['jnt_pos'] for label, data in labelled}
+    series['pos_cmd'] = pid_series['pos_cmd']
+    series.update(('%s jnt_trq' % label, data['jnt_trq']) for label, data in labelled)
+    return plot.unit_panels(series)
 
 
 def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, pd_series,
@@ -664,7 +619,8 @@ def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, 
             title='%s (%s): rospy PD settles at %.3f, in-sim PID at %.3f'
                   % (phase.name, physics_engine, pd_row['settled'], rows[number - 1]['settled']),
             xlabel='sim time since the command (s); the rospy PD\'s phase ends at %g s, its '
-                   'last values drawn held after' % pd_phase_duration, until=phase_duration)
+                   'last values drawn held after' % pd_phase_duration, until=phase_duration,
+            zoom=True)
     plot.write_csv(whole, os.path.join(output, 'in_sim_samples.csv'))
     return rows
 
@@ -689,11 +645,14 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
     """Plays the tutorial's `phases` (a leading part of PHASES: each starts where the one before
     left the arm), in lock-step unless free_run (then paced at real_time_factor), then (unless
     in_sim_phase_duration is 0) the same phases through the in-simulator PID; returns the
-    rospy controller's per-phase summary rows. Raises with the reason on failure."""
+    rospy controller's per-phase summary rows. Starts by clearing what an earlier run wrote
+    into `output` (clear_outputs). Raises with the reason on failure; raises MissingOutputs after
+    writing every other output when the rviz screenshot could not be taken."""
     from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
+    clear_outputs(output)
     log_dir = os.path.join(output, 'logs')
-    shutil.rmtree(log_dir, ignore_errors=True)
+    missing = {}  # {output name: why it is missing}
     wall_start = time.monotonic()
     # /use_sim_time before any node starts, as Gazebo's launch files do, so that every node
     # (this one included) runs on sim time from its first message.
@@ -720,7 +679,8 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
                        what='one_DOF_robot to be spawned')
         # rviz (software rendering) starts while the simulator is paused and is up before the
         # phases run, so its start-up never takes the CPU from the controller.
-        rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_')) if screenshot else None
+        # rviz may die (see rviz_view): the view restarts it, and the job goes on without it.
+        rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_'), say) if screenshot else None
         if rviz:
             rviz.wait_until_up()
         from std_msgs.msg import Float64
@@ -743,9 +703,6 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
                 series, os.path.join(output, 'phase%d_%s.png' % (number, phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
                 xlabel='sim time since the command (s)', until=end - start)
-        if rviz:
-            say('rviz screenshot of the final pose (the table from the collision markers)')
-            rviz.screenshot(os.path.join(output, 'rviz_final.png'))
         # From the first command on: whether the controller's first sample (its period on the
         # initial command 0) reaches us depends on how soon our subscription connects.
         t0, end = spans[0][0], spans[-1][1]
@@ -754,6 +711,12 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         plot.write_figure(whole, os.path.join(output, 'tutorial.png'),
                           title='The whole tutorial (%s)' % physics_engine,
                           xlabel='sim time (s)', until=end - t0)
+        if rviz:
+            say('rviz screenshot of the final pose (the table from the collision markers)')
+            why = rviz.screenshot(os.path.join(output, SCREENSHOT), refresh=run.refresh)
+            rviz.stop()
+            if why:
+                missing[SCREENSHOT] = why
         rospy.signal_shutdown('tutorial finished')
     in_sim_rows = []
     if in_sim_phase_duration:
@@ -767,6 +730,10 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
                    'in_sim_phases': in_sim_rows}, f, indent=1)
     print(summary)
     say('done in %.1f s of wall time; outputs in %s' % (time.monotonic() - wall_start, output))
+    if missing:
+        for name, why in missing.items():
+            say('%s is missing: %s' % (name, why))
+        raise MissingOutputs(missing)
     return rows
 
 
