@@ -9,9 +9,9 @@
 #include <sstream>
 
 #include "onedof_sim/world.h"
-#include "controllers.h"
-#include "pid.h"
-#include "robot_hw_sim.h"
+#include "control/controllers.h"
+#include "control/pid.h"
+#include "control/robot_hw_sim.h"
 
 namespace onedof_sim::control {
 namespace {

@@ -23,8 +23,8 @@
 #include <controller_manager_msgs/UnloadController.h>
 #include <ros/ros.h>
 
-#include "controllers.h"
-#include "robot_hw_sim.h"
+#include "control/controllers.h"
+#include "control/robot_hw_sim.h"
 
 namespace onedof_sim::control {
 
