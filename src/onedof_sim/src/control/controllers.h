@@ -76,6 +76,6 @@ const ControllerType* findControllerType(const std::string& name);
 // ros_controllers' error of a position command: the shortest angular distance for continuous
 // joints and, within the limits, for revolute ones (angles::shortest_angular_distance_with_large_
 // limits); the plain difference for prismatic joints.
-double positionError(const JointHandle& joint, double command);
+double positionError(const JointStateHandle& joint, double command);
 
 }  // namespace onedof_sim::control

@@ -102,17 +102,18 @@ TEST(Pid, GainsReadAsPidInit) {
 }
 
 TEST(PositionError, ShortestWayForContinuousWithinLimitsForRevolute) {
-  JointHandle joint;
+  SimJoint joint;
+  const JointStateHandle handle(joint);
   joint.type = JointType::Continuous;
   joint.position = 3.0;
-  EXPECT_NEAR(positionError(joint, -3.0), 2 * M_PI - 6.0, 1e-12);
+  EXPECT_NEAR(positionError(handle, -3.0), 2 * M_PI - 6.0, 1e-12);
   joint.type = JointType::Revolute;
   joint.has_limits = true;
   joint.lower = -3.1;
   joint.upper = 3.1;
-  EXPECT_NEAR(positionError(joint, -3.0), -6.0, 1e-12);  // the short way crosses the limit
+  EXPECT_NEAR(positionError(handle, -3.0), -6.0, 1e-12);  // the short way crosses the limit
   joint.type = JointType::Prismatic;
-  EXPECT_DOUBLE_EQ(positionError(joint, -3.0), -6.0);
+  EXPECT_DOUBLE_EQ(positionError(handle, -3.0), -6.0);
 }
 
 std::string tutorialUrdf() {
@@ -195,7 +196,7 @@ struct ArmUnderController {
       world.step();
     }
     robot->read(world);
-    return robot->joint("joint1")->position;
+    return robot->jointState("joint1")->position();
   }
 };
 
@@ -252,7 +253,7 @@ TEST(JointVelocityController, HoldsTheCommandedRate) {
   arm.controller->setCommand(1.5);
   // 1 s: 30 time constants (0.35 kg m^2 / p), and the link still clear of the ground.
   arm.run(1.0);
-  EXPECT_NEAR(arm.robot->joint("joint1")->velocity, 1.5, 1e-3);
+  EXPECT_NEAR(arm.robot->jointState("joint1")->velocity(), 1.5, 1e-3);
 }
 
 TEST(JointEffortController, TheCommandIsTheEffort) {
@@ -263,8 +264,8 @@ TEST(JointEffortController, TheCommandIsTheEffort) {
   arm.controller->setCommand(1.0);
   arm.run(1.0);
   // 1 N m on the link's inertia about the joint (Iyy + m d^2) for 1 s.
-  EXPECT_NEAR(arm.robot->joint("joint1")->velocity, 1.0 / (0.1 + 1.0 * 0.5 * 0.5), 1e-3);
-  EXPECT_DOUBLE_EQ(arm.robot->joint("joint1")->effort, 1.0);
+  EXPECT_NEAR(arm.robot->jointState("joint1")->velocity(), 1.0 / (0.1 + 1.0 * 0.5 * 0.5), 1e-3);
+  EXPECT_DOUBLE_EQ(arm.robot->jointState("joint1")->effort(), 1.0);
 }
 
 TEST(JointStateController, PublishesAtItsRateOfSimTime) {
