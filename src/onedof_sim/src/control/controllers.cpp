@@ -258,8 +258,9 @@ const std::vector<ControllerType>& controllerTypes() {
   return types;
 }
 
-const ControllerType* findControllerType(const std::string& name) {
-  for (const ControllerType& type : controllerTypes())
+const ControllerType* findControllerType(const std::string& name,
+                                         const std::vector<ControllerType>& types) {
+  for (const ControllerType& type : types)
     if (type.name == name) return &type;
   return nullptr;
 }
