@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "control/param_source.h"
+#include "param_source.h"
 
 namespace onedof_sim::control::testing_support {
 

@@ -6,9 +6,9 @@
 #include <cmath>
 
 #include "onedof_sim/world.h"
-#include "control/controllers.h"
-#include "control/pid.h"
-#include "control/robot_hw_sim.h"
+#include "controllers.h"
+#include "pid.h"
+#include "robot_hw_sim.h"
 #include "control_test_support.h"
 
 namespace onedof_sim::control {

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "onedof_sim/world.h"
-#include "control/controller_set.h"
-#include "control/controllers.h"
-#include "control/robot_hw_sim.h"
+#include "controller_set.h"
+#include "controllers.h"
+#include "robot_hw_sim.h"
 #include "control_test_support.h"
 
 namespace onedof_sim::control {

@@ -26,9 +26,9 @@
 #include <controller_manager_msgs/UnloadController.h>
 #include <ros/ros.h>
 
-#include "control/controller_set.h"
-#include "control/controllers.h"
-#include "control/robot_hw_sim.h"
+#include "controller_set.h"
+#include "controllers.h"
+#include "robot_hw_sim.h"
 
 namespace onedof_sim::control {
 

@@ -12,7 +12,7 @@
 #include <onedof_sim/world.h>
 
 #include "controller_manager.h"
-#include "control/robot_hw_sim.h"
+#include "robot_hw_sim.h"
 
 namespace onedof_sim::control {
 
