@@ -4,44 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <map>
-#include <sstream>
 
 #include "onedof_sim/world.h"
 #include "controllers.h"
 #include "pid.h"
 #include "robot_hw_sim.h"
+#include "control_test_support.h"
 
 namespace onedof_sim::control {
 namespace {
 
-class MapParams : public ParamSource {
- public:
-  std::map<std::string, double> numbers;
-  std::map<std::string, std::string> strings;
-  bool has(const std::string& key) const override {
-    return numbers.count(key) || strings.count(key);
-  }
-  bool getDouble(const std::string& key, double* value) const override {
-    auto found = numbers.find(key);
-    if (found == numbers.end()) return false;
-    *value = found->second;
-    return true;
-  }
-  bool getBool(const std::string& key, bool* value) const override {
-    double number;
-    if (!getDouble(key, &number)) return false;
-    *value = number != 0;
-    return true;
-  }
-  bool getString(const std::string& key, std::string* value) const override {
-    auto found = strings.find(key);
-    if (found == strings.end()) return false;
-    *value = found->second;
-    return true;
-  }
-};
+using namespace testing_support;
 
 constexpr double kDt = 0.001;
 
@@ -102,40 +75,18 @@ TEST(Pid, GainsReadAsPidInit) {
 }
 
 TEST(PositionError, ShortestWayForContinuousWithinLimitsForRevolute) {
-  JointHandle joint;
+  SimJoint joint;
+  const JointStateHandle handle(joint);
   joint.type = JointType::Continuous;
   joint.position = 3.0;
-  EXPECT_NEAR(positionError(joint, -3.0), 2 * M_PI - 6.0, 1e-12);
+  EXPECT_NEAR(positionError(handle, -3.0), 2 * M_PI - 6.0, 1e-12);
   joint.type = JointType::Revolute;
   joint.has_limits = true;
   joint.lower = -3.1;
   joint.upper = 3.1;
-  EXPECT_NEAR(positionError(joint, -3.0), -6.0, 1e-12);  // the short way crosses the limit
+  EXPECT_NEAR(positionError(handle, -3.0), -6.0, 1e-12);  // the short way crosses the limit
   joint.type = JointType::Prismatic;
-  EXPECT_DOUBLE_EQ(positionError(joint, -3.0), -6.0);
-}
-
-std::string tutorialUrdf() {
-  std::ifstream file(ONEDOF_SOURCE_DIR "/src/minimal_robot_description/minimal_robot_description.urdf");
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-// The book's variant of the tutorial robot: an effort transmission on joint1 and
-// gazebo_ros_control's tag; plugin_body, if given, replaces what the tag holds.
-std::string controlledUrdf(const std::string& plugin_body = "") {
-  std::ifstream file(ONEDOF_SOURCE_DIR
-                     "/src/minimal_robot_description/minimal_robot_description_w_jnt_ctl.urdf");
-  std::stringstream text;
-  text << file.rdbuf();
-  std::string urdf = text.str();
-  if (!plugin_body.empty()) {
-    const std::string open = "<robotNamespace>", close = "</robotNamespace>";
-    const size_t start = urdf.find(open);
-    urdf.replace(start, urdf.find(close) + close.size() - start, plugin_body);
-  }
-  return urdf;
+  EXPECT_DOUBLE_EQ(positionError(handle, -3.0), -6.0);
 }
 
 TEST(RobotControlSpec, PluginTagAndTransmissions) {
@@ -195,7 +146,7 @@ struct ArmUnderController {
       world.step();
     }
     robot->read(world);
-    return robot->joint("joint1")->position;
+    return robot->jointState("joint1")->position();
   }
 };
 
@@ -252,7 +203,7 @@ TEST(JointVelocityController, HoldsTheCommandedRate) {
   arm.controller->setCommand(1.5);
   // 1 s: 30 time constants (0.35 kg m^2 / p), and the link still clear of the ground.
   arm.run(1.0);
-  EXPECT_NEAR(arm.robot->joint("joint1")->velocity, 1.5, 1e-3);
+  EXPECT_NEAR(arm.robot->jointState("joint1")->velocity(), 1.5, 1e-3);
 }
 
 TEST(JointEffortController, TheCommandIsTheEffort) {
@@ -263,8 +214,8 @@ TEST(JointEffortController, TheCommandIsTheEffort) {
   arm.controller->setCommand(1.0);
   arm.run(1.0);
   // 1 N m on the link's inertia about the joint (Iyy + m d^2) for 1 s.
-  EXPECT_NEAR(arm.robot->joint("joint1")->velocity, 1.0 / (0.1 + 1.0 * 0.5 * 0.5), 1e-3);
-  EXPECT_DOUBLE_EQ(arm.robot->joint("joint1")->effort, 1.0);
+  EXPECT_NEAR(arm.robot->jointState("joint1")->velocity(), 1.0 / (0.1 + 1.0 * 0.5 * 0.5), 1e-3);
+  EXPECT_DOUBLE_EQ(arm.robot->jointState("joint1")->effort(), 1.0);
 }
 
 TEST(JointStateController, PublishesAtItsRateOfSimTime) {

@@ -1,6 +1,5 @@
 #include "controller_manager.h"
 
-#include <algorithm>
 #include <sstream>
 #include <utility>
 
@@ -66,8 +65,25 @@ class RosParams : public ParamSource {
 constexpr uint32_t kJointStatesQueue = 4;
 constexpr uint32_t kStateQueue = 1;
 
-const char* stateName(bool initialized, bool running) {
-  return initialized ? "initialized" : running ? "running" : "stopped";
+// controller_manager's words for a switch the set refused.
+std::string switchRefusal(const SwitchResult& result) {
+  switch (result.outcome) {
+    case SwitchOutcome::UnknownToStop:
+    case SwitchOutcome::UnknownToStart:
+      return std::string("Could not ") +
+             (result.outcome == SwitchOutcome::UnknownToStop ? "stop" : "start") +
+             " controller with name '" + result.controller +
+             "' because no controller with this name exists";
+    case SwitchOutcome::NotRunning:
+      return "Could not stop controller '" + result.controller + "' since it is not running";
+    case SwitchOutcome::AlreadyRunning:
+      return "Controller '" + result.controller + "' is already running";
+    case SwitchOutcome::ResourceConflict:
+      return "Could not switch controllers, due to resource conflict (joint '" + result.resource +
+             "' would be commanded by two running controllers)";
+    case SwitchOutcome::Switched: break;
+  }
+  return "";
 }
 
 }  // namespace
@@ -75,9 +91,9 @@ const char* stateName(bool initialized, bool running) {
 ControllerManager::ControllerManager(const std::string& robot_namespace, RobotHwSim& robot,
                                      LockWorld lock_world)
     : robot_namespace_(robot_namespace),
-      robot_(robot),
       lock_world_(std::move(lock_world)),
-      nh_(robot_namespace) {
+      nh_(robot_namespace),
+      controllers_(robot) {
   ros::NodeHandle n(nh_, "controller_manager");
   services_ = {
       n.advertiseService("load_controller", &ControllerManager::loadController, this),
@@ -95,15 +111,7 @@ ControllerManager::~ControllerManager() {
 }
 
 void ControllerManager::update(int64_t time_ns, int64_t period_ns, bool reset_controllers) {
-  time_ns_ = time_ns;
-  for (Loaded& loaded : loaded_) {
-    if (loaded.state != State::Running) continue;
-    if (reset_controllers) {
-      loaded.controller->stopping(time_ns);
-      loaded.controller->starting(time_ns);
-    }
-    loaded.controller->update(time_ns, period_ns);
-  }
+  controllers_.update(time_ns, period_ns, reset_controllers);
 }
 
 std::vector<Publication> ControllerManager::takePublications() {
@@ -112,18 +120,12 @@ std::vector<Publication> ControllerManager::takePublications() {
 
 std::vector<std::shared_ptr<void>> ControllerManager::unloadAll(int64_t time_ns) {
   std::vector<std::shared_ptr<void>> leftovers;
-  for (Loaded& loaded : loaded_) {
-    if (loaded.state == State::Running) loaded.controller->stopping(time_ns);
-    leftovers.push_back(std::make_shared<ros::Subscriber>(std::move(loaded.command_subscriber)));
-  }
-  loaded_.clear();
+  for (std::shared_ptr<Controller>& controller : controllers_.unloadAll(time_ns))
+    leftovers.push_back(std::move(controller));  // with their publishers
+  for (auto& [name, subscriber] : command_subscribers_)
+    leftovers.push_back(std::make_shared<ros::Subscriber>(std::move(subscriber)));
+  command_subscribers_.clear();
   return leftovers;
-}
-
-ControllerManager::Loaded* ControllerManager::find(const std::string& name) {
-  for (Loaded& loaded : loaded_)
-    if (loaded.name == name) return &loaded;
-  return nullptr;
 }
 
 void ControllerManager::connectOutputs(const std::string& name, Controller& controller) {
@@ -165,37 +167,37 @@ bool ControllerManager::loadController(controller_manager_msgs::LoadController::
   res.ok = false;
   const std::string ns = ros::names::resolve(robot_namespace_ + "/" + req.name);
   const RosParams params(ns);
-  std::string type;
-  if (!params.getString(ns + "/type", &type)) {
-    ROS_ERROR("Could not load controller '%s' because the type was not specified. Did you load "
-              "the controller configuration on the parameter server (namespace: '%s')?",
-              req.name.c_str(), ns.c_str());
-    return true;
-  }
-  const ControllerType* found = findControllerType(type);
-  if (!found) {
-    ROS_ERROR("Could not load controller '%s' because controller type '%s' does not exist.",
-              req.name.c_str(), type.c_str());
-    ROS_ERROR("Use 'rosservice call %s/controller_manager/list_controller_types' to get the "
-              "available types", robot_namespace_.c_str());
-    return true;
-  }
-  std::shared_ptr<Controller> controller;
+  LoadResult prepared;
   {
     std::unique_lock<std::mutex> lock = lock_world_();
-    if (find(req.name)) {
+    prepared = controllers_.prepareLoad(req.name, params, ns);
+  }
+  switch (prepared.outcome) {
+    case LoadOutcome::NoType:
+      ROS_ERROR("Could not load controller '%s' because the type was not specified. Did you load "
+                "the controller configuration on the parameter server (namespace: '%s')?",
+                req.name.c_str(), ns.c_str());
+      return true;
+    case LoadOutcome::UnknownType:
+      ROS_ERROR("Could not load controller '%s' because controller type '%s' does not exist.",
+                req.name.c_str(), prepared.type.c_str());
+      ROS_ERROR("Use 'rosservice call %s/controller_manager/list_controller_types' to get the "
+                "available types", robot_namespace_.c_str());
+      return true;
+    case LoadOutcome::AlreadyLoaded:
       ROS_ERROR("A controller named '%s' was already loaded inside the controller manager",
                 req.name.c_str());
       return true;
-    }
-    std::string error;
-    controller = found->make(robot_, params, ns, &error);
-    if (!controller) {
-      ROS_ERROR("Initializing controller '%s' failed: %s", req.name.c_str(), error.c_str());
+    case LoadOutcome::InitFailed:
+      ROS_ERROR("Initializing controller '%s' failed: %s", req.name.c_str(),
+                prepared.error.c_str());
       return true;
-    }
+    case LoadOutcome::Loaded: break;
   }
-  // Topics are set up unlocked (they talk to the master); the controller runs only once started.
+  // Topics are set up and, on a refusal, taken down unlocked (they talk to the master); the
+  // controller runs only once started.
+  const std::string type = prepared.type;
+  const std::shared_ptr<Controller> controller = prepared.controller;
   connectOutputs(req.name, *controller);
   ros::Subscriber command_subscriber;
   if (controller->takesCommand()) {
@@ -205,14 +207,16 @@ bool ControllerManager::loadController(controller_manager_msgs::LoadController::
           target->setCommand(msg->data);
         });
   }
-  std::unique_lock<std::mutex> lock = lock_world_();
-  if (find(req.name)) {  // loaded meanwhile by a concurrent call
-    ROS_ERROR("A controller named '%s' was already loaded inside the controller manager",
-              req.name.c_str());
-    lock.unlock();
-    return true;
+  {
+    std::unique_lock<std::mutex> lock = lock_world_();
+    if (controllers_.commitLoad(req.name, std::move(prepared)) != LoadOutcome::Loaded) {
+      // Loaded meanwhile by a concurrent call.
+      ROS_ERROR("A controller named '%s' was already loaded inside the controller manager",
+                req.name.c_str());
+      return true;
+    }
+    command_subscribers_[req.name] = std::move(command_subscriber);
   }
-  loaded_.push_back({req.name, type, State::Initialized, controller, command_subscriber});
   ROS_INFO("%s: loaded controller '%s' (%s)", robot_namespace_.c_str(), req.name.c_str(),
            type.c_str());
   res.ok = true;
@@ -222,94 +226,29 @@ bool ControllerManager::loadController(controller_manager_msgs::LoadController::
 bool ControllerManager::unloadController(controller_manager_msgs::UnloadController::Request& req,
                                          controller_manager_msgs::UnloadController::Response& res) {
   res.ok = false;
-  Loaded unloaded;
+  // Destroyed unlocked: the subscriber waits for a callback in flight, the publishers talk to the
+  // master.
+  std::shared_ptr<Controller> controller;
+  ros::Subscriber command_subscriber;
   {
     std::unique_lock<std::mutex> lock = lock_world_();
-    Loaded* loaded = find(req.name);
-    if (!loaded) {
-      ROS_ERROR("Could not unload controller with name '%s' because no controller with this name "
-                "exists", req.name.c_str());
-      return true;
+    switch (controllers_.unload(req.name, &controller)) {
+      case UnloadOutcome::NotLoaded:
+        ROS_ERROR("Could not unload controller with name '%s' because no controller with this "
+                  "name exists", req.name.c_str());
+        return true;
+      case UnloadOutcome::StillRunning:
+        ROS_ERROR("Could not unload controller with name '%s' because it is still running",
+                  req.name.c_str());
+        return true;
+      case UnloadOutcome::Unloaded: break;
     }
-    if (loaded->state == State::Running) {
-      ROS_ERROR("Could not unload controller with name '%s' because it is still running",
-                req.name.c_str());
-      return true;
-    }
-    unloaded = std::move(*loaded);
-    loaded_.erase(loaded_.begin() + (loaded - loaded_.data()));
+    auto found = command_subscribers_.find(req.name);
+    command_subscriber = std::move(found->second);
+    command_subscribers_.erase(found);
   }
-  unloaded.command_subscriber.shutdown();  // unlocked: it waits for a callback in flight
+  command_subscriber.shutdown();
   res.ok = true;
-  return true;
-}
-
-bool ControllerManager::switchLocked(const std::vector<std::string>& start,
-                                     const std::vector<std::string>& stop, int strictness,
-                                     std::string* error) {
-  const bool strict = strictness == SwitchController::Request::STRICT;
-  std::vector<Loaded*> to_stop, to_start;
-  for (const auto& [names, list, verb] :
-       {std::make_tuple(&stop, &to_stop, "stop"), std::make_tuple(&start, &to_start, "start")}) {
-    for (const std::string& name : *names) {
-      Loaded* loaded = find(name);
-      if (!loaded) {
-        if (!strict) continue;
-        *error = std::string("Could not ") + verb + " controller with name '" + name +
-                 "' because no controller with this name exists";
-        return false;
-      }
-      list->push_back(loaded);
-    }
-  }
-  auto listed = [](const std::vector<Loaded*>& list, const Loaded* loaded) {
-    return std::find(list.begin(), list.end(), loaded) != list.end();
-  };
-  std::vector<Loaded*> stopping, starting;
-  for (Loaded& loaded : loaded_) {
-    const bool running = loaded.state == State::Running;
-    bool in_stop = listed(to_stop, &loaded), in_start = listed(to_start, &loaded);
-    if (!running && in_stop) {
-      if (strict) {
-        *error = "Could not stop controller '" + loaded.name + "' since it is not running";
-        return false;
-      }
-      in_stop = false;
-    }
-    if (running && !in_stop && in_start) {
-      if (strict) {
-        *error = "Controller '" + loaded.name + "' is already running";
-        return false;
-      }
-      in_start = false;
-    }
-    if (running && in_stop && !in_start) stopping.push_back(&loaded);
-    else if (!running && !in_stop && in_start) starting.push_back(&loaded);
-    else if (running && in_stop && in_start) stopping.push_back(&loaded), starting.push_back(&loaded);
-  }
-  // Two running controllers may not command one joint (a resource conflict).
-  std::vector<std::string> claimed;
-  for (Loaded& loaded : loaded_) {
-    const bool will_run = (loaded.state == State::Running && !listed(stopping, &loaded)) ||
-                          listed(starting, &loaded);
-    if (!will_run) continue;
-    for (const std::string& joint : loaded.controller->claims().resources) {
-      if (std::count(claimed.begin(), claimed.end(), joint)) {
-        *error = "Could not switch controllers, due to resource conflict (joint '" + joint +
-                 "' would be commanded by two running controllers)";
-        return false;
-      }
-      claimed.push_back(joint);
-    }
-  }
-  for (Loaded* loaded : stopping) {
-    loaded->controller->stopping(time_ns_);
-    loaded->state = State::Stopped;
-  }
-  for (Loaded* loaded : starting) {
-    loaded->controller->starting(time_ns_);
-    loaded->state = State::Running;
-  }
   return true;
 }
 
@@ -318,35 +257,41 @@ bool ControllerManager::switchLocked(const std::vector<std::string>& start,
 // to wait for.
 bool ControllerManager::switchController(controller_manager_msgs::SwitchController::Request& req,
                                          controller_manager_msgs::SwitchController::Response& res) {
-  int strictness = req.strictness;
-  if (strictness == 0) {
+  if (req.strictness == 0) {
     ROS_WARN("Controller Manager: To switch controllers you need to specify a strictness level of "
              "controller_manager_msgs::SwitchController::STRICT (%d) or ::BEST_EFFORT (%d). "
              "Defaulting to ::BEST_EFFORT.",
              SwitchController::Request::STRICT, SwitchController::Request::BEST_EFFORT);
-    strictness = SwitchController::Request::BEST_EFFORT;
   }
-  std::string error;
+  const Strictness strictness = req.strictness == SwitchController::Request::STRICT
+                                    ? Strictness::Strict
+                                    : Strictness::BestEffort;
+  SwitchResult result;
   {
     std::unique_lock<std::mutex> lock = lock_world_();
-    res.ok = switchLocked(req.start_controllers, req.stop_controllers, strictness, &error);
+    result = controllers_.switchControllers(req.start_controllers, req.stop_controllers,
+                                            strictness, controllers_.lastUpdateNs());
   }
-  if (!res.ok) ROS_ERROR_STREAM(error);
+  res.ok = result.ok();
+  if (!res.ok) ROS_ERROR_STREAM(switchRefusal(result));
   return true;
 }
 
 bool ControllerManager::listControllers(controller_manager_msgs::ListControllers::Request&,
                                         controller_manager_msgs::ListControllers::Response& res) {
-  std::unique_lock<std::mutex> lock = lock_world_();
-  for (const Loaded& loaded : loaded_) {
+  std::vector<ControllerInfo> infos;
+  {
+    std::unique_lock<std::mutex> lock = lock_world_();
+    infos = controllers_.list();
+  }
+  for (const ControllerInfo& info : infos) {
     controller_manager_msgs::ControllerState state;
-    state.name = loaded.name;
-    state.type = loaded.type;
-    state.state = stateName(loaded.state == State::Initialized, loaded.state == State::Running);
-    const ClaimedResources claims = loaded.controller->claims();
+    state.name = info.name;
+    state.type = info.type;
+    state.state = controllerStateName(info.state);
     controller_manager_msgs::HardwareInterfaceResources resources;
-    resources.hardware_interface = claims.hardware_interface;
-    resources.resources = claims.resources;
+    resources.hardware_interface = info.claims.hardware_interface;
+    resources.resources = info.claims.resources;
     state.claimed_resources.push_back(resources);
     res.controller.push_back(state);
   }
@@ -356,7 +301,8 @@ bool ControllerManager::listControllers(controller_manager_msgs::ListControllers
 bool ControllerManager::listControllerTypes(
     controller_manager_msgs::ListControllerTypes::Request&,
     controller_manager_msgs::ListControllerTypes::Response& res) {
-  for (const ControllerType& type : controllerTypes()) {
+  // Unlocked: the set's types are fixed at its construction.
+  for (const ControllerType& type : controllers_.types()) {
     res.types.push_back(type.name);
     res.base_classes.push_back(type.base_class);
   }
@@ -371,14 +317,15 @@ bool ControllerManager::reloadControllerLibraries(
   std::vector<std::shared_ptr<void>> leftovers;
   {
     std::unique_lock<std::mutex> lock = lock_world_();
-    if (!loaded_.empty() && !req.force_kill) {
+    const size_t loaded = controllers_.size();
+    if (loaded > 0 && !req.force_kill) {
       ROS_ERROR("Controller manager: Cannot reload controller libraries because there are still "
-                "%i controllers running", int(loaded_.size()));
+                "%i controllers running", int(loaded));
       res.ok = false;
       return true;
     }
-    if (!loaded_.empty()) ROS_INFO("Controller manager: Killing all running controllers");
-    leftovers = unloadAll(time_ns_);
+    if (loaded > 0) ROS_INFO("Controller manager: Killing all running controllers");
+    leftovers = unloadAll(controllers_.lastUpdateNs());
   }
   leftovers.clear();  // unlocked: subscribers wait for callbacks in flight
   res.ok = true;

@@ -1,6 +1,8 @@
-// controller_manager (Noetic) for one robot namespace, inside the simulator: its six services
-// under <robotNamespace>/controller_manager/, with controller_manager_msgs' types, over the
-// controllers of controllers.h; their `command` topics and what they publish.
+// controller_manager (Noetic) for one robot namespace, inside the simulator: the ROS face of a
+// ControllerSet (control/controller_set.h). Its six services under
+// <robotNamespace>/controller_manager/, with controller_manager_msgs' types and
+// controller_manager's log messages; the controllers' parameters from the parameter server;
+// their `command` topics and what they publish.
 //
 // Threading as GazeboApi's: service callbacks and command subscribers run on the node's spinner;
 // the services change the controllers under the world's lock (lock_world), the step loop updates
@@ -10,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -23,6 +26,7 @@
 #include <controller_manager_msgs/UnloadController.h>
 #include <ros/ros.h>
 
+#include "controller_set.h"
 #include "controllers.h"
 #include "robot_hw_sim.h"
 
@@ -49,15 +53,6 @@ class ControllerManager {
   std::vector<std::shared_ptr<void>> unloadAll(int64_t time_ns);
 
  private:
-  enum class State { Initialized, Running, Stopped };
-  struct Loaded {
-    std::string name;
-    std::string type;
-    State state = State::Initialized;
-    std::shared_ptr<Controller> controller;
-    ros::Subscriber command_subscriber;
-  };
-
   bool loadController(controller_manager_msgs::LoadController::Request& req,
                       controller_manager_msgs::LoadController::Response& res);
   bool unloadController(controller_manager_msgs::UnloadController::Request& req,
@@ -71,21 +66,16 @@ class ControllerManager {
   bool reloadControllerLibraries(controller_manager_msgs::ReloadControllerLibraries::Request& req,
                                  controller_manager_msgs::ReloadControllerLibraries::Response& res);
 
-  // World locked. False and *error when a name is unknown, or (STRICT) already in that state.
-  bool switchLocked(const std::vector<std::string>& start, const std::vector<std::string>& stop,
-                    int strictness, std::string* error);
-  Loaded* find(const std::string& name);
   // The publishers a controller of this name hands its facts to.
   void connectOutputs(const std::string& name, Controller& controller);
 
   std::string robot_namespace_;
-  RobotHwSim& robot_;
   LockWorld lock_world_;
   ros::NodeHandle nh_;  // the robot namespace
-  int64_t time_ns_ = 0;  // of the last update, for starting()/stopping() called from services
 
   // Guarded by the world's lock.
-  std::vector<Loaded> loaded_;
+  ControllerSet controllers_;
+  std::map<std::string, ros::Subscriber> command_subscribers_;  // by controller name
   std::vector<Publication> publications_;
 
   // Last: shut down first, waiting for callbacks in flight.

@@ -30,7 +30,7 @@ GazeboRosControl::GazeboRosControl(const World& world, const std::string& model,
       manager_(spec.robot_namespace, robot_, lock_world) {
   logWarnings(spec_, model);
   ROS_INFO_STREAM("gazebo_ros_control: model '" << model << "', controller_manager in "
-                  << spec_.robot_namespace << ", " << robot_.joints().size()
+                  << spec_.robot_namespace << ", " << robot_.jointStates().size()
                   << " transmission joint(s)");
 }
 

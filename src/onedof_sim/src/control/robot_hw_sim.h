@@ -1,6 +1,6 @@
 // gazebo_ros_control's side of the model (Noetic, DefaultRobotHWSim): what the URDF's
 // <gazebo><plugin filename="libgazebo_ros_control.so"> and <transmission>s say, and the joints
-// it offers controllers (hardware_interface's joint handles) over the World. Free of ROS.
+// it offers controllers (joint_handles.h) over the World. Free of ROS.
 #pragma once
 
 #include <cstdint>
@@ -10,10 +10,9 @@
 
 #include <onedof_sim/world.h>
 
-namespace onedof_sim::control {
+#include "joint_handles.h"
 
-// hardware_interface's joint interfaces, as a <transmission>'s <hardwareInterface> names them.
-enum class JointInterface { Effort, Position, Velocity };
+namespace onedof_sim::control {
 
 // "hardware_interface::EffortJointInterface", as controller_manager reports a claim.
 std::string interfaceTypeName(JointInterface interface);
@@ -40,20 +39,6 @@ struct RobotControlSpec {
 bool readRobotControlSpec(const std::string& urdf, const std::string& model_name,
                           RobotControlSpec* spec, std::string* error);
 
-// One transmission joint as the controllers see it: state read before the controllers run,
-// the effort they command written into the world before each step.
-struct JointHandle {
-  std::string name;         // bare, as controllers name it
-  std::string world_name;   // "model::joint", unambiguous in the world
-  std::vector<JointInterface> interfaces;
-  JointType type = JointType::Revolute;
-  bool has_limits = false;
-  double lower = 0, upper = 0;
-  double position = 0, velocity = 0;
-  double effort = 0;  // what acted in the last step (JointState's effort)
-  std::optional<double> effort_command;  // this control period's; none: no effort
-};
-
 // The transmission joints of one model over the World (the RobotHW of gazebo_ros_control).
 class RobotHwSim {
  public:
@@ -62,8 +47,15 @@ class RobotHwSim {
   RobotHwSim(const World& world, const std::string& model, const RobotControlSpec& spec,
              std::vector<std::string>* warnings);
 
-  JointHandle* joint(const std::string& name);
-  std::vector<JointHandle>& joints() { return joints_; }
+  // The handles point into this object: it is neither copied nor moved.
+  RobotHwSim(const RobotHwSim&) = delete;
+  RobotHwSim& operator=(const RobotHwSim&) = delete;
+
+  // hardware_interface's JointStateInterface: every joint, read-only, in transmission order.
+  std::vector<JointStateHandle> jointStates() const;
+  std::optional<JointStateHandle> jointState(const std::string& name) const;
+  // EffortJointInterface: the joint, when its transmission offers that interface.
+  std::optional<EffortJointHandle> effortJoint(const std::string& name);
 
   // readSim: positions and rates from the world. Commands of the last period are dropped: a
   // controller that is not running commands nothing.
@@ -73,7 +65,7 @@ class RobotHwSim {
   void write(World& world);
 
  private:
-  std::vector<JointHandle> joints_;
+  std::vector<SimJoint> joints_;
 };
 
 }  // namespace onedof_sim::control

@@ -1,5 +1,6 @@
 #include "robot_hw_sim.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -138,7 +139,7 @@ bool readRobotControlSpec(const std::string& urdf, const std::string& model_name
 RobotHwSim::RobotHwSim(const World& world, const std::string& model,
                        const RobotControlSpec& spec, std::vector<std::string>* warnings) {
   for (const TransmissionJoint& transmission : spec.joints) {
-    JointHandle handle;
+    SimJoint handle;
     handle.name = transmission.joint;
     handle.world_name = model + "::" + transmission.joint;
     handle.interfaces = transmission.interfaces;
@@ -162,14 +163,26 @@ RobotHwSim::RobotHwSim(const World& world, const std::string& model,
   }
 }
 
-JointHandle* RobotHwSim::joint(const std::string& name) {
-  for (JointHandle& handle : joints_)
-    if (handle.name == name) return &handle;
-  return nullptr;
+std::vector<JointStateHandle> RobotHwSim::jointStates() const {
+  return std::vector<JointStateHandle>(joints_.begin(), joints_.end());
+}
+
+std::optional<JointStateHandle> RobotHwSim::jointState(const std::string& name) const {
+  for (const SimJoint& joint : joints_)
+    if (joint.name == name) return JointStateHandle(joint);
+  return std::nullopt;
+}
+
+std::optional<EffortJointHandle> RobotHwSim::effortJoint(const std::string& name) {
+  for (SimJoint& joint : joints_)
+    if (joint.name == name && std::find(joint.interfaces.begin(), joint.interfaces.end(),
+                                        JointInterface::Effort) != joint.interfaces.end())
+      return EffortJointHandle(joint);
+  return std::nullopt;
 }
 
 void RobotHwSim::read(const World& world) {
-  for (JointHandle& handle : joints_) {
+  for (SimJoint& handle : joints_) {
     JointInfo info;
     if (!world.jointInfo(handle.world_name, &info).ok()) continue;
     handle.position = info.position;
@@ -178,11 +191,11 @@ void RobotHwSim::read(const World& world) {
 }
 
 void RobotHwSim::clearCommands() {
-  for (JointHandle& handle : joints_) handle.effort_command.reset();
+  for (SimJoint& handle : joints_) handle.effort_command.reset();
 }
 
 void RobotHwSim::write(World& world) {
-  for (JointHandle& handle : joints_) {
+  for (SimJoint& handle : joints_) {
     handle.effort = 0;
     if (!handle.effort_command) continue;
     JobOutcome outcome;

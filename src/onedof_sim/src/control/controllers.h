@@ -70,12 +70,16 @@ struct ControllerType {
       make;
 };
 
+// The built-in types (ros_controllers' that the simulator runs).
 const std::vector<ControllerType>& controllerTypes();
-const ControllerType* findControllerType(const std::string& name);
+// The type of that name among `types`; null if none.
+const ControllerType* findControllerType(const std::string& name,
+                                         const std::vector<ControllerType>& types =
+                                             controllerTypes());
 
 // ros_controllers' error of a position command: the shortest angular distance for continuous
 // joints and, within the limits, for revolute ones (angles::shortest_angular_distance_with_large_
 // limits); the plain difference for prismatic joints.
-double positionError(const JointHandle& joint, double command);
+double positionError(const JointStateHandle& joint, double command);
 
 }  // namespace onedof_sim::control

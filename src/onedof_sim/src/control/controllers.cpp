@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 namespace onedof_sim::control {
 
@@ -46,35 +48,33 @@ double shortestAngularDistanceWithLargeLimits(double from, double to, double lef
 
 // --- configuration ------------------------------------------------------------------------------
 
-bool readJoint(RobotHwSim& robot, const ParamSource& params, const std::string& ns,
-               JointInterface interface, JointHandle** joint, std::string* error) {
+// The joint that `<ns>/joint` names, through its EffortJointInterface.
+std::optional<EffortJointHandle> readEffortJoint(RobotHwSim& robot, const ParamSource& params,
+                                                 const std::string& ns, std::string* error) {
   std::string name;
   if (!params.getString(ns + "/joint", &name)) {
     *error = params.has(ns + "/joint") ? "parameter '" + ns + "/joint' is not a string"
                                        : "No joint given (namespace: " + ns + ")";
-    return false;
+    return std::nullopt;
   }
-  JointHandle* handle = robot.joint(name);
-  if (!handle || std::find(handle->interfaces.begin(), handle->interfaces.end(), interface) ==
-                     handle->interfaces.end()) {
-    *error = "Could not find resource '" + name + "' in '" + interfaceTypeName(interface) +
+  std::optional<EffortJointHandle> joint = robot.effortJoint(name);
+  if (!joint)
+    *error = "Could not find resource '" + name + "' in '" +
+             interfaceTypeName(JointInterface::Effort) +
              "' (the joint must be in a <transmission> with that hardwareInterface)";
-    return false;
-  }
-  *joint = handle;
-  return true;
+  return joint;
 }
 
-ClaimedResources claimOf(const JointHandle& joint) {
-  return {interfaceTypeName(JointInterface::Effort), {joint.name}};
+ClaimedResources claimOf(const JointStateHandle& joint) {
+  return {interfaceTypeName(JointInterface::Effort), {joint.name()}};
 }
 
 // --- the controllers ----------------------------------------------------------------------------
 
 class JointStateController : public Controller {
  public:
-  JointStateController(RobotHwSim& robot, double publish_rate)
-      : robot_(robot), publish_rate_(publish_rate) {}
+  JointStateController(std::vector<JointStateHandle> joints, double publish_rate)
+      : joints_(std::move(joints)), publish_rate_(publish_rate) {}
 
   void starting(int64_t time_ns) override { last_publish_ns_ = time_ns; }
 
@@ -87,11 +87,11 @@ class JointStateController : public Controller {
     if (!publish_joint_states) return;
     JointStatesFacts facts;
     facts.stamp_ns = time_ns;
-    for (const JointHandle& joint : robot_.joints()) {
-      facts.names.push_back(joint.name);
-      facts.position.push_back(joint.position);
-      facts.velocity.push_back(joint.velocity);
-      facts.effort.push_back(joint.effort);
+    for (const JointStateHandle& joint : joints_) {
+      facts.names.push_back(joint.name());
+      facts.position.push_back(joint.position());
+      facts.velocity.push_back(joint.velocity());
+      facts.effort.push_back(joint.effort());
     }
     publish_joint_states(facts);
   }
@@ -101,7 +101,7 @@ class JointStateController : public Controller {
   }
 
  private:
-  RobotHwSim& robot_;
+  std::vector<JointStateHandle> joints_;
   double publish_rate_;
   int64_t last_publish_ns_ = 0;
 };
@@ -109,7 +109,8 @@ class JointStateController : public Controller {
 // What the effort-commanding PID controllers share: a joint, a Pid, the state they publish.
 class PidJointController : public Controller {
  public:
-  PidJointController(JointHandle& joint, const PidGains& gains) : joint_(joint), pid_(gains) {}
+  PidJointController(EffortJointHandle joint, const PidGains& gains)
+      : joint_(joint), pid_(gains) {}
   bool takesCommand() const override { return true; }
   ClaimedResources claims() const override { return claimOf(joint_); }
 
@@ -121,7 +122,7 @@ class PidJointController : public Controller {
     facts.stamp_ns = time_ns;
     facts.set_point = set_point;
     facts.process_value = process_value;
-    facts.process_value_dot = joint_.velocity;
+    facts.process_value_dot = joint_.velocity();
     facts.error = error;
     facts.time_step = period_ns * kNsToS;
     facts.command = command;
@@ -129,7 +130,7 @@ class PidJointController : public Controller {
     publish_state(facts);
   }
 
-  JointHandle& joint_;
+  EffortJointHandle joint_;
   Pid pid_;
   uint64_t loop_count_ = 0;
 };
@@ -139,7 +140,7 @@ class EffortJointPositionController : public PidJointController {
   using PidJointController::PidJointController;
 
   void starting(int64_t) override {
-    command_.store(limited(joint_.position));
+    command_.store(limited(joint_.position()));
     pid_.reset();
   }
 
@@ -147,15 +148,15 @@ class EffortJointPositionController : public PidJointController {
     const double command = limited(command_.load());
     const double error = positionError(joint_, command);
     const double effort = pid_.computeCommand(error, period_ns * kNsToS);
-    joint_.effort_command = effort;
-    publishState(time_ns, period_ns, command, joint_.position, error, effort);
+    joint_.setCommand(effort);
+    publishState(time_ns, period_ns, command, joint_.position(), error, effort);
   }
 
  private:
   // Revolute and prismatic joints: the command held within the joint's limits.
   double limited(double command) const {
-    if (joint_.type == JointType::Continuous || !joint_.has_limits) return command;
-    return std::clamp(command, joint_.lower, joint_.upper);
+    if (joint_.type() == JointType::Continuous || !joint_.hasLimits()) return command;
+    return std::clamp(command, joint_.lower(), joint_.upper());
   }
 };
 
@@ -170,24 +171,24 @@ class EffortJointVelocityController : public PidJointController {
 
   void update(int64_t time_ns, int64_t period_ns) override {
     const double command = command_.load();
-    const double error = command - joint_.velocity;
+    const double error = command - joint_.velocity();
     const double effort = pid_.computeCommand(error, period_ns * kNsToS);
-    joint_.effort_command = effort;
-    publishState(time_ns, period_ns, command, joint_.velocity, error, effort);
+    joint_.setCommand(effort);
+    publishState(time_ns, period_ns, command, joint_.velocity(), error, effort);
   }
 };
 
 // forward_command_controller: the command is the effort.
 class JointEffortController : public Controller {
  public:
-  explicit JointEffortController(JointHandle& joint) : joint_(joint) {}
+  explicit JointEffortController(EffortJointHandle joint) : joint_(joint) {}
   bool takesCommand() const override { return true; }
   void starting(int64_t) override { command_.store(0.0); }
-  void update(int64_t, int64_t) override { joint_.effort_command = command_.load(); }
+  void update(int64_t, int64_t) override { joint_.setCommand(command_.load()); }
   ClaimedResources claims() const override { return claimOf(joint_); }
 
  private:
-  JointHandle& joint_;
+  EffortJointHandle joint_;
 };
 
 // --- the registry -------------------------------------------------------------------------------
@@ -195,25 +196,23 @@ class JointEffortController : public Controller {
 template <typename PidController>
 std::unique_ptr<Controller> makePidController(RobotHwSim& robot, const ParamSource& params,
                                               const std::string& ns, std::string* error) {
-  JointHandle* joint = nullptr;
+  std::optional<EffortJointHandle> joint = readEffortJoint(robot, params, ns, error);
   PidGains gains;
-  if (!readJoint(robot, params, ns, JointInterface::Effort, &joint, error) ||
-      !readPidGains(params, ns + "/pid", &gains, error))
-    return nullptr;
+  if (!joint || !readPidGains(params, ns + "/pid", &gains, error)) return nullptr;
   return std::make_unique<PidController>(*joint, gains);
 }
 
 }  // namespace
 
-double positionError(const JointHandle& joint, double command) {
-  switch (joint.type) {
-    case JointType::Continuous: return shortestAngularDistance(joint.position, command);
+double positionError(const JointStateHandle& joint, double command) {
+  switch (joint.type()) {
+    case JointType::Continuous: return shortestAngularDistance(joint.position(), command);
     case JointType::Revolute:
-      if (joint.has_limits)
-        return shortestAngularDistanceWithLargeLimits(joint.position, command, joint.lower,
-                                                      joint.upper);
-      return shortestAngularDistance(joint.position, command);
-    default: return command - joint.position;
+      if (joint.hasLimits())
+        return shortestAngularDistanceWithLargeLimits(joint.position(), command, joint.lower(),
+                                                      joint.upper());
+      return shortestAngularDistance(joint.position(), command);
+    default: return command - joint.position();
   }
 }
 
@@ -231,7 +230,7 @@ const std::vector<ControllerType>& controllerTypes() {
            *error = "Parameter '" + ns + "/publish_rate' must be a positive number of Hz";
            return nullptr;
          }
-         return std::make_unique<JointStateController>(robot, rate);
+         return std::make_unique<JointStateController>(robot.jointStates(), rate);
        }},
       {"effort_controllers/JointPositionController", kControllerBase,
        makePidController<EffortJointPositionController>},
@@ -240,8 +239,8 @@ const std::vector<ControllerType>& controllerTypes() {
       {"effort_controllers/JointEffortController", kControllerBase,
        [](RobotHwSim& robot, const ParamSource& params, const std::string& ns,
           std::string* error) -> std::unique_ptr<Controller> {
-         JointHandle* joint = nullptr;
-         if (!readJoint(robot, params, ns, JointInterface::Effort, &joint, error)) return nullptr;
+         std::optional<EffortJointHandle> joint = readEffortJoint(robot, params, ns, error);
+         if (!joint) return nullptr;
          return std::make_unique<JointEffortController>(*joint);
        }},
       // Listed, as a client may ask for it, and refused with the reason: the engines move
@@ -259,8 +258,9 @@ const std::vector<ControllerType>& controllerTypes() {
   return types;
 }
 
-const ControllerType* findControllerType(const std::string& name) {
-  for (const ControllerType& type : controllerTypes())
+const ControllerType* findControllerType(const std::string& name,
+                                         const std::vector<ControllerType>& types) {
+  for (const ControllerType& type : types)
     if (type.name == name) return &type;
   return nullptr;
 }
