@@ -28,14 +28,13 @@
 
 #include "controller_set.h"
 #include "controllers.h"
+#include "plugins/model_plugin.h"
 #include "robot_hw_sim.h"
 
 namespace onedof_sim::control {
 
-// Takes the lock the owner holds around the world (and the controllers).
-using LockWorld = std::function<std::unique_lock<std::mutex>()>;
-// A message to publish once the world is unlocked.
-using Publication = std::function<void()>;
+using plugins::LockWorld;
+using plugins::Publication;
 
 class ControllerManager {
  public:

@@ -1,12 +1,18 @@
-// libgazebo_ros_control.so: ros_control inside the simulator for a URDF with <transmission>s
-// (control::GazeboRosControl: the robot's joints and its controller_manager in <robotNamespace>,
-// default the model's name), updated before the step whenever its controlPeriod is due. Its
-// controllers never wait for anyone: lock-step waits only for apply_joint_effort's clients.
+// libgazebo_ros_control.so (gazebo_ros_control's model plugin, Noetic): ros_control inside the
+// simulator for a URDF with <transmission>s. The robot's transmission joints (RobotHwSim) and its
+// controller_manager in <robotNamespace> (default: the model's name), updated before the step
+// whenever <controlPeriod> (default: the physics step) is due. Its controllers never wait for
+// anyone: lock-step waits only for apply_joint_effort's clients.
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <mutex>
 
-#include "../control/gazebo_ros_control.h"
+#include <ros/console.h>
+
+#include "control/controller_manager.h"
 #include "model_plugin.h"
+#include "robot_hw_sim.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -36,24 +42,64 @@ NamespaceOwners& namespaceOwners() {
   return owners;
 }
 
-class GazeboRosControlPlugin : public ModelPlugin {
+// The robot's joints, read under the world lock.
+control::RobotHwSim lockedRobot(const ModelPluginContext& context, control::RobotControlSpec* spec) {
+  std::unique_lock<std::mutex> lock = context.lock_world();
+  return control::RobotHwSim(*context.world, context.model, *spec, &spec->warnings);
+}
+
+class GazeboRosControl : public ModelPlugin {
  public:
-  GazeboRosControlPlugin(const ModelPluginContext& context, const control::RobotControlSpec& spec)
-      : robot_namespace_(spec.robot_namespace),
-        control_(*context.world, context.model, spec, context.lock_world) {}
-  ~GazeboRosControlPlugin() override {
+  // Unlocked: it takes the world lock for the joints' first reading, and advertises the
+  // controller_manager's services.
+  GazeboRosControl(const ModelPluginContext& context, const control::RobotControlSpec& spec)
+      : spec_(spec),
+        robot_(lockedRobot(context, &spec_)),
+        manager_(spec_.robot_namespace, robot_, context.lock_world) {
+    for (const std::string& warning : spec_.warnings)
+      ROS_WARN_STREAM("gazebo_ros_control (" << context.model << "): " << warning);
+    ROS_INFO_STREAM("gazebo_ros_control: model '" << context.model << "', controller_manager in "
+                    << spec_.robot_namespace << ", " << robot_.jointStates().size()
+                    << " transmission joint(s)");
+  }
+  ~GazeboRosControl() override {
     stopped_.clear();
-    namespaceOwners().release(robot_namespace_);
+    namespaceOwners().release(spec_.robot_namespace);
   }
 
-  void beforeStep(World& world, const StepTime&) override { control_.beforeStep(world); }
-  void reset(World&) override { control_.reset(); }
-  void stop(World& world) override { stopped_ = control_.stop(world.timeNs()); }
-  std::vector<Publication> takePublications() override { return control_.takePublications(); }
+  // The controllers' update when a control period is due (read the joints, controller_manager's
+  // update), then their efforts for this step.
+  void beforeStep(World& world, const StepTime& at) override {
+    const double period_s = spec_.control_period.value_or(world.params().step);
+    // Never shorter than the physics step, as gazebo_ros_control makes it.
+    const int64_t period_ns = std::max<int64_t>(std::llround(period_s * 1e9),
+                                                std::llround(world.params().step * 1e9));
+    const int64_t elapsed_ns = at.time_ns - last_update_ns_;
+    if (elapsed_ns >= period_ns || reset_controllers_) {
+      robot_.read(world);
+      robot_.clearCommands();
+      manager_.update(at.time_ns, elapsed_ns, reset_controllers_);
+      reset_controllers_ = false;
+      last_update_ns_ = at.time_ns;
+    }
+    robot_.write(world);
+  }
+
+  // The running controllers restart at the next update (gazebo_ros_control's Reset).
+  void reset(World&) override {
+    last_update_ns_ = 0;
+    reset_controllers_ = true;
+  }
+
+  void stop(World& world) override { stopped_ = manager_.unloadAll(world.timeNs()); }
+  std::vector<Publication> takePublications() override { return manager_.takePublications(); }
 
  private:
-  std::string robot_namespace_;
-  control::GazeboRosControl control_;
+  control::RobotControlSpec spec_;
+  control::RobotHwSim robot_;
+  control::ControllerManager manager_;
+  int64_t last_update_ns_ = 0;
+  bool reset_controllers_ = false;
   std::vector<std::shared_ptr<void>> stopped_;  // the stopped controllers' parts, freed unlocked
 };
 
@@ -75,7 +121,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosControl(const ModelPluginContext& cont
              spec.robot_namespace + "; give this one its own <robotNamespace>";
     return nullptr;
   }
-  return std::make_unique<GazeboRosControlPlugin>(context, spec);
+  return std::make_unique<GazeboRosControl>(context, spec);
 }
 
 }  // namespace onedof_sim::plugins
