@@ -13,7 +13,7 @@ import pytest
 
 from listening import WILDCARD, listening_sockets, process_tree
 from onedof_harness.private_ros import wait_until
-from onedof_sim.tutorial.player import RvizView
+from onedof_sim.tutorial.rviz_view import RvizView
 
 
 @pytest.fixture

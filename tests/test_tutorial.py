@@ -129,7 +129,7 @@ def in_process_settled_angles(engine):
     """The settled angle of each phase of the tutorial run in-process, with no ROS between the
     controller law and the engine (the cross-validation's run)."""
     from onedof_sim.reference.cross_validation import ToolEngine, settled
-    from onedof_sim.tutorial.player import PHASES
+    from onedof_sim.tutorial.phases import PHASES
     run = ToolEngine(engine).scenario(PHASE_DURATION)
     return {phase.name: settled(run, index, PHASE_DURATION) for index, phase in enumerate(PHASES)}
 

@@ -3,6 +3,11 @@ import math
 import pytest
 
 from onedof_sim.tutorial import physics as tp
+from onedof_sim.tutorial.phases import PHASES, TABLE_X
+
+BOOK_GAINS = {'p': 10.0, 'i': 10.0, 'd': 10.0, 'i_clamp_min': -10.0, 'i_clamp_max': 10.0}
+COMMAND_1 = PHASES[0]
+TABLE = PHASES[3]
 
 
 @pytest.mark.parametrize('command', [0.3, 1.0, 2.0, 2.5, -1.0])
@@ -62,6 +67,23 @@ def test_step_metrics_downward_step():
 
 def test_tail_mean_takes_the_last_window():
     assert tp.tail_mean([0, 1, 2, 3], [5, 5, 1, 3], window=1) == 2
+
+
+def test_pd_predicts_the_droop_and_on_the_table_kp_times_the_error():
+    predicted, torque = tp.pd_prediction(COMMAND_1, 1.49)
+    assert predicted == tp.settled_angle(1.0)
+    assert torque == pytest.approx(-tp.gravity_torque(predicted))
+    predicted, torque = tp.pd_prediction(TABLE, 1.7)
+    assert predicted == tp.table_contact_angle(TABLE_X)
+    assert torque == pytest.approx(tp.KP * 0.8)
+
+
+def test_pid_predicts_the_command_and_on_the_table_the_clamped_integral_on_top():
+    predict = tp.pid_prediction(BOOK_GAINS)
+    assert predict(COMMAND_1, 1.0) == (1.0, pytest.approx(-tp.gravity_torque(1.0)))
+    predicted, torque = predict(TABLE, 1.7)
+    assert predicted == tp.table_contact_angle(TABLE_X)
+    assert torque == pytest.approx(10.0 * 0.8 + 10.0)
 
 
 def edited_urdf(tmp_path, old, new):

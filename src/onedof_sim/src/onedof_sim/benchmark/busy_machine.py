@@ -8,7 +8,7 @@ import subprocess
 from onedof_harness.busy import busy_processes
 from onedof_sim.benchmark.graph import NotMeasured
 from onedof_sim.benchmark.lockstep_speed import COMMAND
-from onedof_sim.tutorial import player
+from onedof_sim.tutorial import phases
 
 BUSY_PROCESSES = 8  # as the tutorial's test under load
 
@@ -26,7 +26,7 @@ def measure(bench, engine):
                            'it, lock-stepped and free-running (node with _physics:=%s)'
                            % (BUSY_PROCESSES, engine), str(error)[:300])
         return
-    periods = round(duration / player.CONTROL_PERIOD)
+    periods = round(duration / phases.CONTROL_PERIOD)
     against = ('the same, lock-stepped on the quiet machine (%d of %d samples)'
                % (quiet['samples'], periods))
     for key, title in (('lockstep', 'lock-stepped'),

@@ -8,7 +8,7 @@ import time
 from onedof_harness import book_client
 from onedof_harness.private_ros import wait_until
 from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label
-from onedof_sim.tutorial import player
+from onedof_sim.tutorial import phases
 
 COMMAND = 1.0  # the tutorial's first command step, rad
 TIMEOUT_TEXT = 'lock-step: the world waited'  # the simulator's line when it gives up
@@ -26,7 +26,7 @@ def measure(bench, engine):
     except (RuntimeError, subprocess.TimeoutExpired) as error:
         setup, build_error = None, str(error)
     for rate in (100, 1000):
-        controllers = [('rospy minimal_joint_controller', player.CONTROLLER_NODE,
+        controllers = [('rospy minimal_joint_controller', phases.CONTROLLER_NODE,
                         ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller',
                          '_rate:=%g' % rate]),
                        ('book-shaped C++ client (%s)' % book_client.EXECUTABLES[rate],
@@ -74,7 +74,7 @@ def lockstep_run(bench, engine, controller_command, node, name, pos_cmd):
         sim, _ = bench.start_sim(engine, max_update_rate=0, paused=True, lockstep=True)
         bench.spawn(bench.tutorial_models[:1])
         step = bench.proxy('/gazebo/step_simulation', StepSimulation)
-        period_steps = round(player.CONTROL_PERIOD / STEP)
+        period_steps = round(phases.CONTROL_PERIOD / STEP)
         stepped(step, period_steps)
         pos_cmd.publish(pos_cmd.data_class(COMMAND))
         controller = bench.ros.start(controller_command, name=name)

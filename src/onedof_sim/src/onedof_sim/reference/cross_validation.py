@@ -31,7 +31,7 @@ import rospkg
 from onedof_sim.engines import engine_names
 from onedof_sim.reference import pybullet_reference
 from onedof_sim.tutorial import physics
-from onedof_sim.tutorial.player import PHASES, TABLE_X
+from onedof_sim.tutorial.phases import PHASES, TABLE_X
 
 PHASE_SECONDS = 5.0
 # The robot raised so that link2 hanging straight down clears the ground (its tip would touch it).

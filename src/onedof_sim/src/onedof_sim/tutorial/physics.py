@@ -1,5 +1,7 @@
-"""Closed-form answers for the tutorial's robot, controller and table, and the step-response
-metrics the main job reports. Plain functions: the tests and the tutorial player share them.
+"""Closed-form answers for the tutorial's robot, controller and table, the predictions each phase's
+figures are set against (the rospy PD controller's and the in-simulator PID's settled angle and
+holding torque), and the step-response metrics the main job reports. Plain functions: the tests
+and the tutorial player share them.
 
 Conventions: joint1 turns about +y, q = 0 points link2 straight up, q > 0 tilts it toward +x.
 Gravity's torque about the joint is +m g d sin q (it pulls the link away from upright).
@@ -12,6 +14,8 @@ import os
 import xml.etree.ElementTree as ElementTree
 
 import rospkg
+
+from onedof_sim.tutorial.phases import SPAWN_TABLE, TABLE_X
 
 ROBOT_URDF = os.path.join(rospkg.RosPack().get_path('minimal_robot_description'),
                           'minimal_robot_description.urdf')
@@ -159,6 +163,28 @@ def tip_rim(q):
     """(x, z) of the leading rim of link2's far end at angle q: where the link meets the table top
     in the tutorial's scene."""
     return link_outline(q)[2]
+
+
+def pd_prediction(phase, settled):
+    """(predicted angle, predicted holding torque) of the rospy PD controller: where
+    Kp (c - q) + m g d sin q = 0; on the table, at rest (rate 0), Kp times the remaining error."""
+    if phase.before is SPAWN_TABLE:
+        return table_contact_angle(TABLE_X), KP * (phase.command - settled)
+    predicted = settled_angle(phase.command)
+    return predicted, -gravity_torque(predicted)
+
+
+def pid_prediction(gains):
+    """The prediction function of a PID with these gains (p, i_clamp_max as ros_control reads
+    them): the integral removes the droop, the link settles at the command holding gravity's
+    torque; on the table the integral winds up to its clamp, so the torque is p times the
+    remaining error plus i_clamp_max."""
+    def predict(phase, settled):
+        if phase.before is SPAWN_TABLE:
+            return (table_contact_angle(TABLE_X),
+                    gains['p'] * (phase.command - settled) + gains['i_clamp_max'])
+        return phase.command, -gravity_torque(phase.command)
+    return predict
 
 
 def tail_mean(times, values, window=0.5):
