@@ -15,7 +15,7 @@ import pytest
 
 from onedof_harness.private_ros import wait_until
 from onedof_sim.tools.plot import read_csv
-from onedof_sim.tutorial.player import free_display
+from onedof_sim.tutorial.rviz_view import start_xvfb
 
 PLOT = ['rosrun', 'onedof_sim', 'plot']
 RQT_PLOT_COMMANDS = [PLOT, ['rqt_plot'], ['rosrun', 'rqt_plot', 'rqt_plot']]
@@ -239,12 +239,7 @@ def test_headless_draws_a_command_published_once_as_held_values(ros, rospy_clien
 
 
 def test_live_window_draws_a_command_published_once_as_a_step(ros, rospy_client, tmp_path):
-    display = ':%d' % free_display()
-    xvfb = ros.start(['Xvfb', display, '-screen', '0', '1000x700x24', '-nolisten', 'tcp'],
-                     name='xvfb')
-    wait_until(lambda: xvfb.poll() is not None or
-               os.path.exists('/tmp/.X11-unix/X' + display[1:]), 20, what='Xvfb')
-    assert xvfb.poll() is None, ros.log_text(xvfb)
+    xvfb, display = start_xvfb(ros, '1000x700x24')
     command = CommandPublisher(rospy_client)
     command.publish(1.0)
     proc = ros.start(['rqt_plot', '/pos_cmd/data'], name='rqt_plot', env={'DISPLAY': display})

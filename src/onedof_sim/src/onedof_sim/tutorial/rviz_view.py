@@ -60,6 +60,16 @@ def xvfb_display(log_text):
     return None
 
 
+def start_xvfb(ros, screen='1000x720x24'):
+    """An Xvfb of `ros`'s graph on a display it picks itself (-displayfd), so that servers started
+    side by side never share one; returns (its process, its display ':N')."""
+    xvfb = ros.start(['Xvfb', '-displayfd', '1', '-screen', '0', screen, '-nolisten', 'tcp'],
+                     name='xvfb')
+    display = ros.wait_until(lambda: xvfb_display(ros.log_text(xvfb)), 20,
+                             what='Xvfb to choose a display')
+    return xvfb, display
+
+
 class RvizView:
     """rviz on the user's display, or on an Xvfb of its own (Xvfb picks a free display itself, so
     that views started side by side never share one), with robot_state_publisher beside it.
@@ -76,10 +86,7 @@ class RvizView:
         self.env = {}
         self.xvfb = None
         if not os.environ.get('DISPLAY'):
-            self.xvfb = ros.start(['Xvfb', '-displayfd', '1', '-screen', '0', '1000x720x24',
-                                   '-nolisten', 'tcp'], name='xvfb')
-            self.env['DISPLAY'] = ros.wait_until(lambda: xvfb_display(ros.log_text(self.xvfb)),
-                                                 20, what='Xvfb to choose a display')
+            self.xvfb, self.env['DISPLAY'] = start_xvfb(ros)
         self.display = self.env.get('DISPLAY', os.environ.get('DISPLAY'))
         self.config = os.path.join(work_dir, 'tutorial.rviz')
         self._write_config()
@@ -164,12 +171,14 @@ class RvizView:
         """Grabs frames until two in a row are the same but for a few pixels (rviz's frame-rate
         counter) and not blank, and writes that one at path. An rviz started here (the one before
         it died) has not seen the world yet: once it is connected to the markers and transforms,
-        refresh() has the world show its pose again. Returns None once path is written, else why
+        refresh() has the world show its pose again before each frame. Returns None once path is written, else why
         the screenshot is missing (path is then not written)."""
         frame = os.path.join(self.work_dir, 'frame.png')
         previous = os.path.join(self.work_dir, 'previous.png')
 
-        def steady_frame():
+        def steady_frame(refresh=None):
+            if refresh:
+                refresh()
             if os.path.exists(frame):
                 os.replace(frame, previous)
             if not self._grab(frame) or is_blank(frame) or not os.path.exists(previous):
@@ -178,14 +187,18 @@ class RvizView:
 
         def attempt(restarted):
             self._wait_subscribed(timeout)
-            if restarted and refresh:
+            shown_again = restarted and refresh
+            if shown_again:
                 self._wait(lambda: all(self._connected(topic) for topic in SHOWN_TOPICS),
                            timeout, what='rviz to connect to %s' % ' and '.join(SHOWN_TOPICS))
-                refresh()
             for stale in (frame, previous):
                 if os.path.exists(stale):
                     os.remove(stale)
-            self._wait(steady_frame, timeout, interval=0.5, what='a steady rviz picture')
+            # A connection is up before its first message arrives, and one message may land
+            # before rviz's displays are ready for it: the world shows its pose before each
+            # frame until two frames agree.
+            self._wait(lambda: steady_frame(refresh if shown_again else None), timeout,
+                       interval=0.5, what='a steady rviz picture')
             shutil.copyfile(frame, path)
 
         if self._tries(attempt):
