@@ -5,9 +5,14 @@ import os
 import rospkg
 
 
+def package_path(package):
+    """Where a ROS package of the workspace (or of the system) is."""
+    return rospkg.RosPack().get_path(package)
+
+
 def workspace_root():
     """The catkin workspace this package is built from (<workspace>/src/onedof_sim)."""
-    return os.path.dirname(os.path.dirname(rospkg.RosPack().get_path('onedof_sim')))
+    return os.path.dirname(os.path.dirname(package_path('onedof_sim')))
 
 
 def workspace_venv_bin():

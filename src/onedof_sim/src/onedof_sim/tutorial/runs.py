@@ -8,6 +8,7 @@ import time
 
 import yaml
 
+from onedof_sim.tools import package_path
 from onedof_sim.tutorial.phases import CONTROL_PERIOD, CONTROLLER_NODE
 from onedof_sim.tutorial.physics import pd_prediction
 from onedof_sim.tutorial.recorders import Rosout, controller_state_samples
@@ -21,11 +22,6 @@ def seconds(ns):
 
 def say(text):
     print('[tutorial] ' + text, flush=True)
-
-
-def package_path(package):
-    import rospkg
-    return rospkg.RosPack().get_path(package)
 
 
 class LockstepRun:

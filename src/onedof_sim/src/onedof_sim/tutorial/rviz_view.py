@@ -21,6 +21,7 @@ import xmlrpc.client
 import yaml
 
 from onedof_harness.private_ros import log_tail
+from onedof_sim.tools import package_path
 
 # rviz processes one view starts at most: the first and two restarts.
 RVIZ_STARTS = 3
@@ -44,11 +45,6 @@ def exit_status_text(status):
         except ValueError:
             pass
     return 'status %s' % status
-
-
-def package_path(package):
-    import rospkg
-    return rospkg.RosPack().get_path(package)
 
 
 def xvfb_display(log_text):
