@@ -4,6 +4,7 @@ The book-shaped C++ client under lock-step is in test_book_cpp_client.py, the ro
 test_controller.py, the tutorial's figures in test_tutorial.py.
 """
 import re
+import threading
 
 import pytest
 
@@ -12,6 +13,7 @@ from conftest import start_sim
 from onedof_harness.private_ros import wait_until
 
 STEP_NS = 1000000  # the default 1 ms step
+MAX_STEPS = 10000000  # the most one step request takes (the package README's limits)
 
 
 @pytest.fixture
@@ -49,6 +51,47 @@ def test_step_simulation_from_the_command_line(ros, engine, api):
     assert re.search(r'secs: 0\s+nsecs: +250000000', result.stdout), result.stdout
     assert 'iterations: 250' in result.stdout
     assert api.sim_time_ns() == 250 * STEP_NS
+
+
+def test_a_step_request_over_the_limit_is_refused_naming_it(ros, engine, api):
+    start_sim(ros, engine, ['_paused:=true'])
+    # 2^63 and 2^64 - 1 (what -1 becomes) would run the world away for ever.
+    for steps in (2 ** 63, 2 ** 64 - 1, MAX_STEPS + 1):
+        reply = api.step_simulation(steps)
+        assert not reply.success
+        assert 'steps is %d, more than the %d one request takes' % (steps, MAX_STEPS) \
+            in reply.status_message
+        assert reply.iterations == 0
+    assert api.sim_time_ns() == 0  # nothing stepped, still paused
+    reply = api.step_simulation(5)
+    assert reply.success and reply.iterations == 5
+
+
+@pytest.mark.parametrize('ender', ['pause_physics', 'reset_simulation', 'unpause_physics'])
+def test_pause_unpause_and_reset_end_a_step_request_and_its_caller_is_told(
+        ros, engine, api, rospy_client, ender):
+    start_sim(ros, engine, ['_paused:=true'])
+    stepper = GazeboApi(rospy_client)  # a client of its own, as another terminal's
+    replies = []
+    stepping = threading.Thread(target=lambda: replies.append(stepper.step_simulation(MAX_STEPS)))
+    stepping.start()
+    wait_until(lambda: api.sim_time_ns() > 100 * STEP_NS, 30, what='the requested steps to run')
+    getattr(api, ender)()
+    stepping.join(timeout=120)
+    assert replies, 'step_simulation did not answer'
+    reply = replies[0]
+    assert not reply.success
+    taken = re.search(r'StepSimulation: %s ended the request after (\d+) of %d steps, at sim '
+                      r'time [0-9.]+ s' % (ender, MAX_STEPS), reply.status_message)
+    assert taken, reply.status_message
+    assert 100 <= int(taken.group(1)) < MAX_STEPS
+    if ender == 'unpause_physics':
+        at = api.sim_time_ns()
+        wait_until(lambda: api.sim_time_ns() > at, 30, what='the unpaused world to run on')
+        api.pause_physics()
+    # Paused, with no request left: the next one steps exactly what it asks.
+    at = api.step_simulation(0).iterations
+    assert api.step_simulation(3).iterations == at + 3
 
 
 def test_lockstep_world_without_controllers_advances(ros, engine, api):

@@ -481,9 +481,19 @@ bool GazeboApi::unpausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Respo
 }
 
 bool GazeboApi::stepSimulation(StepSimulation::Request& req, StepSimulation::Response& res) {
+  if (req.steps > SimLoop::kMaxRequestedSteps) {
+    loop_.withWorld([&](World& world) {
+      res.sim_time.fromNSec(uint64_t(world.timeNs()));
+      res.iterations = world.stepCount();
+    });
+    return refuse(res, stepsOverLimitText(req.steps, SimLoop::kMaxRequestedSteps,
+                                          loop_.physics().params.step));
+  }
   const SimLoop::StepsDone done = loop_.runSteps(req.steps);
   res.sim_time.fromNSec(uint64_t(done.time_ns));
   res.iterations = done.iterations;
+  if (done.ended_by)
+    return refuse(res, stepsEndedText(done.ended_by, done.steps, req.steps, done.time_ns));
   if (!done.done) return refuse(res, "StepSimulation: the simulator is shutting down");
   std::ostringstream text;
   text << "StepSimulation: stepped " << req.steps << " steps to sim time "

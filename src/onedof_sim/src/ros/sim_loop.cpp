@@ -153,7 +153,10 @@ void SimLoop::stepOnce(StepOutput* out) {
         out->plugin_publications.push_back(std::move(publication));
     }
   }
-  if (requested) --step_request_.remaining;
+  if (requested) {
+    --step_request_.remaining;
+    ++step_request_.taken;
+  }
   out->stepped = true;
   out->on_request = requested;
   const std::vector<std::string> world_warnings = world_.takeWarnings();
@@ -390,25 +393,37 @@ void SimLoop::setPaused(bool paused) {
   {
     Lock lock(*this);
     paused_ = paused;
+    endStepRequest(paused ? "pause_physics" : "unpause_physics");
   }
   if (!paused) wake_loop_.notify_all();
 }
 
+void SimLoop::endStepRequest(const char* by) {
+  if (!step_request_.active) return;
+  step_request_.active = false;
+  step_request_.remaining = 0;
+  step_request_.ended_by = by;
+  steps_done_.notify_all();
+}
+
 SimLoop::StepsDone SimLoop::runSteps(uint64_t steps) {
+  if (steps > kMaxRequestedSteps) throw std::invalid_argument("more steps than a request takes");
   Lock lock(*this);
   paused_ = true;
   step_request_ = {true, steps};
   wake_loop_.notify_all();
   while (step_request_.active && ros::ok())
     steps_done_.wait_for(lock.held(), std::chrono::milliseconds(100));
-  StepsDone done{!step_request_.active, world_.timeNs(), world_.stepCount()};
-  if (step_request_.active) step_request_ = {};
+  StepsDone done{!step_request_.active && !step_request_.ended_by, step_request_.ended_by,
+                 step_request_.taken, world_.timeNs(), world_.stepCount()};
+  step_request_ = {};
   return done;
 }
 
 void SimLoop::resetSimulation() {
   {
     Lock lock(*this);
+    endStepRequest("reset_simulation");
     world_.resetSimulation();
     lockstep_.reset();
     between_stops_ = false;

@@ -73,10 +73,18 @@ class SimLoop {
   bool paused();
   void setPaused(bool paused);
 
-  // Pauses the world and runs exactly `steps` steps (in lock-step, until the controllers have
-  // acted at the last one); returns once they are done, or false on shutdown.
+  // The most steps one step request may ask for (10,000 s of sim time at the default 1 ms step):
+  // a request is stored only within it, so that none can run the world away unbounded.
+  static constexpr uint64_t kMaxRequestedSteps = 10000000;
+
+  // Pauses the world and runs exactly `steps` (at most kMaxRequestedSteps) steps (in lock-step,
+  // until the controllers have acted at the last one); returns once they are done, or once
+  // pause_physics, unpause_physics or reset_simulation ended the request (ended_by names it),
+  // or on shutdown.
   struct StepsDone {
     bool done = false;
+    const char* ended_by = nullptr;  // the request that ended it early, if any
+    uint64_t steps = 0;              // steps taken for it
     int64_t time_ns = 0;
     uint64_t iterations = 0;
   };
@@ -145,7 +153,11 @@ class SimLoop {
   struct StepRequest {
     bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
     uint64_t remaining = 0;
+    uint64_t taken = 0;
+    const char* ended_by = nullptr;  // the request that ended it before its last step
   } step_request_;
+  // Ends a step request in progress, lock held: `by` is the request that ends it.
+  void endStepRequest(const char* by);
   std::atomic<int> waiting_callbacks_{0};
   // Each model's plugins, called in this order around every step.
   std::map<std::string, std::vector<std::unique_ptr<plugins::ModelPlugin>>> plugins_;

@@ -181,4 +181,19 @@ std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, i
   return text.str();
 }
 
+std::string stepsOverLimitText(uint64_t asked, uint64_t most, double time_step) {
+  std::ostringstream text;
+  text << "StepSimulation: steps is " << asked << ", more than the " << most
+       << " one request takes (" << double(most) * time_step
+       << " s of sim time at this time_step); ask again for the rest, or unpause_physics";
+  return text.str();
+}
+
+std::string stepsEndedText(const char* ended_by, uint64_t taken, uint64_t asked, int64_t time_ns) {
+  std::ostringstream text;
+  text << "StepSimulation: " << ended_by << " ended the request after " << taken << " of " << asked
+       << " steps, at sim time " << simSeconds(time_ns);
+  return text.str();
+}
+
 }  // namespace onedof_sim

@@ -81,6 +81,11 @@ std::string configurationText(const Status& status);
 std::string jobNotes(const JobOutcome& job,
                      const std::optional<std::pair<Vec3, Vec3>>& requested_wrench = {});
 
+// step_simulation's refusal of more steps than a request takes, and its answer when another
+// request (pause_physics, ...) ended it after `taken` of `asked` steps.
+std::string stepsOverLimitText(uint64_t asked, uint64_t most, double time_step);
+std::string stepsEndedText(const char* ended_by, uint64_t taken, uint64_t asked, int64_t time_ns);
+
 // Sim time for a log line: "1.234 s".
 std::string simSeconds(int64_t ns);
 std::string lockstepJoinText(const std::string& joint, const std::string& caller);
