@@ -452,6 +452,30 @@ def test_get_and_set_model_state(shared_sim, api):
     assert not api.set_model_state(ModelState('nobody', target, None, '')).success
 
 
+def test_all_zero_quaternion_is_the_identity_as_in_gazebo(shared_sim, api):
+    # An unset orientation (all zero) normalises to the identity, as Gazebo's does: the book's
+    # `rosservice call /gazebo/set_model_state '{model_state: {model_name: NAME, pose:
+    # {position: {z: 4.0}}}}'` sends one.
+    from gazebo_msgs.msg import ModelState
+    from geometry_msgs.msg import Pose
+    unset = Pose()
+    unset.position.z = 2.0
+    res = api.spawn_sdf_model('box', BOX_SDF, '', unset, '')
+    assert (res.success, res.status_message) == (True, 'SpawnModel: Successfully spawned entity')
+    spawned = api.get_model_state('box', '').pose
+    assert (spawned.position.z, spawned.orientation.w, spawned.orientation.x,
+            spawned.orientation.y, spawned.orientation.z) == (2.0, 1.0, 0.0, 0.0, 0.0)
+    turned = pose(z=1.0)
+    turned.orientation.w, turned.orientation.z = math.cos(0.25), math.sin(0.25)
+    assert api.set_model_state(ModelState('box', turned, None, '')).success
+    unset.position.z = 4.0
+    res = api.set_model_state(ModelState('box', unset, None, ''))
+    assert (res.success, res.status_message) == (True, 'SetModelState: set model state done')
+    moved = api.get_model_state('box', '').pose
+    assert (moved.position.z, moved.orientation.w, moved.orientation.x, moved.orientation.y,
+            moved.orientation.z) == (4.0, 1.0, 0.0, 0.0, 0.0)
+
+
 def test_set_model_state_topic(shared_sim, api, rospy_client):
     api.spawn_box()
     from gazebo_msgs.msg import ModelState
@@ -782,6 +806,26 @@ def test_set_joint_properties_damping_acts(shared_sim, api):
     second_ns = api.run_for(500 * STEP_NS)
     assert api.joint()[1] == pytest.approx(first * math.exp(-(second_ns - first_ns) * 1e-9),
                                            rel=0.02)
+
+
+def test_top_damping_holds_the_link_where_its_effort_balances_gravity(shared_sim, api):
+    # Damping at the top of the accepted range (1e6) on the upright side, where gravity alone
+    # would tip the link over: the effort -m g d sin(0.51) balances gravity at 0.51 rad. Kicked
+    # there by 50 N m for one step (0.05 N m s: a damper gives way by 0.05 / 1e6 rad), the link
+    # stays, neither swinging apart (as an explicit -b qdot would, 1400 times past its limit) nor
+    # creeping off.
+    api.spawn_robot()
+    balance = 0.51
+    effort = -physics.MASS * physics.GRAVITY * physics.COM_DISTANCE * math.sin(balance)
+    assert api.set_model_configuration(ROBOT, '', ['joint1'], [balance]).success
+    res = api.set_joint_properties('joint1', joint_config(damping=[1e6]))
+    assert (res.success, res.status_message) == (True, 'SetJointProperties: properties set')
+    assert apply(api, effort, 0, FOREVER_NS).success
+    assert apply(api, 50.0, 0, STEP_NS).success
+    api.run_for(2 * 10 ** 9)
+    position, rate = api.joint()
+    assert position == pytest.approx(balance, abs=1e-6)
+    assert abs(rate) < 1e-6
 
 
 def test_set_joint_properties_refuses_what_it_cannot_set(shared_sim, api):

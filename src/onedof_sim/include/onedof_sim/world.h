@@ -47,7 +47,8 @@ enum class StatusCode {
   ModelExists,             // subject: the model name
   EmptyModelName,
   NotFinite,               // subject: the argument, joint or PhysicsParams field
-  ZeroQuaternion,          // a pose's orientation has no direction to normalise to
+  ZeroQuaternion,          // a pose's orientation has no direction to normalise to (the ROS
+                           // layer reads an all-zero one as the identity, as Gazebo does)
   ModelRejected,           // subject: why the XML makes no model (the parser's reason)
   JointIsFixed,            // subject: the joint name asked for; it takes no effort
   LinkAnchored,            // subject: the link name asked for; it has no body to move or push
@@ -230,8 +231,9 @@ class World {
   // --- joints (name bare or scoped "model::joint"; the first model that has it wins) ---------
   Status jointInfo(const std::string& joint, JointInfo* out) const;
   // Viscous damping (N m s/rad or N s/m) from now on, as <dynamics damping> would have given it;
-  // World applies it as an effort, so it acts alike on every engine. Refuses a fixed joint
-  // (JointIsFixed), a non-finite (NotFinite) or negative (InvalidParameter "damping") value.
+  // World applies it as an effort, implicitly (stable at any accepted value), so it acts alike on
+  // every engine. Refuses a fixed joint (JointIsFixed), a non-finite (NotFinite), negative
+  // (InvalidParameter "damping") or larger than 1e6 (OutOfRange) value.
   Status setJointDamping(const std::string& joint, double damping);
 
   // Effort jobs: start and duration in nanoseconds of sim time. A start before now means now.

@@ -36,7 +36,8 @@ constexpr double kMinMass = 1e-6, kMaxMass = 1e6;  // kg
 // (m r^2). A vanishing moment gives an infinite angular acceleration.
 constexpr double kMinMoment = 1e-12, kMaxMoment = 1e9;  // kg m^2
 // Viscous damping and Coulomb friction of a joint (N m s/rad or N s/m; N m or N). The world
-// applies damping as an explicit effort, so a huge value only makes it unstable.
+// applies damping implicitly, stable at any value; a stiffer damper than 1e6 holds a joint still
+// for longer than any simulation runs.
 constexpr double kMaxJointDamping = 1e6, kMaxJointFriction = 1e6;
 // Links per model. A humanoid has about 50, a long snake robot a few hundred; the world's
 // per-model bookkeeping grows with links times joints, and walking a 20000-link URDF takes 20000

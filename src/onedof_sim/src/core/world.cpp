@@ -62,14 +62,6 @@ void World::Impl::destroyModel(size_t index) {
 
 // --- stepping --------------------------------------------------------------------------------
 
-void World::Impl::applyDamping() {
-  for (const auto& model : models)
-    for (const JointRecord& joint : model->joints)
-      if (joint.engine_joint >= 0 && joint.desc.damping != 0)
-        model->engine_model->addJointEffort(joint.engine_joint,
-                                            -joint.desc.damping * jointRate(*model, joint));
-}
-
 void World::Impl::saveStates() {
   saved_states.clear();
   for (const auto& model : models)
@@ -91,8 +83,7 @@ bool World::Impl::isBlownUp(const ModelRecord& model) const {
 
 void World::Impl::stepEngine() {
   std::string solver_message;
-  applyJobs(time_ns);
-  applyDamping();
+  applyDamping(applyJobs(time_ns));
   engine->step(params.step, &solver_message);
   std::vector<ModelRecord*> newly_blown;
   for (const auto& model : models)
@@ -103,8 +94,7 @@ void World::Impl::stepEngine() {
       model->blown_up = true;
       holdAtSavedState(*model);
     }
-    applyJobs(time_ns);
-    applyDamping();
+    applyDamping(applyJobs(time_ns));
     engine->step(params.step, &solver_message);
   }
   if (!solver_message.empty() && !engine_struggled) warn(solver_message);

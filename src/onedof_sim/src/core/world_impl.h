@@ -4,6 +4,7 @@
 //   world_models.cpp      building a model's records and engine spec, and placing it
 //   world_state.cpp       lookups, and the state and property getters and setters
 //   world_jobs.cpp        effort and wrench jobs: their bounds, windows and application
+//   world_damping.cpp     joint damping, applied implicitly
 //   world_inertia.cpp     lumping the links welded into one body
 //   world_validation.cpp  the checks of parameters, poses and states; Status formatting
 //
@@ -116,6 +117,13 @@ struct JointEffortCommand {
   double effort;
 };
 
+// The effort the jobs and commands of one step put on a joint, after clamping.
+struct JointEffortSum {
+  const ModelRecord* model;
+  size_t joint;
+  double effort;
+};
+
 struct BodyWrenchJob {
   const ModelRecord* model;
   size_t link;
@@ -212,7 +220,6 @@ struct World::Impl {
                       wrench_jobs.end());
   }
 
-  void applyDamping();
   void saveStates();
   bool isBlownUp(const ModelRecord& model) const;
 
@@ -288,8 +295,30 @@ struct World::Impl {
 
   // Overlapping jobs on a joint sum; the sum is held to what one job may be (applyJointEffort):
   // the joint's effort limit and the bound on its bodies. Blown-up models are held (guardStates).
-  void applyJobs(int64_t t);
+  // Returns the effort put on each joint that has any.
+  std::vector<JointEffortSum> applyJobs(int64_t t);
   void dropExpiredJobs(int64_t next_step_start);
+
+  // --- damping (world_damping.cpp) -----------------------------------------------------------
+
+  // Each damped joint's viscous effort for the coming step, taken implicitly (backward Euler on
+  // the joint's own coordinate) so that no damping can reverse or amplify the joint's motion:
+  // -b (I qdot + dt Q) / (I + b dt), with I a lower bound of the inertia the joint moves
+  // (dampingInertia) and Q the generalized force known before the step: gravity on the bodies
+  // below the joint and the joint's own effort (`efforts`, from applyJobs). For b dt << I it is
+  // -b qdot; for any b the joint's speed under Q tends to Q / b, as a damper's does.
+  void applyDamping(const std::vector<JointEffortSum>& efforts);
+
+  // A lower bound of the joint's effective inertia (kg m^2 about a hinge's axis, kg along a
+  // slider) with every other joint free: the child's body alone, about the axis through the
+  // anchor when the parent side is the static environment; the reduced inertia of the child's
+  // and the parent's bodies each about its centre of mass (masses, for a slider) when the parent
+  // side moves too. More bodies and more joints only add to it.
+  double dampingInertia(const ModelRecord& model, const JointRecord& joint) const;
+
+  // The generalized force of gravity on the joint's coordinate: on every body below the joint,
+  // its torque about the axis (a hinge) or its force along it (a slider).
+  double gravityOnJoint(const ModelRecord& model, const JointRecord& joint) const;
 
   // The joint an effort job or command is for, or why it cannot have one.
   Status effortTarget(const std::string& joint_name, double effort, ModelRecord** model,

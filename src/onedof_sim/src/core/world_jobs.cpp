@@ -36,7 +36,7 @@ double World::Impl::safeEffortBound(const ModelRecord& model, const JointRecord&
   return inertia * speed / (kStepsToSpeedCap * params.step);
 }
 
-void World::Impl::applyJobs(int64_t t) {
+std::vector<JointEffortSum> World::Impl::applyJobs(int64_t t) {
   struct JointSum {
     const ModelRecord* model;
     size_t joint;
@@ -44,6 +44,7 @@ void World::Impl::applyJobs(int64_t t) {
     int jobs;
   };
   std::vector<JointSum> sums;
+  std::vector<JointEffortSum> applied;
   for (const JointEffortJob& job : joint_jobs) {
     if (job.start_ns > t || t >= job.end_ns || job.model->blown_up) continue;
     auto sum = std::find_if(sums.begin(), sums.end(), [&](const JointSum& s) {
@@ -69,6 +70,7 @@ void World::Impl::applyJobs(int64_t t) {
       if (std::abs(effort) > bound) effort = std::copysign(bound, effort);
     }
     sum.model->engine_model->addJointEffort(joint.engine_joint, effort);
+    applied.push_back({sum.model, sum.joint, effort});
   }
   for (const BodyWrenchJob& job : wrench_jobs) {
     if (job.start_ns > t || t >= job.end_ns || job.model->blown_up) continue;
@@ -80,6 +82,7 @@ void World::Impl::applyJobs(int64_t t) {
                                            transformPoint(frame, job.point),
                                            rotate(frame.orientation, job.torque));
   }
+  return applied;
 }
 
 void World::Impl::dropExpiredJobs(int64_t next_step_start) {

@@ -84,6 +84,7 @@ std::string statusText(const Wording& wording, const Status& status) {
     case StatusCode::ModelExists: text = "Failure - entity already exists."; break;
     case StatusCode::EmptyModelName: text = "the model name is empty"; break;
     case StatusCode::NotFinite: text = wording.not_finite; break;
+    // Not reached over ROS: toCore reads an all-zero quaternion as the identity, as Gazebo does.
     case StatusCode::ZeroQuaternion: text = "the orientation quaternion is zero"; break;
     case StatusCode::ModelRejected: text = subject; break;
     case StatusCode::JointIsFixed:

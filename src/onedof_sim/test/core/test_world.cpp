@@ -4,6 +4,7 @@
 // quoted in the README.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include <tinyxml2.h>
 
@@ -311,6 +314,106 @@ TEST_P(TutorialRobot, ConstantEffortHoldsTheLinkWhereItBalancesGravity) {
   world.step();
   EXPECT_NEAR(jointRate(world, "joint1"),
               kStep * robot.mass * kG * robot.arm * std::sin(hold) / robot.inertiaAboutJoint(), 1e-6);
+}
+
+// Joint damping on the tutorial link, at the top of the accepted range (setJointDamping refuses
+// more than 1e6 N m s/rad) and below. The world applies it implicitly: an explicit -b qdot
+// reverses the joint with a growing speed past b = 2 I / dt (700 N m s/rad here).
+constexpr double kTopDamping = 1e6;
+
+double balancingEffort(double q) {
+  const TutorialRobotFigures& robot = tutorialRobot();
+  return -robot.mass * kG * robot.arm * std::sin(q);
+}
+
+// The robot at joint position q, at rest, with damping and an endless constant effort.
+void dampedRobot(World* world, double q, double damping, double effort) {
+  spawnLiftedRobot(world);
+  ASSERT_TRUE(world->setModelConfiguration("one_DOF_robot", {"joint1"}, {q}).ok());
+  ASSERT_TRUE(world->setJointDamping("joint1", damping).ok());
+  ASSERT_TRUE(world->applyJointEffort("joint1", effort, 0, -1).ok());
+}
+
+// Where the effort balances gravity the link stays, on the upright side (a balance gravity alone
+// would tip over) and on the hanging side; released there at 2 rad/s it stops after I w0 / b.
+TEST_P(TutorialRobot, TopDampingHoldsTheLinkWhereItsEffortBalancesGravity) {
+  const double inertia = tutorialRobot().inertiaAboutJoint();
+  for (double balance : {0.51, 2.5}) {
+    for (double speed : {0.0, 2.0}) {
+      World world(GetParam());
+      dampedRobot(&world, balance, kTopDamping, balancingEffort(balance));
+      Pose pose;
+      Twist twist;
+      ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &pose, &twist).ok());
+      // link2's frame sits on joint1's axis: turning about it moves its origin not at all.
+      twist = Twist();
+      twist.angular.y = speed;
+      ASSERT_TRUE(world.setLinkState("one_DOF_robot::link2", pose, twist, "").ok());
+      const double travel = inertia * speed / kTopDamping;
+      double worst = 0;
+      for (int i = 0; i < 3000; ++i) {
+        world.step();
+        worst = std::max(worst, std::abs(jointPosition(world, "joint1") - balance));
+      }
+      std::printf("[ figures  ] damping %g at q = %.2f from %.0f rad/s: within %.2e rad of it "
+                  "(a damper: %.2e), rate %.1e rad/s\n",
+                  kTopDamping, balance, speed, worst, travel, jointRate(world, "joint1"));
+      EXPECT_LT(worst, travel + 1e-7);
+      EXPECT_LT(std::abs(jointRate(world, "joint1")), 1e-6);
+    }
+  }
+}
+
+// Off the balance, a damping far above the link's own swing makes it creep toward the balance on
+// the overdamped law: the offset decays as exp(-k t / b), k = m g d |cos q| (the slow root of
+// I s^2 + b s + k; the fast one, -b / I, is gone within a step), never overshooting. Both values
+// are past the explicit law's limit.
+TEST_P(TutorialRobot, TopDampingCreepsToTheBalanceOnTheOverdampedLaw) {
+  const TutorialRobotFigures& robot = tutorialRobot();
+  const double balance = M_PI, offset = 0.05;  // hanging straight down, no effort
+  const double stiffness = robot.mass * kG * robot.arm;
+  for (double damping : {1000.0, kTopDamping}) {
+    World world(GetParam());
+    dampedRobot(&world, balance + offset, damping, 0);
+    const int count = 100000;  // 100 s
+    double previous = offset;
+    bool monotonic = true;
+    for (int i = 0; i < count; ++i) {
+      world.step();
+      const double now = jointPosition(world, "joint1") - balance;
+      monotonic = monotonic && now <= previous && now > 0;
+      previous = now;
+    }
+    const double expected = offset * std::exp(-stiffness * count * kStep / damping);
+    std::printf("[ figures  ] damping %g: offset %.6e rad after 100 s, overdamped law %.6e\n",
+                damping, previous, expected);
+    EXPECT_TRUE(monotonic);
+    EXPECT_NEAR(offset - previous, offset - expected, 0.01 * (offset - expected));
+  }
+}
+
+// A light damping b: the swing's amplitude decays as exp(-b t / (2 I)).
+TEST_P(TutorialRobot, LightDampingDecaysAsTheClosedForm) {
+  const double damping = 0.05, amplitude = 0.05;
+  const double inertia = tutorialRobot().inertiaAboutJoint();
+  World world(GetParam());
+  dampedRobot(&world, M_PI + amplitude, damping, 0);
+  std::vector<std::pair<double, double>> peaks;  // (t, offset) at each maximum
+  double before = amplitude, last = amplitude;
+  for (int i = 1; i <= 20000; ++i) {
+    world.step();
+    const double now = jointPosition(world, "joint1") - M_PI;
+    if (last > before && last >= now) peaks.push_back({(i - 1) * kStep, last});
+    before = last;
+    last = now;
+  }
+  ASSERT_GE(peaks.size(), 5u);
+  const double span = peaks.back().first - peaks.front().first;
+  const double ratio = peaks.back().second / peaks.front().second;
+  const double expected = std::exp(-damping * span / (2 * inertia));
+  std::printf("[ figures  ] damping %g: amplitude ratio %.5f over %.2f s, closed form %.5f\n",
+              damping, ratio, span, expected);
+  EXPECT_NEAR(ratio, expected, 0.005 * expected);
 }
 
 // 4. A free prismatic joint along z under gravity: q = -g t^2 / 2. ODE integrates semi-implicitly
