@@ -355,6 +355,21 @@ def test_pub_clock_frequency_throttles_clock(ros, engine, rospy_client):
     assert gaps == {20 * STEP_NS}
 
 
+def test_pub_clock_frequency_set_on_a_restarted_roscore_throttles_clock(ros, engine, rospy_client):
+    """The node reads pub_clock_frequency through roscpp's cache, which the master it subscribed
+    to keeps up to date: a restarted master gets that subscription again."""
+    sim = start_sim(ros, engine)
+    ros.restart_master()
+    ros.wait_until(lambda: 'the ROS master came back' in ros.log_text(sim), 60,
+                   what='the simulator to register again with the new master')
+    ros.set_param('/gazebo/pub_clock_frequency', 50)
+    stamps, _ = clock_listener(rospy_client)
+    # Updates reach the node's cache shortly after they are set: the gaps settle at 20 steps.
+    wait_until(lambda: len(stamps) > 40 and
+               {b - a for a, b in zip(stamps[-20:], stamps[-19:])} == {20 * STEP_NS}, 60,
+               what='/clock every 20 steps')
+
+
 def test_use_sim_time_already_set_is_kept(ros, engine):
     ros.set_param('/use_sim_time', False)
     start_sim(ros, engine)

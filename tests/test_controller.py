@@ -17,7 +17,7 @@ import signal
 
 import pytest
 
-from api_client import GazeboApi
+from api_client import ROBOT, GazeboApi
 from conftest import ENGINES, TUTORIAL_URDF, start_sim
 from onedof_harness.private_ros import wait_until
 from onedof_sim.transforms import quaternion_multiply
@@ -307,6 +307,34 @@ def test_controller_survives_a_killed_simulator_and_resumes_after_restart(ros, e
     robot.assert_controller_alive()
     log = robot.controller_log()
     assert log.count('lost the simulator') == 1, log
+
+
+def test_controller_goes_on_across_a_restarted_roscore(ros, robot):
+    """A roscore restarted on the same port under the running simulator and controller: the
+    controller's connections to the simulator are peer to peer and go on; the simulator registers
+    its services, topics and parameters with the new master, so new clients find it."""
+    assert_holds_at(robot.wait_settled(since=robot.command(1.0)), 1.0)
+    ros.restart_master()
+
+    ros.wait_until(lambda: ros.has_service('/gazebo/get_world_properties'), 60,
+                   what='the simulator to register its services with the new master')
+    ros.wait_until(lambda: ros.master().hasParam('/test', '/use_sim_time')[2], 60,
+                   what='the simulator to set /use_sim_time on the new master')
+    assert ros.master().getParam('/test', '/use_sim_time')[2] is True
+    ros.wait_until(lambda: 'the ROS master came back' in ros.log_text(robot.sim), 60,
+                   what='the simulator to say it registered again')
+    # Through the new master, from this node (rospy looks the service up per call) and from new
+    # ones: a service call, and the clock on a new subscriber.
+    assert GazeboApi(robot.rospy).get_world_properties().model_names == [ROBOT]
+    called = ros.run(['rosservice', 'call', '/gazebo/get_world_properties'])
+    assert called.returncode == 0 and ROBOT in called.stdout, called.stdout + called.stderr
+    echoed = ros.run(['rostopic', 'echo', '-n', '1', '/clock'])
+    assert echoed.returncode == 0 and 'secs:' in echoed.stdout, echoed.stdout + echoed.stderr
+
+    # The controller goes on: a command sent after the restart is held where physics says.
+    assert_holds_at(robot.wait_settled(since=robot.command(2.0)), 2.0)
+    robot.assert_controller_alive()
+    assert 'lost the simulator' not in robot.controller_log()
 
 
 @ONE_ENGINE

@@ -151,21 +151,37 @@ class PrivateRos:
             # Each log line reaches the log file when it is written (C++ and Python nodes buffer
             # stdout into a file otherwise): waits on a node's log see what it has said.
             self.env.update(ROSCONSOLE_STDOUT_LINE_BUFFERED='1', PYTHONUNBUFFERED='1')
-            self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
             try:
-                wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)
+                self._launch_master()
                 break
             except (PortTaken, TimeoutError) as failure:
                 failures.append(str(failure))
-                # Killed: a roscore that found the port taken may be waiting on the program
-                # there and would take 20 s to heed SIGINT and SIGTERM; it has nothing to save.
-                self.kill(self.roscore)
-                self.processes.remove(self.roscore)
         else:
             raise RuntimeError('roscore did not start on %d ports (%s); logs in %s'
                                % (attempts, '; '.join(failures), self.log_dir))
         if self._use_sim_time is not None:
             self.set_param('/use_sim_time', self._use_sim_time)
+
+    def _launch_master(self):
+        """Starts roscore on self.port and waits until it answers; PortTaken or TimeoutError
+        (the roscore killed) when it does not."""
+        self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
+        try:
+            wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)
+        except (PortTaken, TimeoutError):
+            # Killed: a roscore that found the port taken may be waiting on the program there
+            # and would take 20 s to heed SIGINT and SIGTERM; it has nothing to save.
+            self.kill(self.roscore)
+            self.processes.remove(self.roscore)
+            raise
+
+    def restart_master(self):
+        """Kills the roscore and starts a new one on the same port, as a user restarting roscore
+        does: the nodes started here go on running, and the new master knows nothing of them
+        (no registrations, no parameters, not even use_sim_time given to the constructor)."""
+        self.kill(self.roscore)
+        self.processes.remove(self.roscore)
+        self._launch_master()
 
     def _our_master_answers(self):
         if self.roscore.poll() is not None:

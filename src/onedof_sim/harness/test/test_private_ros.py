@@ -156,3 +156,29 @@ def test_stop_leaves_no_process_of_the_graph(tmp_path):
     graph.stop()
     _, alive = psutil.wait_procs(started, timeout=10)
     assert not alive, alive
+
+
+def test_restart_master_starts_an_empty_master_on_the_same_port_and_keeps_the_nodes(tmp_path):
+    import psutil
+    graph = PrivateRos(log_dir=str(tmp_path), use_sim_time=True)
+    graph.start_master()
+    try:
+        node = graph.start([sys.executable, '-c', 'import time; time.sleep(600)'], name='sleeper')
+        port, old_roscore = graph.port, graph.roscore
+        _, _, old_pid = graph.master().getPid('/test')
+        old_core = [psutil.Process(old_roscore.pid)] + \
+            psutil.Process(old_roscore.pid).children(recursive=True)
+        assert graph.master().hasParam('/test', '/use_sim_time')[2]
+
+        graph.restart_master()
+
+        assert graph.port == port
+        code, _, pid = graph.master().getPid('/test')
+        assert code == 1 and pid != old_pid and is_descendant(pid, graph.roscore.pid)
+        assert not graph.master().hasParam('/test', '/use_sim_time')[2]
+        _, alive = psutil.wait_procs(old_core, timeout=10)
+        assert not alive, alive
+        assert node.poll() is None
+        assert graph.processes.count(graph.roscore) == 1 and old_roscore not in graph.processes
+    finally:
+        graph.stop()

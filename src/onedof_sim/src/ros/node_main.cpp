@@ -15,6 +15,8 @@
 #include <ros/ros.h>
 
 #include "gazebo_api.h"
+#include "master_watch.h"
+#include "node_options.h"
 
 namespace {
 
@@ -68,8 +70,18 @@ int runSimulatorNode(int argc, char** argv,
   // Where -database and model:// look, for the tools that spawn into this simulator
   // (spawn_model -database reads it), before any service is advertised.
   private_nh.setParam("model_path", options.model_path);
+  // For a restarted master: the parameters the node sets (~model_path, and /use_sim_time unless
+  // set, which SimLoop sets at start-up) and those it reads through roscpp's cache (SimLoop's).
+  onedof_sim::NodeParameters parameters;
+  parameters.set_again = [&private_nh, &options] {
+    private_nh.setParam("model_path", options.model_path);
+    onedof_sim::setUseSimTimeUnlessSet();
+    return std::vector<std::string>{private_nh.resolveName("model_path"), onedof_sim::kUseSimTime};
+  };
+  parameters.cached = {private_nh.resolveName(onedof_sim::kPubClockFrequency)};
   try {
     onedof_sim::GazeboApi api(options, std::move(plugin_types));
+    onedof_sim::MasterWatch master_watch(std::move(parameters));
     api.run();
   } catch (const std::invalid_argument& e) {
     // An unknown engine (World's constructor) or invalid physics parameters (setParams).

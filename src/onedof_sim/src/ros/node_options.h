@@ -14,6 +14,8 @@ namespace onedof_sim {
 
 // The parameter that puts ROS nodes on simulated time (/clock).
 constexpr const char* kUseSimTime = "/use_sim_time";
+// The private parameter read while running: /clock's rate in Hz of sim time (SimLoop).
+constexpr const char* kPubClockFrequency = "pub_clock_frequency";
 
 // Start-up settings of the node (see readNodeOptions for the parameter names).
 struct NodeOptions {

@@ -327,7 +327,7 @@ void SimLoop::refreshClockFrequency() {
   if (now < next_param_refresh_) return;
   next_param_refresh_ = now + std::chrono::milliseconds(100);
   double frequency = 0;
-  if (!private_nh_.getParamCached("pub_clock_frequency", frequency) || !std::isfinite(frequency)) {
+  if (!private_nh_.getParamCached(kPubClockFrequency, frequency) || !std::isfinite(frequency)) {
     frequency = 0;
   }
   clock_frequency_ = frequency;
