@@ -47,10 +47,15 @@ def test_a_plugin_sees_its_hooks_in_order_in_sim_time_and_is_gone_after_delete(
     assert spawned.success, spawned.status_message
     # Its messages reach this subscriber once the connection is up: step one at a time until
     # they do, then until the last step's two calls are in.
-    wait_until(lambda: api.step_simulation(1).success and told, 30,
-               what='the probe to tell its hook calls')
-    wait_until(lambda: told[-1].startswith('after'), 30, what="the last step's after-hook")
-    first = int(told[-1].split()[2])  # steps done so far
+    stepped_to = []
+
+    def step_and_heard():
+        stepped_to.append(api.step_simulation(1).iterations)
+        return told
+    wait_until(step_and_heard, 30, what='the probe to tell its hook calls')
+    first = stepped_to[-1]  # steps done so far
+    wait_until(lambda: told[-1] == 'after %d %d' % (first * STEP_NS, first), 30,
+               what="the last warm-up step's after-hook")
     start = len(told)
 
     steps = 50
