@@ -266,8 +266,10 @@ class PrivateRos:
         self.processes.append(proc)
         return proc
 
-    def run(self, args, timeout=60, input=None):
-        """Runs a command (rosservice, rostopic, ...) against this graph; returns CompletedProcess."""
+    def run(self, args, timeout=300, input=None):
+        """Runs a command (rosservice, rostopic, ...) against this graph; returns CompletedProcess.
+        The timeout only catches a command that hangs: a roslaunch that starts and stops its
+        nodes took over 60 s on a 2-core machine at load 30."""
         return subprocess.run(args, env=self.env, capture_output=True, text=True, timeout=timeout,
                               input=input)
 
