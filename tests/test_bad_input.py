@@ -4,10 +4,15 @@ range, keeps its world as it was and goes on answering and stepping.
 One simulator per engine serves the whole module (conftest's shared_sim), started paused; before
 each test the world is reset to the tutorial robot alone with the default physics.
 """
+import os
+import threading
+
 import pytest
 
 from api_client import (BOX_SDF, ROBOT, STEP_NS, GazeboApi, pose, ros_duration, ros_time,
                         tutorial_urdf)
+from conftest import start_sim
+from onedof_harness.private_ros import wait_until
 
 DEFAULT_RATE = 1000.0
 BOX_MASS = 1.0
@@ -154,6 +159,109 @@ def test_a_model_beyond_the_size_limit_is_refused(api):
                    'SpawnModel: the model has 20000 links; at most 1000 are accepted')
     assert world_state(api) == before
     assert_still_running(api)
+
+
+def fixed_chain_sdf(links, name='chain'):
+    """An SDF model of `links` links welded by fixed joints into one body: libsdformat takes
+    seconds to read a thousand."""
+    parts = ['<sdf version="1.6"><model name="%s">' % name]
+    for i in range(links):
+        parts.append('<link name="l%d"><pose>0 0 %g 0 0 0</pose><inertial><mass>1</mass><inertia>'
+                     '<ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz><ixy>0</ixy><ixz>0</ixz>'
+                     '<iyz>0</iyz></inertia></inertial></link>' % (i, 0.001 * i))
+        if i:
+            parts.append('<joint name="j%d" type="fixed"><parent>l%d</parent><child>l%d</child>'
+                         '</joint>' % (i, i - 1, i))
+    parts.append('</model></sdf>')
+    return ''.join(parts)
+
+
+def test_an_sdf_past_the_link_limit_is_refused_and_the_largest_accepted(api):
+    """The link count is read off the XML before libsdformat parses it."""
+    before = world_state(api)
+    assert_refused(api.spawn_sdf_model('chain', fixed_chain_sdf(3000), '', pose(), ''),
+                   'SpawnModel: the model has 3000 links; at most 1000 are accepted')
+    assert world_state(api) == before
+    res = api.spawn_sdf_model('chain', fixed_chain_sdf(1000), '', pose(x=2.0), '')
+    assert res.success, res.status_message
+    assert_still_running(api)
+
+
+def test_a_chain_past_the_exact_solvers_joint_limit_is_refused_on_ode(api, engine):
+    """ODE's default solver (dWorldStep) costs about 1 ms a step at 50 moving joints and grows as
+    joints^2.8 (999: seconds a step); Bullet's grows linearly and takes the chain."""
+    from onedof_sim.benchmark.report import chain_urdf
+    res = spawn_urdf(api, 'chain', chain_urdf(999))
+    if engine == 'ode':
+        assert_refused(res, 'SpawnModel: the model has 999 moving joints; at most 50 are accepted '
+                            'with the exact solver', "with quick_step (the node's ~quick_step")
+        assert api.get_world_properties().model_names == [ROBOT]
+    else:
+        assert res.success, res.status_message
+    assert_still_running(api)
+
+
+def test_a_spawn_inside_its_parse_blocks_no_other_client(ros, engine, rospy_client, tmp_path):
+    """The node reads a model outside the world lock. The first spawn here is held inside its
+    parse: its <include>d model file is a FIFO, which the node opens and then waits on until this
+    test writes it. Meanwhile another client's get_world_properties and step_simulation answer;
+    only then is the file written and the spawn answers."""
+    fifo = tmp_path / 'held' / 'model.sdf'
+    fifo.parent.mkdir()
+    (fifo.parent / 'model.config').write_text(
+        '<?xml version="1.0"?><model><name>held</name><sdf version="1.6">model.sdf</sdf></model>')
+    os.mkfifo(str(fifo))
+    start_sim(ros, engine, ['_paused:=true'], env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    spawner, other = GazeboApi(rospy_client), GazeboApi(rospy_client)
+    other.get_world_properties()
+    including = ('<sdf version="1.6"><world name="w"><include><uri>model://held</uri></include>'
+                 '</world></sdf>')
+    spawned = []
+    spawning = threading.Thread(target=lambda: spawned.append(
+        spawner.spawn_sdf_model('held', including, '', pose(), '')), daemon=True)
+    spawning.start()
+
+    def writer_end():
+        # A FIFO opens for writing without blocking only once a reader has it open.
+        try:
+            return os.open(str(fifo), os.O_WRONLY | os.O_NONBLOCK)
+        except OSError:
+            return None
+    writer = wait_until(writer_end, 60, what='the node to open the included model file')
+    try:
+        answers = []
+        asking = threading.Thread(target=lambda: answers.append(
+            (other.get_world_properties(), other.step_simulation(10))), daemon=True)
+        asking.start()
+        asking.join(60)
+        assert answers, 'get_world_properties and step_simulation waited for the spawn'
+        world, steps = answers[0]
+        assert world.success and world.model_names == []
+        assert steps.success
+        assert not spawned, 'the spawn answered before its model file was written'
+    finally:
+        os.set_blocking(writer, True)
+        os.write(writer, fixed_chain_sdf(1000, name='held').encode())
+        os.close(writer)
+    spawning.join(120)
+    # libsdformat reads a file by its length, which a FIFO has not: the spawn is refused naming the
+    # file. It answered; that is what this part is about.
+    assert spawned, 'the spawn did not answer once its model file was written'
+
+    # The largest model accepted, a thousand links that libsdformat takes seconds to read: the
+    # other client is answered while the spawn is in flight, and the spawn succeeds.
+    spawned = []
+    spawning = threading.Thread(target=lambda: spawned.append(
+        spawner.spawn_sdf_model('largest', fixed_chain_sdf(1000), '', pose(), '')), daemon=True)
+    spawning.start()
+    answered_in_flight = 0
+    while not spawned and spawning.is_alive():
+        assert other.get_world_properties().success
+        answered_in_flight += 0 if spawned else 1
+    spawning.join(120)
+    assert spawned and spawned[0].success, spawned
+    assert answered_in_flight > 0
+    assert other.get_world_properties().model_names == ['largest']
 
 
 # --- time_step: within [1e-6, 0.1] s, so sim time stays within ROS time --------------------------

@@ -65,7 +65,9 @@ enum class StatusCode {
 struct Status {
   StatusCode code = StatusCode::Ok;
   std::string subject;
-  double min = 0, max = 0;  // OutOfRange: the accepted range; TooManyJobs: max
+  // OutOfRange: the accepted range; TooManyJobs: max; InvalidParameter "quick_step": the most
+  // moving joints a model may have with the exact solver.
+  double min = 0, max = 0;
   bool ok() const { return code == StatusCode::Ok; }
 };
 
@@ -156,6 +158,24 @@ struct CollisionShape {
 
 enum class ModelFormat { Urdf, Sdf };
 
+// A model read from its XML and checked against every limit that does not depend on a world
+// (World::prepare), for World::spawn to add to one. Self-contained: made without a world, it can
+// be parsed on one thread while another steps the world.
+class PreparedModel {
+ public:
+  PreparedModel();
+  ~PreparedModel();
+  PreparedModel(PreparedModel&&) noexcept;
+  PreparedModel& operator=(PreparedModel&&) noexcept;
+  // Ok, or why the XML makes no model (ModelRejected with the reason).
+  const Status& status() const;
+
+ private:
+  friend class World;
+  struct Content;
+  std::unique_ptr<Content> content_;
+};
+
 class World {
  public:
   // The engines World can run on, in registry order; the first is the default.
@@ -181,20 +201,39 @@ class World {
   // Refuses (subject: the field) a non-finite number (NotFinite), and (InvalidParameter) a step
   // under 1 ns, erp outside [0, 1], a negative cfm, contact_surface_layer,
   // contact_max_correcting_vel or sor_pgs_rms_error_tol, sor_pgs_w <= 0, sor_pgs_iters < 1,
-  // max_contacts > 65535 (ODE takes it in 16 bits).
+  // max_contacts > 65535 (ODE takes it in 16 bits); and (InvalidParameter "quick_step", max: the
+  // limit) the exact solver while a model has more moving joints than it steps in the budget.
   Status setParams(const PhysicsParams& params);
 
   // --- models ------------------------------------------------------------------------------
   // Parses xml (URDF with urdfdom, SDF with libsdformat), builds the model and places its root
   // at `pose` expressed in `reference_frame` ("" or "world", a model name, or "model::link").
   // Refuses, in this order: a non-finite or zero-quaternion pose, an empty or taken name, an
-  // unknown reference frame, XML that makes no model (ModelRejected with the reason).
+  // unknown reference frame (checkSpawn), XML that makes no model (ModelRejected with the reason:
+  // prepare), a model too large for this world's solver (ModelRejected: see spawn(PreparedModel)).
+  // The same as checkSpawn, prepare and spawn(PreparedModel) in a row.
   Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
                const Pose& pose, const std::string& reference_frame = "");
+  // The refusals of spawn that depend on this world (the name and the reference frame) and
+  // precede reading the XML, in spawn's order.
+  Status checkSpawn(const std::string& name, const Pose& pose,
+                    const std::string& reference_frame) const;
+  // Reads and checks xml without any world: its size and its counts of links, joints and
+  // <include>s against the limits first (a quick pass, before the parser), then the parser, every
+  // limit on what the model gives, and the plan of its bodies and joints. model_path: absolute
+  // folders, as modelPath() gives them. Safe to call on any thread at any time.
+  static PreparedModel prepare(const std::string& xml, ModelFormat format,
+                               const std::vector<std::string>& model_path);
+  // Adds a prepared model (it is consumed; on a refusal too). Refuses, in this order: checkSpawn's
+  // refusals, the prepared model's, and (ModelRejected) a model with more moving joints than this
+  // world's solver steps in the step-cost budget (ODE's exact dWorldStep: see "Limits").
+  Status spawn(const std::string& name, PreparedModel model, const Pose& pose,
+               const std::string& reference_frame = "");
   // Folders where SDF's model://NAME URIs are looked up, in this order, as gzserver looks them
   // up in GAZEBO_MODEL_PATH: an <include>d model, a mesh. Relative folders are taken from the
   // current directory at the time of the call. Empty until set.
   void setModelPath(const std::vector<std::string>& folders);
+  const std::vector<std::string>& modelPath() const;  // absolute
   Status deleteModel(const std::string& name);
   std::vector<std::string> modelNames() const;  // in spawn order
 

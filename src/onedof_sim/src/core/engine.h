@@ -102,6 +102,10 @@ class Engine {
   virtual void addGroundPlane(double mu, double mu2) = 0;
   // Bodies of one model never collide with each other.
   virtual std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) = 0;
+  // Whether the solver under these parameters is exact, its step cost growing faster than
+  // linearly in a model's joints (ODE's dWorldStep), so that World holds a model to
+  // kMaxExactSolverJoints; an iterative solver's cost grows linearly.
+  virtual bool exactSolver(const PhysicsParams& params) const = 0;
   // One step of dt seconds with the forces added since the last one. Solver trouble the engine
   // reports during the step (ODE's "LCP internal error") goes to *solver_message, first one only.
   virtual void step(double dt, std::string* solver_message) = 0;

@@ -43,6 +43,17 @@ constexpr double kMaxJointDamping = 1e6, kMaxJointFriction = 1e6;
 // per-model bookkeeping grows with links times joints, and walking a 20000-link URDF takes 20000
 // nested calls, past what the stack holds.
 constexpr size_t kMaxModelLinks = 1000;
+// Checked on the XML before it is parsed, so that a model past a limit is refused in
+// milliseconds: libsdformat takes seconds for a thousand links. The XML's size: a 1000-link URDF
+// with visuals and collisions is about 1 MB. <include>s of an SDF (each one a model file read from
+// the model path): a robot is built from a handful.
+constexpr size_t kMaxModelXmlBytes = 10000000;
+constexpr size_t kMaxModelIncludes = 100;
+// Moving joints (the 1-DOF joints the engine steps) per model with an exact solver, whose step
+// cost grows as joints^2.8 (ODE's dWorldStep: 50 joints about 1 ms a step on 2 cores, 100 about
+// 8 ms, 200 about 70 ms, 1000 seconds). The iterative solvers (ODE's quick_step, Bullet) grow
+// linearly, about 10 us a joint, so the link limit bounds them at about 10 ms a step.
+constexpr size_t kMaxExactSolverJoints = 50;
 
 struct CollisionDescription {
   std::string name;
@@ -91,6 +102,11 @@ struct ModelDescription {
 inline Status rejected(std::string reason) {
   return {StatusCode::ModelRejected, std::move(reason)};
 }
+
+// The limits that can be checked on the XML itself before a parser reads it: its size, and its
+// counts of links, joints and <include>s (those an SDF's includes bring are counted after the
+// parse). Ok for XML that is not well-formed: the parser then says why.
+Status precheckModelXml(const std::string& xml, ModelFormat format);
 
 // Both fill `out` only on success; else ModelRejected with the reason.
 Status parseUrdf(const std::string& xml, ModelDescription* out);

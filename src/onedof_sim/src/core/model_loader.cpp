@@ -8,6 +8,7 @@
 #include <functional>
 #include <ignition/math/Pose3.hh>
 #include <map>
+#include <mutex>
 #include <sdf/sdf.hh>
 #include <set>
 #include <sstream>
@@ -39,6 +40,11 @@ class CapturedParserErrors : public console_bridge::OutputHandler {
   std::string lines_;
   bool has_errors_ = false;
 };
+
+// Models are prepared on any thread (World::prepare), so the parsers run one at a time: urdfdom
+// reports through console_bridge's one process-wide handler (CapturedParserErrors swaps it), and
+// libsdformat 12 does not say it may be used from several threads at once.
+std::mutex parser_mutex;
 
 Pose toPose(const urdf::Pose& p) {
   return {{p.position.x, p.position.y, p.position.z},
@@ -282,6 +288,7 @@ Status parseUrdf(const std::string& xml, ModelDescription* out) {
   std::string parser_errors;
   bool parser_has_errors = false;
   {
+    const std::lock_guard<std::mutex> one_parser(parser_mutex);
     CapturedParserErrors errors;
     urdf = urdf::parseURDF(xml);
     parser_errors = errors.text();
@@ -561,6 +568,7 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
   sdf::Root root;
   std::vector<std::string> missing;
   sdf::Errors errors;
+  const std::lock_guard<std::mutex> one_parser(parser_mutex);
   try {
     errors = root.LoadSdfString(xml, modelPathConfig(model_path, &missing));
   } catch (const std::exception& e) {

@@ -31,6 +31,11 @@ const EngineEntry& findEngine(const std::string& name) {
   throw std::invalid_argument("unknown physics engine '" + name + "' (known: " + known + ")");
 }
 
+size_t countMovingJoints(const ModelRecord& model) {
+  return std::count_if(model.joints.begin(), model.joints.end(),
+                       [](const JointRecord& joint) { return joint.engine_joint >= 0; });
+}
+
 }  // namespace
 
 World::Impl::Impl(const std::string& name, const PhysicsParams& p)
@@ -184,7 +189,15 @@ const PhysicsParams& World::params() const { return impl_->params; }
 
 Status World::setParams(const PhysicsParams& params) {
   Status status = validateParams(params);
-  if (status.ok()) impl_->applyParams(params);
+  if (!status.ok()) return status;
+  if (impl_->engine->exactSolver(params))
+    for (const auto& model : impl_->models)
+      if (model->engine_model && countMovingJoints(*model) > kMaxExactSolverJoints) {
+        status = {StatusCode::InvalidParameter, "quick_step"};
+        status.max = kMaxExactSolverJoints;
+        return status;
+      }
+  impl_->applyParams(params);
   return status;
 }
 
@@ -194,8 +207,21 @@ std::vector<std::string> World::takeWarnings() {
   return warnings;
 }
 
+PreparedModel::PreparedModel() : content_(std::make_unique<Content>()) {}
+PreparedModel::~PreparedModel() = default;
+PreparedModel::PreparedModel(PreparedModel&&) noexcept = default;
+PreparedModel& PreparedModel::operator=(PreparedModel&&) noexcept = default;
+const Status& PreparedModel::status() const { return content_->status; }
+
 Status World::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                     const Pose& pose, const std::string& reference_frame) {
+  const Status admissible = checkSpawn(name, pose, reference_frame);
+  if (!admissible.ok()) return admissible;
+  return spawn(name, prepare(xml, format, impl_->model_path), pose, reference_frame);
+}
+
+Status World::checkSpawn(const std::string& name, const Pose& pose,
+                         const std::string& reference_frame) const {
   Status status = checkPose(pose);
   if (!status.ok()) return status;
   if (name.empty()) return {StatusCode::EmptyModelName, {}};
@@ -208,23 +234,52 @@ Status World::spawn(const std::string& name, const std::string& xml, ModelFormat
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
     return {StatusCode::ReferenceFrameNotFound, reference_frame};
-  ModelDescription desc;
-  status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc)
-                                       : parseSdf(xml, impl_->model_path, &desc);
-  if (!status.ok()) return status;
+  return {};
+}
 
-  auto model = std::make_unique<ModelRecord>();
-  model->name = name;
-  model->is_static = desc.is_static;
-  ModelSpec spec;
-  status = impl_->planModel(desc, model.get(), &spec);
+PreparedModel World::prepare(const std::string& xml, ModelFormat format,
+                             const std::vector<std::string>& model_path) {
+  PreparedModel prepared;
+  PreparedModel::Content& content = *prepared.content_;
+  content.status = precheckModelXml(xml, format);
+  if (!content.status.ok()) return prepared;
+  ModelDescription desc;
+  content.status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc)
+                                               : parseSdf(xml, model_path, &desc);
+  if (!content.status.ok()) return prepared;
+  content.record.is_static = desc.is_static;
+  content.status = planModel(desc, &content.record, &content.spec);
+  return prepared;
+}
+
+Status World::spawn(const std::string& name, PreparedModel prepared, const Pose& pose,
+                    const std::string& reference_frame) {
+  Status status = checkSpawn(name, pose, reference_frame);
   if (!status.ok()) return status;
-  model->engine_model = impl_->engine->addModel(spec);
+  PreparedModel::Content& content = *prepared.content_;
+  if (!content.status.ok()) return content.status;
+  const size_t moving_joints = content.spec.joints.size();
+  if (impl_->engine->exactSolver(impl_->params) && moving_joints > kMaxExactSolverJoints)
+    return rejected(
+        "the model has " + std::to_string(moving_joints) + " moving joints; at most " +
+        std::to_string(kMaxExactSolverJoints) +
+        " are accepted with the exact solver (ODE's dWorldStep, quick_step false), whose step "
+        "cost grows as joints^2.8 (" + std::to_string(kMaxExactSolverJoints) +
+        ": about 1 ms a step); with quick_step (the node's ~quick_step: dWorldQuickStep, cost "
+        "linear in the joints) it is accepted");
+  Pose frame;
+  Twist unused;
+  impl_->resolveFrame(reference_frame, &frame, &unused);
+  auto model = std::make_unique<ModelRecord>(std::move(content.record));
+  model->name = name;
+  model->engine_model = impl_->engine->addModel(content.spec);
   model->spawn_pose = compose(frame, {pose.position, normalized(pose.orientation)});
   impl_->resetModel(model.get());
   impl_->models.push_back(std::move(model));
   return {};
 }
+
+const std::vector<std::string>& World::modelPath() const { return impl_->model_path; }
 
 void World::setModelPath(const std::vector<std::string>& folders) {
   // libsdformat would try a relative folder against its own install first.

@@ -142,6 +142,10 @@ struct BodyState {
 // --- world_models.cpp ------------------------------------------------------------------------
 
 ShapeSpec shapeSpec(const CollisionDescription& collision);
+// Everything about a model that can fail, checked before any engine sees it (so that a refused
+// spawn leaves the world as it was) and without a world: fills the link and joint records and the
+// engine's spec.
+Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec);
 // The link that places a moving body: the first of the links welded into it.
 const LinkRecord& referenceLink(const ModelRecord& model, int body);
 
@@ -175,6 +179,14 @@ Status checkPose(const Pose& pose);
 Status checkState(const Pose& pose, const Twist& twist, double step);
 
 }  // namespace core
+
+// A model planned without a world (World::prepare): its records, no engine model yet, and the
+// engine's spec; or the refusal.
+struct PreparedModel::Content {
+  Status status;
+  core::ModelRecord record;
+  core::ModelSpec spec;
+};
 
 // World's parts are written against the core's private types (every file that includes this
 // one implements World).
@@ -260,10 +272,6 @@ struct World::Impl {
   bool resolveFrame(const std::string& name, Pose* pose, Twist* twist) const;
 
   // --- building and placing (world_models.cpp) ----------------------------------------------
-
-  // Everything that can fail is checked here, before the engine sees the model, so that a
-  // refused spawn leaves the world as it was. Fills the link/joint records and the engine's spec.
-  Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec) const;
 
   // World poses of all links at joint positions q, with joints to `world` anchored at the model
   // frame pose and each free root link (no parent joint) at root_poses[link].

@@ -41,10 +41,7 @@ const LinkRecord& referenceLink(const ModelRecord& model, int body) {
   throw std::logic_error("body without a reference link");
 }
 
-}  // namespace core
-
-Status World::Impl::planModel(const ModelDescription& desc, ModelRecord* model,
-                              ModelSpec* spec) const {
+Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec) {
   std::map<std::string, int> index;
   for (const LinkDescription& link : desc.links) {
     index[link.name] = static_cast<int>(model->links.size());
@@ -128,6 +125,8 @@ Status World::Impl::planModel(const ModelDescription& desc, ModelRecord* model,
   model->bodies = spec->bodies;
   return {};
 }
+
+}  // namespace core
 
 std::vector<Pose> World::Impl::forwardKinematics(const ModelRecord& model, const Pose& frame_pose,
                                                  const std::vector<Pose>& root_poses,

@@ -296,8 +296,11 @@ bool GazeboApi::spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs
 }
 
 // Gazebo's spawn services both take URDF or SDF (it converts URDF to SDF); so do we, by the
-// root element. `requested` only names the service in log lines. The model's plugins are created
-// unlocked (they advertise and subscribe) and join the loop if the model is still there.
+// root element. `requested` only names the service in log lines. The model is parsed and checked
+// unlocked (a thousand SDF links take seconds), between two short locked steps that keep
+// World::spawn's order of refusals: the name and frame first, then the model. The model's plugins
+// are created unlocked (they advertise and subscribe) and join the loop if the model is still
+// there.
 bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req,
                            gazebo_msgs::SpawnModel::Response& res) {
   ModelFormat format = requested;
@@ -306,10 +309,20 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
     ROS_WARN_STREAM("SpawnModel: " << detected.subject);
     return refuse(res, kNotUrdfOrSdf);
   }
-  const Status spawned = loop_.withWorld([&](World& world) {
-    return world.spawn(req.model_name, req.model_xml, format, toCore(req.initial_pose),
-                       req.reference_frame);
+  const Pose pose = toCore(req.initial_pose);
+  std::vector<std::string> model_path;
+  Status spawned = loop_.withWorld([&](World& world) {
+    model_path = world.modelPath();
+    return world.checkSpawn(req.model_name, pose, req.reference_frame);
   });
+  if (spawned.ok()) {
+    PreparedModel prepared = World::prepare(req.model_xml, format, model_path);
+    spawned = prepared.status();
+    if (spawned.ok())
+      spawned = loop_.withWorld([&](World& world) {
+        return world.spawn(req.model_name, std::move(prepared), pose, req.reference_frame);
+      });
+  }
   if (spawned.ok()) {
     ROS_INFO_STREAM("spawned model '" << req.model_name << "' ("
                     << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via "

@@ -201,6 +201,7 @@ class LinkProperties : public ::testing::TestWithParam<std::string> {};
 class Models : public ::testing::TestWithParam<std::string> {};
 class Robustness : public ::testing::TestWithParam<std::string> {};
 class BadInput : public ::testing::TestWithParam<std::string> {};
+class PreparedModels : public ::testing::TestWithParam<std::string> {};
 class State : public ::testing::TestWithParam<std::string> {};
 class TutorialRobot : public ::testing::TestWithParam<std::string> {};
 
@@ -1568,6 +1569,137 @@ TEST_P(BodyWrench, PendingJobsAreBoundedPerLink) {
   EXPECT_EQ(full.subject, "box::box");
 }
 
+// --- prepared models: read and checked without a world, then added to one --------------------
+
+// A chain of `joints` links, each on a revolute joint under the one before, hanging from a base
+// fixed to the world.
+std::string revoluteChainUrdf(int joints) {
+  std::ostringstream s;
+  s << "<robot name=\"chain\"><link name=\"world\"/><joint name=\"anchor\" type=\"fixed\">"
+    << "<parent link=\"world\"/><child link=\"l0\"/><origin xyz=\"0 0 " << 0.1 * joints + 1
+    << "\"/></joint><link name=\"l0\">" << inertial(1, 0.01, 0.01, 0.01) << "</link>";
+  for (int i = 1; i <= joints; ++i)
+    s << "<joint name=\"j" << i << "\" type=\"revolute\"><parent link=\"l" << i - 1
+      << "\"/><child link=\"l" << i << "\"/><origin xyz=\"0 0 -0.1\"/><axis xyz=\"0 1 0\"/>"
+      << "<limit lower=\"-3\" upper=\"3\" effort=\"100\" velocity=\"10\"/></joint><link name=\"l"
+      << i << "\">" << inertial(0.1, 0.001, 0.001, 0.001, "0 0 -0.05") << "</link>";
+  s << "</robot>";
+  return s.str();
+}
+
+// `count` copies of `element` in a URDF or SDF model with one link besides.
+std::string urdfWith(int count, const std::string& element) {
+  std::string urdf = "<robot name=\"many\"><link name=\"a\">" + inertial(1, 1, 1, 1) + "</link>";
+  for (int i = 0; i < count; ++i) urdf += element;
+  return urdf + "</robot>";
+}
+std::string sdfWith(int count, const std::string& element) {
+  std::string sdf = "<sdf version=\"1.6\"><model name=\"many\"><link name=\"a\"/>";
+  for (int i = 0; i < count; ++i) sdf += element;
+  return sdf + "</model></sdf>";
+}
+
+TEST_P(PreparedModels, AModelPreparedWithoutAWorldSpawnsAsSpawnFromXmlDoes) {
+  PreparedModel prepared = World::prepare(tutorialUrdf(), ModelFormat::Urdf, {});
+  ASSERT_TRUE(prepared.status().ok()) << prepared.status();
+  World world(GetParam());
+  const Status spawned = world.spawn("one_DOF_robot", std::move(prepared), at(0, 0, kLift));
+  ASSERT_TRUE(spawned.ok()) << spawned;
+  World direct(GetParam());
+  spawnLiftedRobot(&direct);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {0.4}).ok());
+  ASSERT_TRUE(direct.setModelConfiguration("one_DOF_robot", {"joint1"}, {0.4}).ok());
+  steps(&world, 300);
+  steps(&direct, 300);
+  EXPECT_EQ(snapshot(world), snapshot(direct));
+}
+
+TEST_P(PreparedModels, TheWorldsRefusalsComeFirstAndLeaveItUnchanged) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  const std::string before = snapshot(world);
+  const auto bad = [] { return World::prepare("<robot name=\"r\"/>", ModelFormat::Urdf, {}); };
+  EXPECT_EQ(bad().status().code, StatusCode::ModelRejected);
+  EXPECT_EQ(world.checkSpawn("one_DOF_robot", Pose(), "").code, StatusCode::ModelExists);
+  EXPECT_EQ(world.spawn("one_DOF_robot", bad(), Pose()).code, StatusCode::ModelExists);
+  EXPECT_EQ(world.spawn("other", bad(), Pose(), "nowhere").code,
+            StatusCode::ReferenceFrameNotFound);
+  Pose zero;
+  zero.orientation = {0, 0, 0, 0};
+  EXPECT_EQ(world.spawn("other", bad(), zero).code, StatusCode::ZeroQuaternion);
+  EXPECT_EQ(world.spawn("other", bad(), Pose()).code, StatusCode::ModelRejected);
+  EXPECT_EQ(snapshot(world), before);
+  EXPECT_EQ(world.modelNames(), std::vector<std::string>{"one_DOF_robot"});
+}
+
+// The counts are taken before a parser reads the XML: models the parsers would refuse for
+// another reason (duplicate names, includes not found) are refused for the count.
+TEST_P(PreparedModels, CountsPastTheLimitsAreRefusedBeforeTheParserReadsTheModel) {
+  expectRejected(World::prepare(urdfWith(3000, "<link name=\"l\"/>"), ModelFormat::Urdf, {}).status(),
+                 "the model has 3001 links; at most 1000 are accepted");
+  expectRejected(World::prepare(sdfWith(3000, "<link name=\"l\"/>"), ModelFormat::Sdf, {}).status(),
+                 "the model has 3001 links; at most 1000 are accepted");
+  const std::string urdf_joint =
+      "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"a\"/></joint>";
+  expectRejected(World::prepare(urdfWith(1001, urdf_joint), ModelFormat::Urdf, {}).status(),
+                 "the model has 1001 joints; at most 1000 are accepted");
+  const std::string sdf_joint =
+      "<joint name=\"j\" type=\"fixed\"><parent>a</parent><child>a</child></joint>";
+  expectRejected(World::prepare(sdfWith(1001, sdf_joint), ModelFormat::Sdf, {}).status(),
+                 "the model has 1001 joints; at most 1000 are accepted");
+  expectRejected(World::prepare(sdfWith(101, "<include><uri>model://none</uri></include>"),
+                                ModelFormat::Sdf, {}).status(),
+                 "the model has 101 <include>s; at most 100 are accepted");
+  const std::string padded = urdfWith(1, "<!--" + std::string(10000000, ' ') + "-->");
+  expectRejected(World::prepare(padded, ModelFormat::Urdf, {}).status(),
+                 "the model XML has " + std::to_string(padded.size()) +
+                     " bytes; at most 10000000 are accepted");
+  // At the limits: the parsers' own refusals, or none.
+  expectRejected(World::prepare(sdfWith(100, "<include><uri>model://none</uri></include>"),
+                                ModelFormat::Sdf, {}).status(),
+                 "model://none is not in the model path");
+  const PreparedModel largest = World::prepare(fixedChainUrdf(1000), ModelFormat::Urdf, {});
+  EXPECT_TRUE(largest.status().ok()) << largest.status();
+}
+
+// ODE's exact solver (its default) costs about 1 ms a step at 50 moving joints and grows as
+// joints^2.8; the iterative solvers grow linearly and take any model within the link limit.
+TEST_P(PreparedModels, TheExactSolverTakesModelsOfAtMostFiftyMovingJoints) {
+  World world(GetParam());
+  const Status largest = world.spawn("chain50", revoluteChainUrdf(50), ModelFormat::Urdf, Pose());
+  ASSERT_TRUE(largest.ok()) << largest;
+  const bool exact = GetParam() == "ode";
+  const Status over = world.spawn("chain51", revoluteChainUrdf(51), ModelFormat::Urdf, at(3, 0, 0));
+  if (!exact) {
+    ASSERT_TRUE(over.ok()) << over;
+    steps(&world, 10);
+    return;
+  }
+  expectRejected(over, "the model has 51 moving joints; at most 50 are accepted with the exact "
+                       "solver (ODE's dWorldStep, quick_step false)");
+  EXPECT_NE(over.subject.find("with quick_step (the node's ~quick_step"), std::string::npos)
+      << over;
+  EXPECT_EQ(world.modelNames(), std::vector<std::string>{"chain50"});
+  PhysicsParams quick = world.params();
+  quick.quick_step = true;
+  ASSERT_TRUE(world.setParams(quick).ok());
+  const Status quick_spawn =
+      world.spawn("chain51", revoluteChainUrdf(51), ModelFormat::Urdf, at(3, 0, 0));
+  ASSERT_TRUE(quick_spawn.ok()) << quick_spawn;
+  steps(&world, 10);
+  PhysicsParams back = quick;
+  back.quick_step = false;
+  const Status refused = world.setParams(back);
+  EXPECT_EQ(refused.code, StatusCode::InvalidParameter) << refused;
+  EXPECT_EQ(refused.subject, "quick_step");
+  EXPECT_EQ(refused.max, 50);
+  EXPECT_TRUE(world.params().quick_step);
+  ASSERT_TRUE(world.deleteModel("chain51").ok());
+  EXPECT_TRUE(world.setParams(back).ok());
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, PreparedModels, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, BadInput, ::testing::ValuesIn(World::engineNames()),
                          [](const auto& info) { return info.param; });
 INSTANTIATE_TEST_SUITE_P(Engines, BodyWrench, ::testing::ValuesIn(World::engineNames()),

@@ -415,6 +415,9 @@ class BulletEngine : public Engine {
     return std::make_unique<BulletModel>(&world_, next_model_id_++, spec);
   }
 
+  // Sequential impulses: iterative, linear in the joints.
+  bool exactSolver(const PhysicsParams&) const override { return false; }
+
   // maxSubSteps 0: exactly one step of dt, no fixed-step interpolation. Bullet reports no
   // solver trouble, so *solver_message is left alone.
   void step(double dt, std::string*) override { world_.stepSimulation(dt, 0); }

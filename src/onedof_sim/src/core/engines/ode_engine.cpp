@@ -261,6 +261,8 @@ class OdeEngine : public Engine {
     return std::make_unique<OdeModel>(world_, space_, spec);
   }
 
+  bool exactSolver(const PhysicsParams& params) const override { return !params.quick_step; }
+
   void step(double dt, std::string* solver_message) override {
     stepping_message = solver_message;
     stepping_message_set = false;
