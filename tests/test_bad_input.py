@@ -6,6 +6,7 @@ each test the world is reset to the tutorial robot alone with the default physic
 """
 import os
 import threading
+import time
 
 import pytest
 
@@ -109,6 +110,36 @@ def test_huge_but_finite_values_are_refused_naming_the_field_and_range(api):
     _publish_until_read(api, '/gazebo/set_link_state', LinkState, topic_link)
     assert world_state(api) == before
     assert_still_running(api)
+
+
+def free_box_urdf(side, mass, solid_fraction):
+    """A free box whose moments are solid_fraction of a solid box's of that mass and side."""
+    moment = solid_fraction * mass * side * side / 6
+    return ('<robot name="box"><link name="body"><inertial><mass value="%r"/><inertia ixx="%r" '
+            'ixy="0" ixz="0" iyy="%r" iyz="0" izz="%r"/></inertial><collision><geometry>'
+            '<box size="%r %r %r"/></geometry></collision></link></robot>'
+            % (mass, moment, moment, moment, side, side, side))
+
+
+def test_a_body_whose_inertia_is_far_below_its_shape_is_refused_and_the_node_lives_on(api):
+    """A 0.2 m box of 1 g with a millionth of its solid moments aborted ODE's contact solver
+    once it touched the ground; it is refused at once, naming the link and the least moment, and
+    the same box with its solid moments spawns and comes to rest."""
+    before = world_state(api)
+    started = time.monotonic()
+    res = spawn_urdf(api, 'hollow_box', free_box_urdf(0.2, 0.001, 1e-6), z=0.3)
+    assert time.monotonic() - started < 1.0
+    assert_refused(res, "SpawnModel: link 'body'", 'too small for its collision shape',
+                   'at least 3e-08 kg m^2')
+    assert world_state(api) == before
+    assert api.get_world_properties().success
+    assert_still_running(api)
+    # Clear of the swinging robot.
+    assert api.spawn_urdf_model('solid_box', free_box_urdf(0.2, 0.001, 1.0), '',
+                                pose(x=3.0, z=0.3), '').success
+    api.run_for(1000 * STEP_NS)
+    state = api.get_model_state('solid_box', '')
+    assert abs(state.pose.position.z - 0.1) < 0.005
 
 
 def _point(x=0.0, y=0.0, z=0.0):

@@ -264,7 +264,9 @@ class World {
   // Refuses, leaving the world unchanged: a non-finite number (NotFinite "mass", "com" or
   // "inertia"), a zero com orientation (ZeroQuaternion), and (InvalidParameter) a negative mass
   // or a moving body left without mass ("mass"), an inertia no rigid body has ("inertia"), a
-  // gravity mode that differs from the other links welded into its body ("gravity_mode").
+  // gravity mode that differs from the other links welded into its body ("gravity_mode"), and
+  // (OutOfRange "inertia", [min, max] in kg m^2) principal moments out of the Limits or, the
+  // least, below what the body's mass at the reach of its collision shapes needs.
   Status setLinkProperties(const std::string& scoped_link, const LinkInfo& properties);
 
   // --- joints (name bare or scoped "model::joint"; the first model that has it wins) ---------

@@ -35,6 +35,14 @@ constexpr double kMinMass = 1e-6, kMaxMass = 1e6;  // kg
 // Principal moments of inertia of a moving body: those of the masses above at 1 mm to 30 m
 // (m r^2). A vanishing moment gives an infinite angular acceleration.
 constexpr double kMinMoment = 1e-12, kMaxMoment = 1e9;  // kg m^2
+// A moving body's inertia against its collision shapes: a force at a corner of a shape's bounding
+// box, across the line from the centre of mass, may move that corner by turning the body at most
+// this many times as fast as by moving the body (uniform solids: 2 to 8; a heavy core in a light
+// shell: tens). Far beyond it the contact solver's matrix loses its precision: ODE aborts the
+// process in dxLDLTRemove or dxNormalize4 from about 5e5, and Bullet lets the body fall through
+// the ground from about 5e4 (a 0.1 m box of 1e-4 of its solid moments). Gazebo's advice is the
+// same: give links realistic inertia.
+constexpr double kMaxLeverRatio = 1e3;
 // Viscous damping and Coulomb friction of a joint (N m s/rad or N s/m; N m or N). The world
 // applies damping implicitly, stable at any value; a stiffer damper than 1e6 holds a joint still
 // for longer than any simulation runs.

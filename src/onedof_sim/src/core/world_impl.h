@@ -155,13 +155,20 @@ const LinkRecord& referenceLink(const ModelRecord& model, int body);
 double momentAbout(const BodySpec& body, const Vec3& u);
 
 // Why the links welded into a body make no rigid body, or none the engines can step (Limits).
-enum class LumpFault { None, NoMass, NotPositiveDefinite, MomentOutOfRange };
+// InertiaBelowShape: a moment far below what its collision shapes imply (kMaxLeverRatio).
+enum class LumpFault { None, NoMass, NotPositiveDefinite, MomentOutOfRange, InertiaBelowShape };
+
+// The body's smallest principal moment and the range it had to be in (MomentOutOfRange,
+// InertiaBelowShape), kg m^2.
+struct MomentBounds {
+  double smallest = 0, min = 0, max = 0;
+};
 
 // One body from the inertials of the links welded into it: the lumped mass, the inertia about the
 // lumped centre of mass in the reference link's axes, the reference link's gravity mode and every
 // link's collisions. On success, also places each of its links in the new body frame
-// (link_in_body); on a fault, changes nothing.
-LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out);
+// (link_in_body); on a fault, changes nothing but *bounds (optional).
+LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out, MomentBounds* bounds = nullptr);
 
 // --- world_validation.cpp --------------------------------------------------------------------
 

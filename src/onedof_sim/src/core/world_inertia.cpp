@@ -66,6 +66,66 @@ bool isPositiveDefinite(const Matrix3& m) {
   return m[0][0] > 0 && minor2 > 0 && det > 0;
 }
 
+// B^-1 for a positive definite B (the adjugate over the determinant).
+Matrix3 inverse(const Matrix3& b) {
+  Matrix3 out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+      out[i][j] = b[i1][j1] * b[i2][j2] - b[i1][j2] * b[i2][j1];
+    }
+  const double det = b[0][0] * out[0][0] + b[0][1] * out[1][0] + b[0][2] * out[2][0];
+  for (auto& row : out)
+    for (double& value : row) value /= det;
+  return out;
+}
+
+double quadratic(const Matrix3& b, const Vec3& u, const Vec3& v) {
+  const double uu[3] = {u.x, u.y, u.z}, vv[3] = {v.x, v.y, v.z};
+  double sum = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) sum += uu[i] * b[i][j] * vv[j];
+  return sum;
+}
+
+// The lever ratio of a point p (from the centre of mass) of a body of mass m and inverse inertia
+// tensor b: how much faster a force at p, across the line to p, moves p by turning the body than
+// by moving it, at the worst direction of the force (m |p|^2 times the largest eigenvalue of b
+// on the plane normal to p). A point on a uniform solid has about 2 to 8.
+double leverRatio(double m, const Matrix3& b, const Vec3& p) {
+  const double length = norm(p);
+  if (length == 0) return 0;
+  const Vec3 n = (1 / length) * p;
+  const Vec3 away = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 across = cross(n, away);
+  const Vec3 a = (1 / norm(across)) * across;
+  const Vec3 c = cross(n, a);
+  const double aa = quadratic(b, a, a), cc = quadratic(b, c, c), ac = quadratic(b, a, c);
+  const double largest = (aa + cc) / 2 + std::hypot((aa - cc) / 2, ac);
+  return m * length * length * largest;
+}
+
+// The largest lever ratio over the corners of each shape's bounding box (for a cylinder or a
+// sphere a little beyond the shape, which errs on the accepting side by at most 3).
+double largestLeverRatio(const BodySpec& body, const Matrix3& inertia) {
+  const Matrix3 b = inverse(inertia);
+  double largest = 0;
+  for (const ShapeSpec& shape : body.shapes) {
+    const Vec3 half = shape.shape == GeometryShape::Box
+                          ? 0.5 * shape.size
+                          : shape.shape == GeometryShape::Cylinder
+                                ? Vec3{shape.size.x, shape.size.x, shape.size.z / 2}
+                                : Vec3{shape.size.x, shape.size.x, shape.size.x};
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 local{corner & 1 ? half.x : -half.x, corner & 2 ? half.y : -half.y,
+                       corner & 4 ? half.z : -half.z};
+      const Vec3 p = transformPoint(shape.pose, local);
+      largest = std::max(largest, leverRatio(body.mass, b, p));
+    }
+  }
+  return largest;
+}
+
 }  // namespace
 
 double momentAbout(const BodySpec& body, const Vec3& u) {
@@ -73,7 +133,7 @@ double momentAbout(const BodySpec& body, const Vec3& u) {
          2 * (body.ixy * u.x * u.y + body.ixz * u.x * u.z + body.iyz * u.y * u.z);
 }
 
-LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out) {
+LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out, MomentBounds* bounds) {
   const LinkRecord& reference = referenceLink(*model, body);
   double mass = 0;
   Vec3 moment;
@@ -98,8 +158,9 @@ LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out) {
     for (int j = 0; j < 3; ++j) inertia[i][j] = tensor[i][j] - to_com[i][j];
   if (!isPositiveDefinite(inertia)) return LumpFault::NotPositiveDefinite;
   const double largest = std::max({inertia[0][0], inertia[1][1], inertia[2][2]});
-  if (smallestEigenvalue(inertia) < kMinMoment || largest > kMaxMoment)
-    return LumpFault::MomentOutOfRange;
+  const double smallest = smallestEigenvalue(inertia);
+  if (bounds) *bounds = {smallest, kMinMoment, kMaxMoment};
+  if (smallest < kMinMoment || largest > kMaxMoment) return LumpFault::MomentOutOfRange;
   BodySpec spec;
   spec.mass = mass;
   spec.ixx = inertia[0][0], spec.iyy = inertia[1][1], spec.izz = inertia[2][2];
@@ -116,6 +177,13 @@ LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out) {
       shape.pose = compose(link.link_in_body, collision.pose);
       spec.shapes.push_back(shape);
     }
+  }
+  // Scaling the tensor by s scales every lever ratio by 1/s: the smallest moment that brings the
+  // largest ratio down to kMaxLeverRatio is the present one times their quotient.
+  const double lever = largestLeverRatio(spec, inertia);
+  if (lever > kMaxLeverRatio) {
+    if (bounds) bounds->min = smallest * lever / kMaxLeverRatio;
+    return LumpFault::InertiaBelowShape;
   }
   *out = spec;
   return LumpFault::None;

@@ -81,7 +81,8 @@ Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* sp
   }
   for (int body = 0; body < body_count; ++body) {
     BodySpec spec_body;
-    const LumpFault fault = lumpBody(model, body, &spec_body);
+    MomentBounds bounds;
+    const LumpFault fault = lumpBody(model, body, &spec_body, &bounds);
     const std::string& name = referenceLink(*model, body).desc.name;
     if (fault == LumpFault::NoMass)
       return rejected("link '" + name + "' moves but has no mass (give it an <inertial>)");
@@ -91,6 +92,15 @@ Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* sp
       std::ostringstream why;
       why << "link '" << name << "' (with the links welded to it) has a principal moment of "
           << "inertia outside [" << kMinMoment << ", " << kMaxMoment << "] kg m^2";
+      return rejected(why.str());
+    }
+    if (fault == LumpFault::InertiaBelowShape) {
+      std::ostringstream why;
+      why << "link '" << name << "' (with the links welded to it) has a smallest principal moment "
+          << "of inertia of " << bounds.smallest << " kg m^2, too small for its collision shape: "
+          << "at least " << bounds.min << " kg m^2 (or a smaller shape); the engines cannot step a "
+          << "body whose edge a push turns more than " << kMaxLeverRatio
+          << " times as fast as it moves it (give the link realistic inertia)";
       return rejected(why.str());
     }
     spec->bodies.push_back(spec_body);
@@ -210,10 +220,12 @@ Status World::Impl::reweighLink(ModelRecord* model, size_t index, const LinkDesc
   const LinkDescription previous = link.desc;
   link.desc = desc;
   BodySpec spec;
-  const LumpFault fault = lumpBody(model, body, &spec);
+  MomentBounds bounds;
+  const LumpFault fault = lumpBody(model, body, &spec, &bounds);
   if (fault != LumpFault::None) {
     link.desc = previous;
-    if (fault == LumpFault::MomentOutOfRange) return outOfRange("inertia", kMinMoment, kMaxMoment);
+    if (fault == LumpFault::MomentOutOfRange || fault == LumpFault::InertiaBelowShape)
+      return outOfRange("inertia", bounds.min, bounds.max);
     return {StatusCode::InvalidParameter, fault == LumpFault::NoMass ? "mass" : "inertia"};
   }
   model->bodies[body] = spec;

@@ -36,9 +36,9 @@ std::string outOfRangeText(const Status& status) {
     range();
     text << " kg";
   } else if (field == "inertia") {
-    text << "the principal moments of inertia must be in ";
+    text << "the principal moments of inertia of the link's body must be in ";
     range();
-    text << " kg m^2";
+    text << " kg m^2 (the least: what its mass at the reach of its collision shapes needs)";
   } else {
     text << field << " must be in ";
     range();
