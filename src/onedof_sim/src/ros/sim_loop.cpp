@@ -6,12 +6,16 @@
 #include <thread>
 #include <utility>
 
+#include <unistd.h>
+
 #include <gazebo_msgs/LinkStates.h>
 #include <gazebo_msgs/ModelStates.h>
 #include <rosgraph_msgs/Clock.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "conversions.h"
+#include "node_process.h"
+#include "process_activity.h"
 #include "status_text.h"
 
 namespace onedof_sim {
@@ -21,12 +25,14 @@ namespace {
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
 constexpr std::chrono::milliseconds kPacingSlice(50);
 constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
-// A client's two clock readings after a call are microseconds apart; a millisecond leaves them
-// room on a busy machine and bounds a lock-stepped 1 kHz controller to real time, about what
-// roscpp's sim-time sleep (it polls every millisecond) allows anyway.
+// For a controller whose process is not on this machine (lock-step cannot see it rest): a
+// client's two clock readings after a call are microseconds apart; a millisecond leaves them room
+// and bounds such a 1 kHz controller to real time.
 constexpr std::chrono::milliseconds kLockstepClockDelay(1);
-// How long a stopped world waits for a controller's command before it shows the clock ahead to
-// wake one that slept past the stop (awaitControllers): well beyond a live controller's answer.
+// How often a stop's clock looks again whether the controllers' processes rest (awaitAsleep).
+constexpr std::chrono::microseconds kAsleepPoll(20);
+// How long a stopped world waits for a controller's command, the controller asleep, before it
+// shows the clock ahead to wake one that slept past the stop (awaitControllers).
 constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
 // In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
 constexpr std::chrono::seconds kStopWaitLimit(1);
@@ -58,6 +64,8 @@ struct SimLoop::StepOutput {
   std::vector<CollisionShape> shapes;
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
   std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
+  // At a lock-step stop: the controllers' processes the stop's clock waits to see asleep.
+  std::vector<Lockstep::Watched> watched;
 };
 
 SimLoop::Lock::Lock(SimLoop& api) {
@@ -183,11 +191,14 @@ void SimLoop::stepOnce(StepOutput* out) {
   } else {
     clock_ahead_ns_ = -1;
   }
-  // And a stop's clock goes out no sooner than kLockstepClockDelay after the latest command: a
-  // roscpp client reads the clock twice right after its call returns, and the next stop's clock
-  // must not land between the two readings (as fast as possible it would, about once in a few
-  // hundred 1 kHz periods, and the client would sleep past the stop).
-  if (stop && lockstep_.enabled()) out->clock_not_before = last_command_at_ + kLockstepClockDelay;
+  // And a stop's clock goes out only while no controller can be between those two readings,
+  // which follow its call's return at once: when its process on this machine rests (awaitAsleep),
+  // or, for one elsewhere, no sooner than kLockstepClockDelay after the latest command.
+  if (stop && lockstep_.enabled()) {
+    out->watched = lockstep_.watched(world_);
+    if (lockstep_.someUnwatched(world_))
+      out->clock_not_before = last_command_at_ + kLockstepClockDelay;
+  }
 
   collectStates(out, want_model_states, want_link_states, want_markers);
 }
@@ -245,13 +256,13 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
     // Woken when the awaited controllers have sent nothing for a while, here or before: one
     // still at work on its period (it asked for the joint) is left to finish it.
     const auto wake_at = std::max(began, lockstep_.lastRequest(awaited)) + kLockstepWakeAfter;
-    if (!woken && now >= wake_at) {
+    if (!woken && now >= wake_at && awaitedAsleep(awaited)) {
       woken = true;
       showWakeUpClock(awaited);
     }
     // In slices, to notice a shutdown.
     auto until = std::min(deadline, now + std::chrono::milliseconds(50));
-    if (!woken) until = std::min(until, wake_at);
+    if (!woken && now < wake_at) until = std::min(until, wake_at);
     wake_loop_.wait_until(lock, until);
     if (!ros::ok()) return false;
     if (paused_ && !step_request_.active) return false;
@@ -259,11 +270,12 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
 }
 
 // roscpp's Rate (the book's C++ loop) and rospy's read the clock twice, before and after their
-// sleep's start, and sleep for the remainder counted from the second reading. When the stop's
-// clock lands between the two readings (a client preempted there, on a busy machine), or a
-// command is lost in transport, the client sleeps one period past the stop, where the world waits
-// for it: the clock is then shown at the next period's earliest end, the world staying where it
-// is. The client wakes and commands for the stop (its job starts at the world's time, also when it
+// sleep's start, and sleep for the remainder counted from the second reading. A stop's clock
+// waits until a controller on this machine rests (awaitAsleep), so it cannot land between them;
+// for one elsewhere it can (a client preempted there), and a client that sleeps for other reasons
+// than its Rate can sleep past a stop too. Either sleeps one period past the stop, where the world
+// waits for it: the clock is then shown at the next period's earliest end, the world staying
+// where it is. The client wakes and commands for the stop (its job starts at the world's time, also when it
 // names the time shown: applyJointEffort), then asks for the next period at once: that request
 // waits for the next stop (Lock). The run is as if the client had woken on time.
 void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
@@ -276,6 +288,64 @@ void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
                    << " s (wall) at sim time " << simSeconds(world_.timeNs())
                    << "; showing the clock at " << simSeconds(*wake_ns)
                    << " to wake a controller that slept past the stop");
+}
+
+// A controller on this machine that has not answered is woken only when its process is asleep:
+// a starved one (runnable, waiting for a CPU) has not slept past the stop and answers on its own.
+bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) const {
+  for (const Lockstep::Awaited& joint : awaited) {
+    const std::optional<int> pid = lockstep_.pidOf(joint.caller);
+    if (pid && !readProcessActivity(*pid).asleep) return false;
+  }
+  return true;
+}
+
+// Holds a stop's clock until every lock-stepped controller's process on this machine has run since
+// its command (its call has returned) and rests: every thread blocked, none run between two looks.
+// Then none is between the two clock readings of its Rate, which run on from the call's return
+// without blocking, so each wakes where the world stops, however the machine delays it. A process
+// that never rests (a busy thread) holds the clock at most ~lockstep_timeout, and is named once.
+void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
+  if (controllers.empty()) return;
+  const auto give_up_at = Lockstep::Clock::now() + lockstep_.timeout();
+  const uint64_t heard = efforts_heard_.load();
+  for (;;) {
+    // Until its reply is written, a controller rests waiting for it.
+    if (efforts_replied_.load() < heard && ros::ok() && Lockstep::Clock::now() < give_up_at) {
+      std::this_thread::sleep_for(kAsleepPoll);
+      continue;
+    }
+    std::vector<const Lockstep::Watched*> busy;
+    for (const Lockstep::Watched& controller : controllers) {
+      const ProcessActivity activity = readProcessActivity(controller.pid);
+      if (!activity.gone && !(activity.asleep && activity.runs > controller.runs_at_command))
+        busy.push_back(&controller);
+    }
+    if (busy.empty() || !ros::ok()) return;
+    if (Lockstep::Clock::now() >= give_up_at) {
+      for (const Lockstep::Watched* controller : busy)
+        if (busy_controllers_.insert(controller->caller).second)
+          ROS_WARN_STREAM(lockstepBusyText(controller->caller, controller->pid,
+                                           lockstep_.timeout()));
+      return;
+    }
+    std::this_thread::sleep_for(kAsleepPoll);
+  }
+}
+
+// The process on this machine of a controller (asked once; again if that process is gone).
+std::optional<int> SimLoop::controllerPid(const std::string& caller) {
+  {
+    std::lock_guard<std::mutex> lock(pids_mutex_);
+    auto found = controller_pids_.find(caller);
+    if (found != controller_pids_.end() && (!found->second || processExists(*found->second)))
+      return found->second;
+  }
+  std::optional<int> pid = localNodePid(caller);
+  if (pid && *pid == int(::getpid())) pid.reset();  // a client inside this node: it never rests
+  std::lock_guard<std::mutex> lock(pids_mutex_);
+  controller_pids_[caller] = pid;
+  return pid;
 }
 
 void SimLoop::publishClock(int64_t time_ns) {
@@ -292,7 +362,10 @@ void SimLoop::publishHeldClock() {
 
 void SimLoop::publish(const StepOutput& out) {
   refreshClockFrequency();
-  if (out.publish_clock) std::this_thread::sleep_until(out.clock_not_before);
+  if (out.publish_clock) {
+    std::this_thread::sleep_until(out.clock_not_before);
+    awaitAsleep(out.watched);
+  }
   if (out.publish_clock ||
       (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
     // Latched, so roscpp wakes its poll thread for every message, subscribers or not: with
@@ -358,6 +431,15 @@ void SimLoop::pace(double max_update_rate, bool resumed) {
 
 SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
   EffortResult result;
+  efforts_heard_.fetch_add(1);
+  // The caller's process and its runs before the reply: the stop's clock waits until it has run
+  // since (awaitAsleep).
+  std::optional<int> pid;
+  uint64_t runs = 0;
+  if (lockstep_.enabled()) {
+    pid = controllerPid(command.caller);
+    if (pid) runs = processRuns(*pid);
+  }
   {
     Lock lock(*this);
     if (lockstep_.enabled()) lockstep_.heardFrom(command.caller, Lockstep::Clock::now());
@@ -370,6 +452,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
                                             command.duration_ns, &result.job);
     if (result.status.ok() && result.job.queued) {
       last_command_at_ = Lockstep::Clock::now();
+      lockstep_.commandedFrom(command.caller, pid, runs);
       result.joined_lockstep =
           lockstep_.heard(command.joint, command.caller, command.duration_ns < 0,
                           world_.timeNs(), command.duration_ns);

@@ -182,6 +182,15 @@ std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, i
   return text.str();
 }
 
+std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock::duration waited) {
+  std::ostringstream text;
+  text << "lock-step: the process of " << caller << " (pid " << pid << ") did not rest for "
+       << std::chrono::duration<double>(waited).count()
+       << " s (wall) after its command (a thread of it never blocks); its stops' clock goes out "
+          "without waiting for it to sleep, so on a busy machine it may sleep past a stop";
+  return text.str();
+}
+
 std::string stepsOverLimitText(uint64_t asked, uint64_t most, double time_step) {
   std::ostringstream text;
   text << "StepSimulation: steps is " << asked << ", more than the " << most

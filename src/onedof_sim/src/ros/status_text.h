@@ -91,6 +91,7 @@ std::string simSeconds(int64_t ns);
 std::string lockstepJoinText(const std::string& joint, const std::string& caller);
 std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, int64_t t_ns,
                                 Lockstep::Clock::duration timeout);
+std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock::duration waited);
 
 // Bad input: the call succeeds with success False and the reason, and the node says it too.
 template <class Response>
