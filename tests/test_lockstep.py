@@ -236,3 +236,26 @@ def test_lockstep_holds_a_stop_clock_while_its_controller_is_between_two_reading
                    what='the clock at %.3f s' % (wake_ns * 1e-9))
     assert woke == [(start_ns + k * period_ns,) * 2 for k in range(PERIODS)]
     assert 'the world waited' not in ros.log_text(sim)
+
+
+def test_lockstep_a_period_already_over_applies_nothing_and_the_world_waits_on_its_grid(
+        ros, engine, api, rospy_client):
+    """A controller behind the world (it started while the world ran free) commands a period
+    that is over where the world is: nothing is applied, the reply says so, and the world waits
+    for the period under way, instead of running the late job a period past its end for good
+    (each later sample would then be read a period after its stamp). A period under way acts for
+    what is left of it: the world stops on the controller's grid."""
+    start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
+    api.spawn_robot()
+    api.step_simulation(25)
+    period = rospy_client.Duration(0, 10 * STEP_NS)
+    over = api.apply_joint_effort('joint1', 0.5, rospy_client.Time(0, 10 * STEP_NS), period)
+    assert over.success, over.status_message
+    assert 'its period (start_time + duration) was over at sim time 0.025 s' in over.status_message
+    under_way = api.apply_joint_effort('joint1', 0.5, rospy_client.Time(0, 20 * STEP_NS), period)
+    assert under_way.success and 'nothing was applied' not in under_way.status_message
+    api.unpause_physics()
+    # Requests land where the world stops: at 0.030 s, the end of the period under way (started
+    # now for its whole duration, either job would have run the world to 0.035 s).
+    wait_until(lambda: api.sim_time_ns() >= 30 * STEP_NS, 30, what='the world at 0.030 s')
+    assert api.sim_time_ns() == 30 * STEP_NS

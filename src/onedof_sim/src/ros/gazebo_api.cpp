@@ -154,6 +154,8 @@ bool GazeboApi::applyJointEffort(
   if (applied.joined_lockstep)
     ROS_INFO_STREAM(lockstepJoinText(req.joint_name, event.getCallerName()));
   const std::string text = statusText(kApplyJointEffort, applied.status);
+  if (applied.status.ok() && applied.period_over_at_ns)
+    return answer(res, applied.status, text + lockstepPeriodOverNote(*applied.period_over_at_ns));
   return answer(res, applied.status, applied.status.ok() ? text + jobNotes(applied.job) : text);
 }
 

@@ -445,11 +445,26 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
     if (lockstep_.enabled()) lockstep_.heardFrom(command.caller, Lockstep::Clock::now());
     // Under a wake-up clock a client's "now" is the time shown, ahead of the world's: it means
     // the world's.
+    const int64_t now_ns = world_.timeNs();
     int64_t start_ns = command.start_ns;
-    if (clock_ahead_ns_ >= 0 && start_ns > world_.timeNs() && start_ns <= clock_ahead_ns_)
-      start_ns = world_.timeNs();
-    result.status = world_.applyJointEffort(command.joint, command.effort, start_ns,
-                                            command.duration_ns, &result.job);
+    int64_t duration_ns = command.duration_ns;
+    if (clock_ahead_ns_ >= 0 && start_ns > now_ns && start_ns <= clock_ahead_ns_) start_ns = now_ns;
+    // A lock-stepped period already under way or over when its command comes (a controller
+    // behind the world: it started while the world ran free) acts for what is left of it only,
+    // so the world's next stop falls on the controller's grid of periods and the two are in step
+    // from then on. Gazebo starts such a job now for its whole duration: the world would run a
+    // period ahead of the controller for good, each sample read a period after its stamp.
+    if (lockstep_.enabled() && start_ns > 0 && start_ns < now_ns && duration_ns > 0) {
+      duration_ns = start_ns + duration_ns - now_ns;
+      if (duration_ns <= 0) result.period_over_at_ns = now_ns;
+    }
+    if (result.period_over_at_ns) {
+      JointInfo joint;
+      result.status = world_.jointInfo(command.joint, &joint);
+    } else {
+      result.status = world_.applyJointEffort(command.joint, command.effort, start_ns,
+                                              duration_ns, &result.job);
+    }
     if (result.status.ok() && result.job.queued) {
       last_command_at_ = Lockstep::Clock::now();
       lockstep_.commandedFrom(command.caller, pid, runs);
@@ -458,7 +473,6 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
                           world_.timeNs(), command.duration_ns);
       // The last awaited command: the world moves on, and the next request waits for the next
       // stop (Lock) even when it comes before the loop has taken its first step.
-      const int64_t now_ns = world_.timeNs();
       if (!paused_ && lockstep_.running(world_, now_ns) && lockstep_.awaited(world_, now_ns).empty())
         between_stops_ = true;
     }

@@ -69,6 +69,8 @@ class SimLoop {
     Status status;
     JobOutcome job;
     bool joined_lockstep = false;  // the joint's first command in lock-step: say so once
+    // In lock-step, set when the command's period was over at this sim time: nothing applied.
+    std::optional<int64_t> period_over_at_ns;
   };
   EffortResult applyJointEffort(const EffortCommand& command);
   // apply_joint_effort's reply is written (its caller may go on): said by the thread serving it

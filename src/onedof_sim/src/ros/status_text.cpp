@@ -182,6 +182,12 @@ std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, i
   return text.str();
 }
 
+std::string lockstepPeriodOverNote(int64_t now_ns) {
+  return "; lock-step: its period (start_time + duration) was over at sim time " +
+         simSeconds(now_ns) + ", where the world is, so nothing was applied; the world waits for "
+         "the command of the period under way";
+}
+
 std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock::duration waited) {
   std::ostringstream text;
   text << "lock-step: the process of " << caller << " (pid " << pid << ") did not rest for "
