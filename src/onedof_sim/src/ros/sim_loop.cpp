@@ -153,7 +153,7 @@ void SimLoop::stepOnce(StepOutput* out) {
   // and end, and never wait: lock-step waits only for apply_joint_effort's clients.
   for (auto& [model, plugins] : plugins_)
     for (auto& plugin : plugins) plugin->beforeStep(world_, {world_.timeNs(), world_.stepCount()});
-  world_.step();
+  const Status stepped = world_.step();
   for (auto& [model, plugins] : plugins_) {
     for (auto& plugin : plugins) {
       plugin->afterStep(world_, {world_.timeNs(), world_.stepCount()});
@@ -164,6 +164,9 @@ void SimLoop::stepOnce(StepOutput* out) {
   if (requested) {
     --step_request_.remaining;
     ++step_request_.taken;
+    // The world went on without the model that made the engine fail (its warning says which);
+    // the request's caller learns that its steps did not run as asked.
+    if (!stepped.ok()) endStepRequest("a physics engine failure (the log names the model removed)");
   }
   out->stepped = true;
   out->on_request = requested;

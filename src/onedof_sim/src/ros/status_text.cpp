@@ -109,6 +109,10 @@ std::string statusText(const Wording& wording, const Status& status) {
       text = jobs.str();
       break;
     }
+    case StatusCode::EngineFault:
+      text = "the physics engine failed (" + subject + "); the request was taken back and the "
+             "world goes on without it";
+      break;
   }
   return std::string(wording.service) + ": " + text;
 }
