@@ -66,6 +66,8 @@ struct SimLoop::StepOutput {
   std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
   // At a lock-step stop: the controllers' processes the stop's clock waits to see asleep.
   std::vector<Lockstep::Watched> watched;
+  // Plugins of models the world removed in the step, destroyed with this output, unlocked.
+  std::vector<std::unique_ptr<plugins::ModelPlugin>> detached_plugins;
 };
 
 SimLoop::Lock::Lock(SimLoop& api) {
@@ -154,6 +156,9 @@ void SimLoop::stepOnce(StepOutput* out) {
   for (auto& [model, plugins] : plugins_)
     for (auto& plugin : plugins) plugin->beforeStep(world_, {world_.timeNs(), world_.stepCount()});
   const Status stepped = world_.step();
+  // A model the world removed after an engine failure takes its plugins with it (destroyed with
+  // the output, unlocked).
+  if (!stepped.ok()) detachPluginsOfRemovedModels(&out->detached_plugins);
   for (auto& [model, plugins] : plugins_) {
     for (auto& plugin : plugins) {
       plugin->afterStep(world_, {world_.timeNs(), world_.stepCount()});
@@ -573,6 +578,22 @@ void SimLoop::attachPlugins(const std::string& model,
   }
   auto& attached = plugins_[model];
   for (auto& plugin : plugins) attached.push_back(std::move(plugin));
+}
+
+void SimLoop::detachPluginsOfRemovedModels(
+    std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached) {
+  ModelInfo unused;
+  for (auto it = plugins_.begin(); it != plugins_.end();) {
+    if (world_.modelProperties(it->first, &unused).ok()) {
+      ++it;
+      continue;
+    }
+    for (auto& plugin : it->second) {
+      plugin->stop(world_);
+      detached->push_back(std::move(plugin));
+    }
+    it = plugins_.erase(it);
+  }
 }
 
 Status SimLoop::deleteModel(const std::string& model) {

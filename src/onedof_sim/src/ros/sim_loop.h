@@ -137,6 +137,8 @@ class SimLoop {
   bool awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) const;
   void awaitAsleep(const std::vector<Lockstep::Watched>& controllers);
   std::optional<int> controllerPid(const std::string& caller);
+  // Lock held: moves out the plugins of models no longer in the world, stopped.
+  void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
   void publishClock(int64_t time_ns);
   // The latest time not published for want of subscribers (-1: none), for the latched /clock
