@@ -19,6 +19,7 @@ import tempfile
 
 import pytest
 
+from onedof_harness import private_ros
 from onedof_harness.private_ros import PrivateRos, wait_until
 from onedof_sim.engines import engine_names, node_command
 
@@ -35,6 +36,9 @@ def pytest_configure(config):
     # user's terminal. A handler is reset to the default in the programs this process starts.
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+    # What every roscore needs, looked up once here: each test is a fork of this process.
+    private_ros.core_parameters()
+    private_ros.rosout_command()
 
 
 @pytest.hookimpl(tryfirst=True, hookwrapper=True)
