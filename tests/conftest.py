@@ -36,9 +36,13 @@ def pytest_configure(config):
     # user's terminal. A handler is reset to the default in the programs this process starts.
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
-    # What every roscore needs, looked up once here: each test is a fork of this process.
+    # Each test is a fork of this process: what every roscore needs is looked up once here,
+    # and the modules the tests' ROS clients use are imported once here.
     private_ros.core_parameters()
     private_ros.rosout_command()
+    import rospy  # noqa: F401
+    import gazebo_msgs.msg, gazebo_msgs.srv, geometry_msgs.msg, sensor_msgs.msg  # noqa: F401
+    import std_msgs.msg, std_srvs.srv, rosgraph_msgs.msg  # noqa: F401
 
 
 @pytest.hookimpl(tryfirst=True, hookwrapper=True)
