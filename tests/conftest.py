@@ -47,6 +47,16 @@ def pytest_configure(config):
     import std_msgs.msg, std_srvs.srv, rosgraph_msgs.msg  # noqa: F401
 
 
+# The modules whose tests take tens of seconds each. They are handed to the workers first, so
+# that the suite does not end on one of them running alone while the other workers idle.
+LONG_MODULES = ('test_benchmark_cli', 'test_tutorial', 'test_tutorial_commands',
+                'test_book_cpp_client', 'test_tutorial_rviz_failure')
+
+
+def pytest_collection_modifyitems(session, config, items):
+    items.sort(key=lambda item: getattr(item.module, '__name__', '') not in LONG_MODULES)
+
+
 @pytest.hookimpl(tryfirst=True, hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     outcome = yield

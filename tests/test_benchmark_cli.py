@@ -18,7 +18,7 @@ def table_rows(text):
     return [[cell.strip() for cell in line.strip('|').split(' | ')] for line in lines[1:]]
 
 
-# The rows in three runs of about the same length, which the two test workers share: one run of
+# The rows in three runs of about the same length, which the test workers share: one run of
 # every row takes minutes on a busy machine.
 ROW_GROUPS = ('1,2,3,4,5,6,7', '8', '9')
 # Each group's run is stopped well before pytest's own timeout would end the whole worker.
