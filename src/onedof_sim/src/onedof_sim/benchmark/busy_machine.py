@@ -10,21 +10,20 @@ from onedof_sim.benchmark.graph import NotMeasured
 from onedof_sim.benchmark.lockstep_speed import COMMAND
 from onedof_sim.tutorial import phases
 
-BUSY_PROCESSES = 8  # as the tutorial's test under load
-
 
 def measure(bench, engine):
     duration = bench.sizes.comparison_phase_s
+    busy = bench.sizes.busy_processes
     runs = {}
     try:
         quiet = first_phase(bench, engine, 'quiet_lockstep')
         for key, args in (('lockstep', ()), ('free_run', ('--free-run',))):
-            with busy_processes(BUSY_PROCESSES):
+            with busy_processes(busy):
                 runs[key] = first_phase(bench, engine, 'busy_' + key, *args)
     except (NotMeasured, subprocess.TimeoutExpired) as error:
         bench.not_measured('9', 'the tutorial\'s settled angle with %d busy processes beside '
                            'it, lock-stepped and free-running (node with _physics:=%s)'
-                           % (BUSY_PROCESSES, engine), str(error)[:300])
+                           % (busy, engine), str(error)[:300])
         return
     periods = round(duration / phases.CONTROL_PERIOD)
     against = ('the same, lock-stepped on the quiet machine (%d of %d samples)'
@@ -35,7 +34,7 @@ def measure(bench, engine):
         bench.add('9', 'the tutorial\'s settled angle for command %g (its first phase, %g s of '
                   'sim time), %s, %d busy processes beside it (node with _physics:=%s; '
                   'controller samples: %d of %d)' % (
-                      COMMAND, duration, title, BUSY_PROCESSES, engine,
+                      COMMAND, duration, title, busy, engine,
                       run['samples'], periods),
                   '%.6f rad (%+.1e from quiet)' % (run['settled'],
                                                     run['settled'] - quiet['settled']),
