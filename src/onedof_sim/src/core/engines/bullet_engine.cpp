@@ -103,22 +103,30 @@ struct ModelFilter : btOverlapFilterCallback {
   }
 };
 
-// Joint friction as a motor that wants zero speed and may push at most `friction`. The hinge
-// takes the motor bound as an impulse, so it is set from the step the solver is running.
-class FrictionHinge : public btHingeConstraint {
+// A hinge's motor: joint friction (a motor that wants zero speed and may push at most
+// `friction`) or, while one is set, a velocity motor (setMotor). The hinge takes the motor bound
+// as an impulse, so it is set from the step the solver is running.
+class MotorHinge : public btHingeConstraint {
  public:
-  FrictionHinge(btRigidBody& a, btRigidBody& b, const btTransform& frame_a,
-                const btTransform& frame_b, double friction)
+  MotorHinge(btRigidBody& a, btRigidBody& b, const btTransform& frame_a,
+             const btTransform& frame_b, double friction)
       : btHingeConstraint(a, b, frame_a, frame_b), friction_(friction) {
-    enableAngularMotor(true, 0, 0);
+    setMotor(0, 0);
+  }
+  // max_effort 0: back to the friction.
+  void setMotor(double velocity, double max_effort) {
+    const bool on = max_effort > 0;
+    max_effort_ = on ? max_effort : friction_;
+    enableAngularMotor(max_effort_ > 0, on ? velocity : 0, 0);
   }
   void getInfo2(btConstraintInfo2* info) override {
-    setMaxMotorImpulse(friction_ / info->fps);
+    setMaxMotorImpulse(max_effort_ / info->fps);
     btHingeConstraint::getInfo2(info);
   }
 
  private:
   double friction_;
+  double max_effort_ = 0;
 };
 
 class BulletModel : public EngineModel {
@@ -203,18 +211,12 @@ class BulletModel : public EngineModel {
           slider->setLowerLinLimit(spec.lower);
           slider->setUpperLinLimit(spec.upper);
         }
-        if (spec.friction > 0) {
-          slider->setPoweredLinMotor(true);
-          slider->setTargetLinMotorVelocity(0);
-          slider->setMaxLinMotorForce(spec.friction);  // a force: Bullet divides by the rate
-        }
         joint.constraint = std::move(slider);
+        setJointMotor(static_cast<int>(j), 0, 0);
       } else {
         // getHingeAngle is A's rotation relative to B about the axis: child as A.
-        std::unique_ptr<btHingeConstraint> hinge =
-            spec.friction > 0
-                ? std::make_unique<FrictionHinge>(child, parent, in_child, in_parent, spec.friction)
-                : std::make_unique<btHingeConstraint>(child, parent, in_child, in_parent);
+        auto hinge =
+            std::make_unique<MotorHinge>(child, parent, in_child, in_parent, spec.friction);
         if (limited) {
           // As ODE, which ignores stops outside [-pi, pi]. Bias 1: the stop is corrected at the
           // world's erp like every other constraint; relaxation 0: Bullet uses it as the
@@ -328,6 +330,22 @@ class BulletModel : public EngineModel {
                                  .cross(axis);
     child.applyTorque(-0.5 * couple);
     parent->applyTorque(-0.5 * couple);
+  }
+
+  // The joint's motor: friction (vel 0, bound `friction`) unless a velocity motor is on.
+  void setJointMotor(int joint, double velocity, double max_effort) override {
+    Joint& j = joints_[joint];
+    if (!j.constraint) return;
+    const bool on = max_effort > 0;
+    if (!j.spec.prismatic) {
+      static_cast<MotorHinge&>(*j.constraint).setMotor(velocity, max_effort);
+      return;
+    }
+    auto& slider = static_cast<btSliderConstraint&>(*j.constraint);
+    const double bound = on ? max_effort : j.spec.friction;
+    slider.setPoweredLinMotor(bound > 0);
+    slider.setTargetLinMotorVelocity(on ? velocity : 0);
+    slider.setMaxLinMotorForce(bound);  // a force: Bullet divides by the rate
   }
 
   void addBodyWrench(int body, const Vec3& force, const Vec3& world_point,

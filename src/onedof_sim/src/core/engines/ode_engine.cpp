@@ -101,7 +101,7 @@ class OdeModel : public EngineModel {
         set(dParamVel, 0);
         set(dParamFMax, spec_joint.friction);
       }
-      joints_.push_back({joint, spec_joint.parent, spec_joint.child, hinge});
+      joints_.push_back({joint, spec_joint.parent, spec_joint.child, hinge, spec_joint.friction});
     }
   }
 
@@ -181,6 +181,23 @@ class OdeModel : public EngineModel {
       dJointAddSliderForce(j.id, effort);
   }
 
+  // ODE's joint motor, the one joint friction uses: a motor replaces the friction while it is on.
+  void setJointMotor(int joint, double velocity, double max_effort) override {
+    const Joint& j = joints_[joint];
+    const bool on = max_effort > 0;
+    const double vel = on ? velocity : 0, fmax = on ? max_effort : j.friction;
+    if (j.hinge) {
+      dJointSetHingeParam(j.id, dParamVel, vel);
+      dJointSetHingeParam(j.id, dParamFMax, fmax);
+    } else {
+      dJointSetSliderParam(j.id, dParamVel, vel);
+      dJointSetSliderParam(j.id, dParamFMax, fmax);
+    }
+    if (!on) return;
+    dBodyEnable(bodies_[j.child]);
+    if (j.parent >= 0) dBodyEnable(bodies_[j.parent]);
+  }
+
   void addBodyWrench(int body, const Vec3& force, const Vec3& point, const Vec3& torque) override {
     dBodyID id = bodies_[body];
     dBodyEnable(id);
@@ -193,6 +210,7 @@ class OdeModel : public EngineModel {
     dJointID id;
     int parent, child;
     bool hinge;
+    double friction;  // Coulomb friction, the motor's bound while no velocity motor is on
   };
 
   dGeomID createGeom(const ShapeSpec& shape) {
