@@ -143,15 +143,17 @@ std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext& context,
   const bool world_frame =
       p.frame == "world" || p.frame == "/world" || p.frame == "map" || p.frame == "/map";
   if (!world_frame) p.reference = context.model + "::" + p.frame;
-  std::unique_lock<std::mutex> lock = context.lock_world();
-  LinkInfo info;
-  if (!context.world->linkProperties(context.model + "::" + p.body, &info).ok()) {
-    *error = "bodyName: " + p.body + " does not exist";
-    return nullptr;
-  }
-  if (!world_frame && !context.world->linkProperties(p.reference, &info).ok()) {
-    *error = "frameName: " + p.frame + " does not exist";
-    return nullptr;
+  {
+    std::unique_lock<std::mutex> lock = context.lock_world();
+    LinkInfo info;
+    if (!context.world->linkProperties(context.model + "::" + p.body, &info).ok()) {
+      *error = "bodyName: " + p.body + " does not exist";
+      return nullptr;
+    }
+    if (!world_frame && !context.world->linkProperties(p.reference, &info).ok()) {
+      *error = "frameName: " + p.frame + " does not exist";
+      return nullptr;
+    }
   }
   return std::make_unique<GazeboRosP3d>(context, p);
 }
