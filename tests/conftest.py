@@ -10,6 +10,7 @@ a fraction of one, so tests that ask for shared_sim run against one roscore and 
 module and engine, reset to a known world before each test (see SharedGraphs). A test that checks
 start-up itself still starts its own node on its own roscore (the ros and sim fixtures).
 """
+import functools
 import os
 import pickle
 import shutil
@@ -19,8 +20,9 @@ import tempfile
 
 import pytest
 
+from onedof_harness import private_ros
 from onedof_harness.private_ros import PrivateRos, wait_until
-from onedof_sim.engines import engine_names, node_command
+from onedof_sim.engines import engine_names
 
 WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
@@ -35,6 +37,24 @@ def pytest_configure(config):
     # user's terminal. A handler is reset to the default in the programs this process starts.
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+    # Each test is a fork of this process: what every roscore needs is looked up once here,
+    # and the modules the tests' ROS clients use are imported once here.
+    private_ros.core_parameters()
+    private_ros.rosout_command()
+    simulator_executable()
+    import rospy  # noqa: F401
+    import gazebo_msgs.msg, gazebo_msgs.srv, geometry_msgs.msg, sensor_msgs.msg  # noqa: F401
+    import std_msgs.msg, std_srvs.srv, rosgraph_msgs.msg  # noqa: F401
+
+
+# The modules whose tests take tens of seconds each. They are handed to the workers first, so
+# that the suite does not end on one of them running alone while the other workers idle.
+LONG_MODULES = ('test_benchmark_cli', 'test_tutorial', 'test_tutorial_commands',
+                'test_book_cpp_client', 'test_tutorial_rviz_failure')
+
+
+def pytest_collection_modifyitems(session, config, items):
+    items.sort(key=lambda item: getattr(item.module, '__name__', '') not in LONG_MODULES)
 
 
 @pytest.hookimpl(tryfirst=True, hookwrapper=True)
@@ -178,10 +198,25 @@ def rospy_client(ros):
     return init_rospy(ros)
 
 
+@functools.lru_cache(maxsize=None)
+def simulator_executable():
+    """The simulator node's executable, found as rosrun and roslaunch find it. The tests start it
+    by its path: rosrun's own lookup (a catkin_find process) costs each start 0.2 CPU-s. It runs
+    through rosrun as a user types it in the session's engine listing (engine_names), the
+    benchmark's test (onedof_sim.engines.node_command) and the tutorial page's commands."""
+    import roslib.packages
+    found = roslib.packages.find_node('onedof_sim', 'onedof_sim')
+    if not found:
+        raise RuntimeError('no onedof_sim executable: is the workspace built and its '
+                           'devel/setup.bash sourced?')
+    return found[0]
+
+
 def start_sim(ros, engine=ENGINES[0], args=(), wait=True, env=None):
     """Starts the simulator node of `engine` (with `env` added to the graph's environment) and
     waits until it serves its last service."""
-    proc = ros.start(node_command(engine) + list(args), name='sim_' + engine, env=env)
+    proc = ros.start([simulator_executable(), '_physics:=' + engine] + list(args),
+                     name='sim_' + engine, env=env)
     if wait:
         wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'),
                    60, what='the %s simulator to serve /gazebo/unpause_physics' % engine)

@@ -150,8 +150,9 @@ def test_upright_link_balances_exactly_and_falls_once_tipped(shared_sim, api):
 
 # --- physics through the API vs closed form --------------------------------------------------
 
-def paused_samples(api, until_ns):
-    """Exact (sim time, q) samples: each is read while paused, then the world runs a little."""
+def paused_samples(api, until_ns, steps=10):
+    """Exact (sim time, q) samples every `steps` steps: each is read while paused, then the world
+    takes exactly that many steps (step_simulation), however busy the machine."""
     samples = []
     api.pause_physics()
     while True:
@@ -159,8 +160,8 @@ def paused_samples(api, until_ns):
         samples.append((now * 1e-9, api.joint()[0]))
         if now >= until_ns:
             return samples
-        api.unpause_physics()
-        api.pause_physics()
+        reply = api.step_simulation(steps)
+        assert reply.success, reply.status_message
 
 
 def zero_crossings(samples, level):

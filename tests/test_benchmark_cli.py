@@ -18,7 +18,7 @@ def table_rows(text):
     return [[cell.strip() for cell in line.strip('|').split(' | ')] for line in lines[1:]]
 
 
-# The rows in three runs of about the same length, which the two test workers share: one run of
+# The rows in three runs of about the same length, which the test workers share: one run of
 # every row takes minutes on a busy machine.
 ROW_GROUPS = ('1,2,3,4,5,6,7', '8', '9')
 # Each group's run is stopped well before pytest's own timeout would end the whole worker.
@@ -32,13 +32,16 @@ PLOTS = {'2': ['scaling.png'], '3': ['latency_%s.png' % engine for engine in ENG
 
 
 @pytest.mark.parametrize('rows', ROW_GROUPS)
-def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, rows):
+def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_factory, rows):
     output = tmp_path / 'bench'
     # Without profiles: an aim missed only because the machine is busy must not send this test
     # down another path (the profilers are tested on their own, test_profilers.py).
     result = subprocess.run(['rosrun', 'onedof_sim', 'benchmark', '--quick', '--no-profiles',
                              '--items', rows, '--output', str(output),
-                             '--engines', ','.join(ENGINES)],
+                             '--engines', ','.join(ENGINES),
+                             # The book-shaped client's build of test_book_cpp_client.py.
+                             '--book-client-overlay',
+                             str(tmp_path_factory.getbasetemp().parent / 'book_cpp_client')],
                             capture_output=True, text=True, timeout=RUN_TIMEOUT)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     items = rows.split(',')

@@ -196,3 +196,66 @@ def test_lockstep_wakes_a_controller_that_slept_past_the_stop(ros, engine, api, 
     on_time = run()
     assert run(overslept=OVERSLEPT) == on_time
     assert 'the world waited' not in ros.log_text(sim)
+
+
+def test_lockstep_holds_a_stop_clock_while_its_controller_is_between_two_readings(
+        ros, engine, api, rospy_client):
+    """roscpp's and rospy's Rate read the clock, then read it again and sleep the remainder counted
+    from the second reading. A controller kept from running between the two (preempted on a busy
+    machine; here it computes for 30 ms) must not see the next stop's clock move in between, or it
+    sleeps a period past the stop: the stop's clock goes out only once its process rests. So at
+    every wake-up its clock is the world's time, a period after the last, with no wake-up clock
+    shown ahead and no timeout."""
+    import time
+    from rosgraph_msgs.msg import Clock
+    clock_ns = []
+    rospy_client.Subscriber('/clock', Clock, lambda msg: clock_ns.append(msg.clock.to_nsec()))
+    sim = start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
+    api.spawn_robot()
+    period_ns = 10 * STEP_NS
+    start_ns = api.step_simulation(10).sim_time.to_nsec()
+    wait_until(lambda: clock_ns and clock_ns[-1] == start_ns, 30, interval=0.001,
+               what='the clock at %.3f s' % (start_ns * 1e-9))
+    woke = []  # (the clock seen on waking, the world's time then)
+    period_start_ns = start_ns
+    for k in range(PERIODS):
+        woke.append((clock_ns[-1], api.sim_time_ns()))
+        q, rate = api.joint()
+        res = api.apply_joint_effort('joint1', 10.0 * (1.0 - q) - 3.0 * rate, rospy_client.Time(0),
+                                     rospy_client.Duration(0, period_ns))
+        assert res.success, res.status_message
+        if k == 0:
+            api.unpause_physics()
+        first_ns = clock_ns[-1]
+        busy_until = time.monotonic() + 0.03
+        while time.monotonic() < busy_until:
+            pass
+        wake_ns = clock_ns[-1] + (period_start_ns + period_ns - first_ns)
+        period_start_ns += period_ns
+        wait_until(lambda: clock_ns[-1] >= wake_ns, 30, interval=0.001,
+                   what='the clock at %.3f s' % (wake_ns * 1e-9))
+    assert woke == [(start_ns + k * period_ns,) * 2 for k in range(PERIODS)]
+    assert 'the world waited' not in ros.log_text(sim)
+
+
+def test_lockstep_a_period_already_over_applies_nothing_and_the_world_waits_on_its_grid(
+        ros, engine, api, rospy_client):
+    """A controller behind the world (it started while the world ran free) commands a period
+    that is over where the world is: nothing is applied, the reply says so, and the world waits
+    for the period under way, instead of running the late job a period past its end for good
+    (each later sample would then be read a period after its stamp). A period under way acts for
+    what is left of it: the world stops on the controller's grid."""
+    start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
+    api.spawn_robot()
+    api.step_simulation(25)
+    period = rospy_client.Duration(0, 10 * STEP_NS)
+    over = api.apply_joint_effort('joint1', 0.5, rospy_client.Time(0, 10 * STEP_NS), period)
+    assert over.success, over.status_message
+    assert 'its period (start_time + duration) was over at sim time 0.025 s' in over.status_message
+    under_way = api.apply_joint_effort('joint1', 0.5, rospy_client.Time(0, 20 * STEP_NS), period)
+    assert under_way.success and 'nothing was applied' not in under_way.status_message
+    api.unpause_physics()
+    # Requests land where the world stops: at 0.030 s, the end of the period under way (started
+    # now for its whole duration, either job would have run the world to 0.035 s).
+    wait_until(lambda: api.sim_time_ns() >= 30 * STEP_NS, 30, what='the world at 0.030 s')
+    assert api.sim_time_ns() == 30 * STEP_NS

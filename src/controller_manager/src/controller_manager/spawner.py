@@ -147,8 +147,11 @@ def main(argv=None):
         stopping.set()
         if not stopping.loading_started:
             # Nothing to take down yet: end the wait for the services now rather than when
-            # roslaunch escalates to SIGKILL.
-            rospy.signal_shutdown('interrupted')
+            # roslaunch escalates to SIGKILL. From a thread of its own: the handler runs in the
+            # main thread between two of its bytecodes, maybe while it holds a lock that rospy's
+            # shutdown takes (a SIGINT just after the "Waiting for service" line deadlocked).
+            threading.Thread(target=rospy.signal_shutdown, args=('interrupted',),
+                             daemon=True).start()
     stopping.loading_started = False
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, on_signal)

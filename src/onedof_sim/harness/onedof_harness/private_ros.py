@@ -1,5 +1,10 @@
 """A private ROS graph: its own roscore on a free port and the processes started against it.
 
+The roscore is what `roscore` starts, without roslaunch's own process in between: rosmaster
+--core, the parameters of roscore.xml (/run_id, /rosversion, /rosdistro) and rosout. Tests start
+a graph each (hundreds per suite run), and roslaunch's start-up (its imports and the two
+`rosversion` commands roscore.xml runs) costs a graph more CPU than the master and rosout together.
+
 Tests, the tutorial player and the benchmarks all run their nodes here, so they can run side by
 side and never touch a user's roscore on 11311. Every process gets its own process group, and
 stop() ends them all (SIGINT first, as roslaunch does, then SIGKILL), also after a failure.
@@ -8,12 +13,14 @@ Every process listens on one address only, loopback unless told otherwise: ROS_I
 (ROS_HOSTNAME, which would override it, is dropped), and bind_to_ros_ip.c is preloaded, because
 ROS 1 binds its XML-RPC servers to every interface whatever ROS_IP says.
 """
+import functools
 import os
 import signal
 import socket
 import subprocess
 import tempfile
 import time
+import uuid
 import xmlrpc.client
 from xml.parsers.expat import ExpatError
 
@@ -113,6 +120,27 @@ def listening_environment(address):
     return {'ROS_IP': address, 'LD_PRELOAD': ' '.join(preload)}
 
 
+@functools.lru_cache(maxsize=None)
+def core_parameters():
+    """The parameters roscore.xml gives a roscore: the output of `rosversion roslaunch` and of
+    `rosversion -d` (computed as rosversion does)."""
+    from rospkg import rosversion
+    distro = (os.environ.get('ROS_DISTRO') or rosversion.get_distro_name_from_roscore()
+              or 'Debian')
+    return {'/rosversion': rosversion.get_version_from_package_name('roslaunch') + '\n',
+            '/rosdistro': distro + '\n'}
+
+
+@functools.lru_cache(maxsize=None)
+def rosout_command():
+    """rosout as roslaunch starts it for roscore.xml's node."""
+    import roslib.packages
+    found = roslib.packages.find_node('rosout', 'rosout')
+    if not found:
+        raise RuntimeError('rosout is not installed (Debian package ros-core-dev)')
+    return [found[0], '__name:=rosout']
+
+
 class PrivateRos:
     """Context manager: a roscore on a free port plus every process started through start().
     address is the one every process listens on and advertises."""
@@ -124,7 +152,8 @@ class PrivateRos:
         self.port = None
         self.env = None
         self.processes = []
-        self.roscore = None
+        self.roscore = None  # rosmaster
+        self.rosout = None
         self._use_sim_time = use_sim_time
 
     @property
@@ -163,24 +192,37 @@ class PrivateRos:
             self.set_param('/use_sim_time', self._use_sim_time)
 
     def _launch_master(self):
-        """Starts roscore on self.port and waits until it answers; PortTaken or TimeoutError
-        (the roscore killed) when it does not."""
-        self.roscore = self.start(['roscore', '-p', str(self.port)], name='roscore')
+        """Starts the roscore on self.port and waits until its rosout is up; PortTaken or
+        TimeoutError (the roscore killed) when the master does not answer."""
+        self.roscore = self.start(['rosmaster', '--core', '-p', str(self.port), '-w', '3'],
+                                  name='roscore')
         try:
             wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)
         except (PortTaken, TimeoutError):
-            # Killed: a roscore that found the port taken may be waiting on the program there
-            # and would take 20 s to heed SIGINT and SIGTERM; it has nothing to save.
+            # Killed: a master that found the port taken has nothing to save.
             self.kill(self.roscore)
             self.processes.remove(self.roscore)
             raise
+        master = self.master()
+        for name, value in dict(core_parameters(), **{'/run_id': str(uuid.uuid1())}).items():
+            master.setParam('/private_ros', name, value)
+        self.rosout = self.start(rosout_command(), name='rosout')
+
+        def rosout_up():
+            if self.rosout.poll() is not None:
+                raise RuntimeError('rosout exited with %s: %s' % (
+                    self.rosout.returncode, log_tail(self.log_text(self.rosout))))
+            return master.lookupNode('/private_ros', '/rosout')[0] == 1
+        wait_until(rosout_up, 60, what='rosout on port %d' % self.port)
 
     def restart_master(self):
-        """Kills the roscore and starts a new one on the same port, as a user restarting roscore
-        does: the nodes started here go on running, and the new master knows nothing of them
-        (no registrations, no parameters, not even use_sim_time given to the constructor)."""
-        self.kill(self.roscore)
-        self.processes.remove(self.roscore)
+        """Kills the roscore (master and rosout) and starts a new one on the same port, as a
+        user restarting roscore does: the nodes started here go on running, and the new master
+        knows nothing of them (no registrations, no parameters, not even use_sim_time given to
+        the constructor)."""
+        for proc in (self.rosout, self.roscore):
+            self.kill(proc)
+            self.processes.remove(proc)
         self._launch_master()
 
     def _our_master_answers(self):
@@ -191,7 +233,7 @@ class PrivateRos:
             code, _, pid = self.master(timeout=ANSWER_TIMEOUT).getPid('/private_ros')
         except TimeoutError:
             # Something listens and does not answer: our rosmaster starting up, or another
-            # program, which roscore would wait on a long time before it gave up the port.
+            # program, which would keep the port from our master.
             strangers = [pid for pid in listeners(self.port)
                          if pid is None or not is_descendant(pid, self.roscore.pid)]
             if strangers:
@@ -199,17 +241,14 @@ class PrivateRos:
                                 % (self.port, strangers[0]))
             return False
         except OSError:
-            # Nothing listens on the port yet: roscore exits when it cannot bind the port, which
-            # the next poll sees.
+            # Nothing listens on the port yet: our rosmaster starting up (one that could not
+            # bind the port stays up without it, and the wait's timeout ends it).
             return False
         except (xmlrpc.client.Error, ExpatError) as answer:
             raise PortTaken('port %d answers for another program: %s' % (self.port, answer))
         if code != 1 or not is_descendant(pid, self.roscore.pid):
             raise PortTaken('port %d answers for another ROS master (pid %s)' % (self.port, pid))
-        # Up once rosout is: roslaunch heeds SIGINT only after it has started the core's nodes
-        # (a graph stopped sooner took 10 s to stop).
-        code, _, _ = self.master(timeout=ANSWER_TIMEOUT).lookupNode('/private_ros', '/rosout')
-        return code == 1
+        return True
 
     def adopt_environment(self):
         """Points this process at the graph (before rospy.init_node here): the graph's variables,
@@ -305,8 +344,8 @@ class PrivateRos:
 
     @staticmethod
     def kill(proc):
-        """SIGKILL to the process's group and every process under it: roslaunch (roscore) starts
-        each node in a session of its own, out of its group's reach."""
+        """SIGKILL to the process's group and every process under it: roslaunch starts each
+        node in a session of its own, out of its group's reach."""
         proc.stopped = True
         try:
             descendants = psutil.Process(proc.pid).children(recursive=True)
@@ -324,8 +363,8 @@ class PrivateRos:
         proc.wait()
 
     def stop(self):
-        # Nodes first, so they can unregister cleanly; then roscore, killed: the master keeps
-        # nothing, and roslaunch's orderly stop of it and rosout took most of a second.
+        # Nodes (rosout among them) first, so they can unregister cleanly; then the master,
+        # killed: it keeps nothing.
         self.terminate(*[proc for proc in self.processes if proc is not self.roscore])
         if self.roscore in self.processes:
             self.kill(self.roscore)

@@ -141,17 +141,35 @@ def test_a_wait_ignores_processes_that_may_exit_or_were_stopped(tmp_path):
         graph.stop()
 
 
+def test_the_roscore_has_the_parameters_and_rosout_of_roscore(tmp_path):
+    """What roscore.xml gives a roscore: the versions as `rosversion` prints them, a run id, and
+    rosout aggregating the nodes' log lines."""
+    with PrivateRos(log_dir=str(tmp_path)) as graph:
+        master = graph.master()
+        assert sorted(master.getParamNames('/test')[2]) == ['/rosdistro', '/rosversion',
+                                                            '/run_id']
+        for name, command in (('/rosversion', ['rosversion', 'roslaunch']),
+                              ('/rosdistro', ['rosversion', '-d'])):
+            assert master.getParam('/test', name)[2] == graph.run(command).stdout, name
+        assert master.getParam('/test', '/run_id')[2]
+        _, _, state = master.getSystemState('/test')
+        publishers, subscribers, _ = state
+        assert ['/rosout_agg', ['/rosout']] in publishers
+        assert ['/rosout', ['/rosout']] in subscribers
+
+
 def test_stop_leaves_no_process_of_the_graph(tmp_path):
-    """The roscore's master and rosout run in sessions of their own (roslaunch starts them so):
-    stopping the graph ends them too, not only the processes it started itself."""
+    """Stopping the graph ends the roscore's master and rosout and every process started
+    through it, with whatever they started in sessions of their own."""
     import psutil
     graph = PrivateRos(log_dir=str(tmp_path))
     graph.start_master()
     node = graph.start([sys.executable, '-c', 'import time; time.sleep(600)'], name='sleeper')
     code, _, master_pid = graph.master().getPid('/test')
     assert code == 1
-    started = [psutil.Process(graph.roscore.pid)] + \
-        psutil.Process(graph.roscore.pid).children(recursive=True) + [psutil.Process(node.pid)]
+    assert graph.master().lookupNode('/test', '/rosout')[0] == 1
+    started = [psutil.Process(proc.pid) for proc in (graph.roscore, graph.rosout, node)]
+    started += [child for proc in list(started) for child in proc.children(recursive=True)]
     assert master_pid in [p.pid for p in started]
     graph.stop()
     _, alive = psutil.wait_procs(started, timeout=10)
@@ -166,8 +184,7 @@ def test_restart_master_starts_an_empty_master_on_the_same_port_and_keeps_the_no
         node = graph.start([sys.executable, '-c', 'import time; time.sleep(600)'], name='sleeper')
         port, old_roscore = graph.port, graph.roscore
         _, _, old_pid = graph.master().getPid('/test')
-        old_core = [psutil.Process(old_roscore.pid)] + \
-            psutil.Process(old_roscore.pid).children(recursive=True)
+        old_core = [psutil.Process(old_roscore.pid), psutil.Process(graph.rosout.pid)]
         assert graph.master().hasParam('/test', '/use_sim_time')[2]
 
         graph.restart_master()
@@ -180,5 +197,8 @@ def test_restart_master_starts_an_empty_master_on_the_same_port_and_keeps_the_no
         assert not alive, alive
         assert node.poll() is None
         assert graph.processes.count(graph.roscore) == 1 and old_roscore not in graph.processes
+        # A rosout of its own, as roscore starts it.
+        assert graph.master().lookupNode('/test', '/rosout')[0] == 1
+        assert graph.rosout.pid not in [p.pid for p in old_core]
     finally:
         graph.stop()

@@ -60,6 +60,9 @@ enum class StatusCode {
   OutOfRange,
   InvalidModelName,        // subject: the name; it holds "::" or is "world" (scoped names)
   TooManyJobs,             // subject: the joint or link; max: the jobs it may have pending
+  // subject: the internal error the physics engine reported (an assertion inside ODE) on a call
+  // the world's checks let through; the world took the call back (see World::step and spawn).
+  EngineFault,
 };
 
 struct Status {
@@ -190,8 +193,12 @@ class World {
 
   // --- time and stepping -------------------------------------------------------------------
   // Advances one step of params().step: applies the effort jobs whose window covers the step's
-  // start time, integrates, resolves contacts, then advances time.
-  void step();
+  // start time, integrates, resolves contacts, then advances time. Ok, or EngineFault when the
+  // engine failed inside the step: the world then built its engine again from the states before
+  // the step, without the model that made it fail (the models the failed step left non-finite;
+  // failing those, the last spawned, and so on until the step succeeds), and took the step; the
+  // warnings (takeWarnings) name the model removed and the engine's error.
+  Status step();
   int64_t timeNs() const;
   double time() const;  // seconds
   uint64_t stepCount() const;
@@ -225,8 +232,10 @@ class World {
   static PreparedModel prepare(const std::string& xml, ModelFormat format,
                                const std::vector<std::string>& model_path);
   // Adds a prepared model (it is consumed; on a refusal too). Refuses, in this order: checkSpawn's
-  // refusals, the prepared model's, and (ModelRejected) a model with more moving joints than this
-  // world's solver steps in the step-cost budget (ODE's exact dWorldStep: see "Limits").
+  // refusals, the prepared model's, (ModelRejected) a model with more moving joints than this
+  // world's solver steps in the step-cost budget (ODE's exact dWorldStep: see "Limits"), and
+  // (EngineFault) a model the engine fails on as it takes it in: the world builds its engine
+  // again without it, every other model where it was.
   Status spawn(const std::string& name, PreparedModel model, const Pose& pose,
                const std::string& reference_frame = "");
   // Folders where SDF's model://NAME URIs are looked up, in this order, as gzserver looks them
@@ -327,6 +336,7 @@ class World {
   std::vector<std::string> takeWarnings();
 
  private:
+  friend struct WorldTestAccess;  // the tests' way to the engine under a world
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

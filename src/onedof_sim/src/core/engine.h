@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,15 @@
 
 namespace onedof_sim {
 namespace core {
+
+// An engine library's internal error (ODE's assertions, which end in dDebug, and its dError), thrown
+// out of the engine call it happened in instead of ending the process. The engine and every
+// model in it can afterwards only be read (bodyPose, bodyTwist) and destroyed: World builds a new
+// engine from its own records and the states from before the call.
+class EngineFault : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct ShapeSpec {
   // Box, Cylinder (along z) or Sphere; never Plane (the ground is addGroundPlane).
@@ -60,7 +70,8 @@ struct JointFrame {
   Vec3 axis;  // unit; positive motion moves the child along / about it
 };
 
-// One model inside an engine; destroying it removes it from the engine.
+// One model inside an engine; destroying it removes it from the engine. Any call but the readers
+// may throw EngineFault.
 class EngineModel {
  public:
   virtual ~EngineModel() = default;
@@ -102,6 +113,7 @@ class Engine {
 
   // Only valid parameters arrive here (World validates). Parameters an engine has no counterpart
   // for are kept by World for get_physics_properties and ignored here.
+  // Any call may throw EngineFault.
   virtual void setParams(const PhysicsParams& params) = 0;
   // The ground plane z = 0 with Gazebo's surface; called once, before any model.
   virtual void addGroundPlane(double mu, double mu2) = 0;

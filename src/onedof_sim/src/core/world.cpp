@@ -23,6 +23,15 @@ std::string formatNumber(double value) {
   return text.str();
 }
 
+size_t countMovingJoints(const ModelRecord& model) {
+  return std::count_if(model.joints.begin(), model.joints.end(),
+                       [](const JointRecord& joint) { return joint.engine_joint >= 0; });
+}
+
+}  // namespace
+
+namespace core {
+
 const EngineEntry& findEngine(const std::string& name) {
   for (const EngineEntry& entry : engineRegistry())
     if (entry.name == name) return entry;
@@ -31,12 +40,7 @@ const EngineEntry& findEngine(const std::string& name) {
   throw std::invalid_argument("unknown physics engine '" + name + "' (known: " + known + ")");
 }
 
-size_t countMovingJoints(const ModelRecord& model) {
-  return std::count_if(model.joints.begin(), model.joints.end(),
-                       [](const JointRecord& joint) { return joint.engine_joint >= 0; });
-}
-
-}  // namespace
+}  // namespace core
 
 World::Impl::Impl(const std::string& name, const PhysicsParams& p)
     : engine_name(name), engine(findEngine(name).make()) {
@@ -156,16 +160,16 @@ void World::Impl::guardStates() {
   }
 }
 
-void World::Impl::step() {
+Status World::Impl::step() {
   if (time_ns > kEndOfTimeNs - step_ns) {
     if (!time_ended)
       warn("sim time reached the end of ROS time (2^32 s): the world stands still until "
            "reset_simulation");
     time_ended = true;
-    return;
+    return {};
   }
   saveStates();
-  stepEngine();
+  const Status status = stepContained();
   guardStates();
   for (const auto& model : models) updateJointPositions(model.get());
   time_ns += step_ns;
@@ -173,6 +177,7 @@ void World::Impl::step() {
   dropExpiredJobs(time_ns);
   joint_commands.clear();
   joint_motors.clear();
+  return status;
 }
 
 std::vector<std::string> World::engineNames() {
@@ -185,7 +190,7 @@ World::World(const std::string& engine, const PhysicsParams& params)
     : impl_(new Impl(engine, params)) {}
 World::~World() = default;
 
-void World::step() { impl_->step(); }
+Status World::step() { return impl_->step(); }
 int64_t World::timeNs() const { return impl_->time_ns; }
 double World::time() const { return impl_->time_ns * 1e-9; }
 uint64_t World::stepCount() const { return impl_->steps; }
@@ -277,9 +282,20 @@ Status World::spawn(const std::string& name, PreparedModel prepared, const Pose&
   impl_->resolveFrame(reference_frame, &frame, &unused);
   auto model = std::make_unique<ModelRecord>(std::move(content.record));
   model->name = name;
-  model->engine_model = impl_->engine->addModel(content.spec);
+  model->spec = std::move(content.spec);
   model->spawn_pose = compose(frame, {pose.position, normalized(pose.orientation)});
-  impl_->resetModel(model.get());
+  try {
+    model->engine_model = impl_->engine->addModel(model->spec);
+    impl_->resetModel(model.get());
+  } catch (const EngineFault& fault) {
+    // The other models' states are as they were: read them from the failed engine.
+    model.reset();
+    impl_->saveStates();
+    impl_->rebuildEngine(impl_->saved_states);
+    impl_->warn("spawning model '" + name + "' failed inside the physics engine (" + fault.what() +
+                "): it was refused and the engine rebuilt with every other model where it was");
+    return {StatusCode::EngineFault, fault.what()};
+  }
   impl_->models.push_back(std::move(model));
   return {};
 }

@@ -7,6 +7,7 @@
 //   world_damping.cpp     joint damping, applied implicitly
 //   world_inertia.cpp     lumping the links welded into one body
 //   world_validation.cpp  the checks of parameters, poses and states; Status formatting
+//   world_engine_fault.cpp  an engine that fails inside a call: a new engine, the world going on
 //
 // Frames. Every link has a link frame (URDF/SDF) and, if it moves, an engine body. Bodies sit at
 // the centre of mass of their links with the axes of their reference link, and each link keeps
@@ -94,6 +95,9 @@ struct ModelRecord {
   std::vector<LinkRecord> links;  // parents before children
   std::vector<JointRecord> joints;
   std::vector<BodySpec> bodies;   // mass and inertia, for the effort bounds
+  // The engine's spec as spawned, to build the model again in a new engine (rebuildEngine); its
+  // bodies are `bodies`, which follow setLinkProperties.
+  ModelSpec spec;
   std::unique_ptr<EngineModel> engine_model;
   size_t canonical = 0;
   Pose frame_pose;  // world pose of the model frame, where joints to `world` are anchored
@@ -146,6 +150,11 @@ struct BodyState {
   Pose pose;
   Twist twist;
 };
+
+// --- world.cpp -----------------------------------------------------------------------------
+
+// The registry's entry; throws std::invalid_argument naming the known engines.
+const EngineEntry& findEngine(const std::string& name);
 
 // --- world_models.cpp ------------------------------------------------------------------------
 
@@ -268,7 +277,15 @@ struct World::Impl {
   // After the engine step (stepEngine): every model's speed is capped (see kMaxLinearSpeed and
   // maxAngularSpeed), scaling all its bodies alike so that its joints stay consistent.
   void guardStates();
-  void step();
+  Status step();
+
+  // stepEngine, with an engine that fails inside it (EngineFault) taken back: see World::step.
+  Status stepContained();
+
+  // After an engine call threw EngineFault: a new engine with the world's parameters and ground,
+  // and every model in it again, its bodies at `states` (saveStates' records, made before the
+  // failed call on the old engine) and its joints where they were. saved_states is left empty.
+  void rebuildEngine(const std::vector<BodyState>& states);
 
   // --- state of links and joints, lookups (world_state.cpp) ----------------------------------
 

@@ -105,6 +105,7 @@ std::ostream& operator<<(std::ostream& out, StatusCode code) {
     case StatusCode::OutOfRange: return out << "OutOfRange";
     case StatusCode::InvalidModelName: return out << "InvalidModelName";
     case StatusCode::TooManyJobs: return out << "TooManyJobs";
+    case StatusCode::EngineFault: return out << "EngineFault";
   }
   return out << "StatusCode(" << static_cast<int>(code) << ")";
 }

@@ -58,10 +58,21 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       });
   step_options.callback_queue = &step_queue_;
   step_service_ = private_nh_.advertiseService(step_options);
+  // apply_joint_effort on a thread of its own, which tells the loop when each reply is written:
+  // in lock-step a stop's clock waits for the commanding controller to have its reply (SimLoop).
+  ros::AdvertiseServiceOptions effort_options;
+  effort_options.initBySpecType<
+      Event<gazebo_msgs::ApplyJointEffort::Request, gazebo_msgs::ApplyJointEffort::Response>>(
+      "apply_joint_effort",
+      [this](Event<gazebo_msgs::ApplyJointEffort::Request,
+                   gazebo_msgs::ApplyJointEffort::Response>& event) {
+        return applyJointEffort(event);
+      });
+  effort_options.callback_queue = &effort_queue_;
+  effort_service_ = private_nh_.advertiseService(effort_options);
   auto& n = private_nh_;
   services_ = {
       n.advertiseService("get_joint_properties", &GazeboApi::getJointProperties, this),
-      n.advertiseService("apply_joint_effort", &GazeboApi::applyJointEffort, this),
       n.advertiseService("clear_joint_forces", &GazeboApi::clearJointForces, this),
       n.advertiseService("apply_body_wrench", &GazeboApi::applyBodyWrench, this),
       n.advertiseService("clear_body_wrenches", &GazeboApi::clearBodyWrenches, this),
@@ -95,6 +106,12 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
   };
   step_spinner_.start();
+  effort_thread_ = std::thread([this] {
+    // callOne returns once the callback has run and roscpp has written its reply.
+    while (!stopping_ && ros::ok())
+      if (effort_queue_.callOne(ros::WallDuration(0.1)) == ros::CallbackQueue::Called)
+        loop_.effortReplied();
+  });
   spinner_.start();
   const PhysicsSettings physics = loop_.physics();
   ROS_INFO("onedof_sim, standing in for Gazebo: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s%s)",
@@ -105,6 +122,8 @@ GazeboApi::GazeboApi(const NodeOptions& options,
 GazeboApi::~GazeboApi() {
   spinner_.stop();
   step_spinner_.stop();
+  stopping_ = true;
+  effort_thread_.join();
 }
 
 // --- joints ---------------------------------------------------------------------------------
@@ -135,6 +154,8 @@ bool GazeboApi::applyJointEffort(
   if (applied.joined_lockstep)
     ROS_INFO_STREAM(lockstepJoinText(req.joint_name, event.getCallerName()));
   const std::string text = statusText(kApplyJointEffort, applied.status);
+  if (applied.status.ok() && applied.period_over_at_ns)
+    return answer(res, applied.status, text + lockstepPeriodOverNote(*applied.period_over_at_ns));
   return answer(res, applied.status, applied.status.ok() ? text + jobNotes(applied.job) : text);
 }
 

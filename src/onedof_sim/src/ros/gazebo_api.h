@@ -4,11 +4,14 @@
 // Handlers only: each converts its request (conversions.h), asks the loop (a function run under
 // the world lock, a step request, a command), and words the answer (status_text.h). They run on
 // an AsyncSpinner; /gazebo/step_simulation on a spinner of its own, as it holds its caller until
-// the steps are done while the other services go on being served.
+// the steps are done while the other services go on being served; apply_joint_effort on a thread
+// of its own, which tells the loop when each reply is out (lock-step needs to know).
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <ros/callback_queue.h>
@@ -137,6 +140,10 @@ class GazeboApi {
   ros::CallbackQueue step_queue_;
   ros::ServiceServer step_service_;
   ros::AsyncSpinner step_spinner_;
+  ros::CallbackQueue effort_queue_;
+  ros::ServiceServer effort_service_;
+  std::atomic<bool> stopping_{false};
+  std::thread effort_thread_;
 };
 
 }  // namespace onedof_sim

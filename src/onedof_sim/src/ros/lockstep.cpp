@@ -56,10 +56,50 @@ std::optional<int64_t> Lockstep::wakeTime(const World& world, int64_t t_ns) cons
 Lockstep::Clock::time_point Lockstep::lastRequest(const std::vector<Awaited>& joints) const {
   Clock::time_point latest;
   for (const Awaited& awaited : joints) {
-    auto found = last_request_.find(awaited.caller);
-    if (found != last_request_.end()) latest = std::max(latest, found->second);
+    auto found = callers_.find(awaited.caller);
+    if (found != callers_.end()) latest = std::max(latest, found->second.last_request);
   }
   return latest;
+}
+
+void Lockstep::commandedFrom(const std::string& caller, std::optional<int> pid, uint64_t runs) {
+  Caller& known = callers_[caller];
+  known.pid = pid;
+  known.runs_at_command = runs;
+}
+
+template <class F>
+void Lockstep::forEachWaitedFor(const World& world, F&& f) const {
+  JointInfo unused;
+  for (const auto& [name, joint] : joints_) {
+    if (!joint.waited_for || !world.jointInfo(name, &unused).ok()) continue;
+    auto found = callers_.find(joint.caller);
+    f(joint.caller, found == callers_.end() ? nullptr : &found->second);
+  }
+}
+
+std::vector<Lockstep::Watched> Lockstep::watched(const World& world) const {
+  std::vector<Watched> out;
+  forEachWaitedFor(world, [&](const std::string& name, const Caller* caller) {
+    if (!caller || !caller->pid) return;
+    for (const Watched& known : out)
+      if (known.pid == *caller->pid) return;
+    out.push_back({name, *caller->pid, caller->runs_at_command});
+  });
+  return out;
+}
+
+bool Lockstep::someUnwatched(const World& world) const {
+  bool unwatched = false;
+  forEachWaitedFor(world, [&](const std::string&, const Caller* caller) {
+    if (!caller || !caller->pid) unwatched = true;
+  });
+  return unwatched;
+}
+
+std::optional<int> Lockstep::pidOf(const std::string& caller) const {
+  auto found = callers_.find(caller);
+  return found == callers_.end() ? std::nullopt : found->second.pid;
 }
 
 void Lockstep::giveUp(const std::vector<Awaited>& joints) {

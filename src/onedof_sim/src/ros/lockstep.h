@@ -12,6 +12,10 @@
 // controller joins with its first command, so a world with no controller advances as ever). A
 // joint the world gave up on after the timeout is left out until its next command.
 //
+// Each caller's process, when it runs on this machine, is kept with its threads' runs at its
+// latest command: the owner publishes a stop's clock only once those processes rest (see
+// SimLoop::awaitAsleep and the package README).
+//
 // Not thread-safe: the owner calls it under the lock it holds around the world.
 #pragma once
 
@@ -71,7 +75,24 @@ class Lockstep {
   void giveUp(const std::vector<Awaited>& joints);
 
   // A controller's request (get_joint_properties or apply_joint_effort) at wall time `at`.
-  void heardFrom(const std::string& caller, Clock::time_point at) { last_request_[caller] = at; }
+  void heardFrom(const std::string& caller, Clock::time_point at) { callers_[caller].last_request = at; }
+
+  // The process of an accepted command's caller on this machine (empty: elsewhere or unknown),
+  // and its threads' runs (processRuns) when the command came.
+  void commandedFrom(const std::string& caller, std::optional<int> pid, uint64_t runs);
+
+  // A lock-stepped controller's process on this machine, which a stop's clock waits for.
+  struct Watched {
+    std::string caller;
+    int pid = 0;
+    uint64_t runs_at_command = 0;
+  };
+  // The processes of the lock-stepped joints' callers on this machine, each once.
+  std::vector<Watched> watched(const World& world) const;
+  // Whether some lock-stepped joint's caller runs elsewhere (or its process is unknown).
+  bool someUnwatched(const World& world) const;
+  // The process of a caller on this machine, if known.
+  std::optional<int> pidOf(const std::string& caller) const;
 
   // The latest request of the callers of these joints (the epoch if none).
   Clock::time_point lastRequest(const std::vector<Awaited>& joints) const;
@@ -87,8 +108,18 @@ class Lockstep {
   };
 
   Options options_;
+  struct Caller {
+    Clock::time_point last_request;
+    std::optional<int> pid;
+    uint64_t runs_at_command = 0;
+  };
+
+  // The lock-stepped joints of models in the world, each with its caller.
+  template <class F>
+  void forEachWaitedFor(const World& world, F&& f) const;
+
   std::map<std::string, Joint> joints_;
-  std::map<std::string, Clock::time_point> last_request_;  // by caller
+  std::map<std::string, Caller> callers_;
 };
 
 }  // namespace onedof_sim

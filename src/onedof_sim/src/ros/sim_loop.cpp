@@ -6,12 +6,16 @@
 #include <thread>
 #include <utility>
 
+#include <unistd.h>
+
 #include <gazebo_msgs/LinkStates.h>
 #include <gazebo_msgs/ModelStates.h>
 #include <rosgraph_msgs/Clock.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "conversions.h"
+#include "node_process.h"
+#include "process_activity.h"
 #include "status_text.h"
 
 namespace onedof_sim {
@@ -21,12 +25,14 @@ namespace {
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
 constexpr std::chrono::milliseconds kPacingSlice(50);
 constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
-// A client's two clock readings after a call are microseconds apart; a millisecond leaves them
-// room on a busy machine and bounds a lock-stepped 1 kHz controller to real time, about what
-// roscpp's sim-time sleep (it polls every millisecond) allows anyway.
+// For a controller whose process is not on this machine (lock-step cannot see it rest): a
+// client's two clock readings after a call are microseconds apart; a millisecond leaves them room
+// and bounds such a 1 kHz controller to real time.
 constexpr std::chrono::milliseconds kLockstepClockDelay(1);
-// How long a stopped world waits for a controller's command before it shows the clock ahead to
-// wake one that slept past the stop (awaitControllers): well beyond a live controller's answer.
+// How often a stop's clock looks again whether the controllers' processes rest (awaitAsleep).
+constexpr std::chrono::microseconds kAsleepPoll(20);
+// How long a stopped world waits for a controller's command, the controller asleep, before it
+// shows the clock ahead to wake one that slept past the stop (awaitControllers).
 constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
 // In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
 constexpr std::chrono::seconds kStopWaitLimit(1);
@@ -58,6 +64,10 @@ struct SimLoop::StepOutput {
   std::vector<CollisionShape> shapes;
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
   std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
+  // At a lock-step stop: the controllers' processes the stop's clock waits to see asleep.
+  std::vector<Lockstep::Watched> watched;
+  // Plugins of models the world removed in the step, destroyed with this output, unlocked.
+  std::vector<std::unique_ptr<plugins::ModelPlugin>> detached_plugins;
 };
 
 SimLoop::Lock::Lock(SimLoop& api) {
@@ -145,7 +155,10 @@ void SimLoop::stepOnce(StepOutput* out) {
   // and end, and never wait: lock-step waits only for apply_joint_effort's clients.
   for (auto& [model, plugins] : plugins_)
     for (auto& plugin : plugins) plugin->beforeStep(world_, {world_.timeNs(), world_.stepCount()});
-  world_.step();
+  const Status stepped = world_.step();
+  // A model the world removed after an engine failure takes its plugins with it (destroyed with
+  // the output, unlocked).
+  if (!stepped.ok()) detachPluginsOfRemovedModels(&out->detached_plugins);
   for (auto& [model, plugins] : plugins_) {
     for (auto& plugin : plugins) {
       plugin->afterStep(world_, {world_.timeNs(), world_.stepCount()});
@@ -156,6 +169,9 @@ void SimLoop::stepOnce(StepOutput* out) {
   if (requested) {
     --step_request_.remaining;
     ++step_request_.taken;
+    // The world went on without the model that made the engine fail (its warning says which);
+    // the request's caller learns that its steps did not run as asked.
+    if (!stepped.ok()) endStepRequest("a physics engine failure (the log names the model removed)");
   }
   out->stepped = true;
   out->on_request = requested;
@@ -183,11 +199,14 @@ void SimLoop::stepOnce(StepOutput* out) {
   } else {
     clock_ahead_ns_ = -1;
   }
-  // And a stop's clock goes out no sooner than kLockstepClockDelay after the latest command: a
-  // roscpp client reads the clock twice right after its call returns, and the next stop's clock
-  // must not land between the two readings (as fast as possible it would, about once in a few
-  // hundred 1 kHz periods, and the client would sleep past the stop).
-  if (stop && lockstep_.enabled()) out->clock_not_before = last_command_at_ + kLockstepClockDelay;
+  // And a stop's clock goes out only while no controller can be between those two readings,
+  // which follow its call's return at once: when its process on this machine rests (awaitAsleep),
+  // or, for one elsewhere, no sooner than kLockstepClockDelay after the latest command.
+  if (stop && lockstep_.enabled()) {
+    out->watched = lockstep_.watched(world_);
+    if (lockstep_.someUnwatched(world_))
+      out->clock_not_before = last_command_at_ + kLockstepClockDelay;
+  }
 
   collectStates(out, want_model_states, want_link_states, want_markers);
 }
@@ -245,13 +264,13 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
     // Woken when the awaited controllers have sent nothing for a while, here or before: one
     // still at work on its period (it asked for the joint) is left to finish it.
     const auto wake_at = std::max(began, lockstep_.lastRequest(awaited)) + kLockstepWakeAfter;
-    if (!woken && now >= wake_at) {
+    if (!woken && now >= wake_at && awaitedAsleep(awaited)) {
       woken = true;
       showWakeUpClock(awaited);
     }
     // In slices, to notice a shutdown.
     auto until = std::min(deadline, now + std::chrono::milliseconds(50));
-    if (!woken) until = std::min(until, wake_at);
+    if (!woken && now < wake_at) until = std::min(until, wake_at);
     wake_loop_.wait_until(lock, until);
     if (!ros::ok()) return false;
     if (paused_ && !step_request_.active) return false;
@@ -259,11 +278,12 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
 }
 
 // roscpp's Rate (the book's C++ loop) and rospy's read the clock twice, before and after their
-// sleep's start, and sleep for the remainder counted from the second reading. When the stop's
-// clock lands between the two readings (a client preempted there, on a busy machine), or a
-// command is lost in transport, the client sleeps one period past the stop, where the world waits
-// for it: the clock is then shown at the next period's earliest end, the world staying where it
-// is. The client wakes and commands for the stop (its job starts at the world's time, also when it
+// sleep's start, and sleep for the remainder counted from the second reading. A stop's clock
+// waits until a controller on this machine rests (awaitAsleep), so it cannot land between them;
+// for one elsewhere it can (a client preempted there), and a client that sleeps for other reasons
+// than its Rate can sleep past a stop too. Either sleeps one period past the stop, where the world
+// waits for it: the clock is then shown at the next period's earliest end, the world staying
+// where it is. The client wakes and commands for the stop (its job starts at the world's time, also when it
 // names the time shown: applyJointEffort), then asks for the next period at once: that request
 // waits for the next stop (Lock). The run is as if the client had woken on time.
 void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
@@ -276,6 +296,64 @@ void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
                    << " s (wall) at sim time " << simSeconds(world_.timeNs())
                    << "; showing the clock at " << simSeconds(*wake_ns)
                    << " to wake a controller that slept past the stop");
+}
+
+// A controller on this machine that has not answered is woken only when its process is asleep:
+// a starved one (runnable, waiting for a CPU) has not slept past the stop and answers on its own.
+bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) const {
+  for (const Lockstep::Awaited& joint : awaited) {
+    const std::optional<int> pid = lockstep_.pidOf(joint.caller);
+    if (pid && !readProcessActivity(*pid).asleep) return false;
+  }
+  return true;
+}
+
+// Holds a stop's clock until every lock-stepped controller's process on this machine has run since
+// its command (its call has returned) and rests: every thread blocked, none run between two looks.
+// Then none is between the two clock readings of its Rate, which run on from the call's return
+// without blocking, so each wakes where the world stops, however the machine delays it. A process
+// that never rests (a busy thread) holds the clock at most ~lockstep_timeout, and is named once.
+void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
+  if (controllers.empty()) return;
+  const auto give_up_at = Lockstep::Clock::now() + lockstep_.timeout();
+  const uint64_t heard = efforts_heard_.load();
+  for (;;) {
+    // Until its reply is written, a controller rests waiting for it.
+    if (efforts_replied_.load() < heard && ros::ok() && Lockstep::Clock::now() < give_up_at) {
+      std::this_thread::sleep_for(kAsleepPoll);
+      continue;
+    }
+    std::vector<const Lockstep::Watched*> busy;
+    for (const Lockstep::Watched& controller : controllers) {
+      const ProcessActivity activity = readProcessActivity(controller.pid);
+      if (!activity.gone && !(activity.asleep && activity.runs > controller.runs_at_command))
+        busy.push_back(&controller);
+    }
+    if (busy.empty() || !ros::ok()) return;
+    if (Lockstep::Clock::now() >= give_up_at) {
+      for (const Lockstep::Watched* controller : busy)
+        if (busy_controllers_.insert(controller->caller).second)
+          ROS_WARN_STREAM(lockstepBusyText(controller->caller, controller->pid,
+                                           lockstep_.timeout()));
+      return;
+    }
+    std::this_thread::sleep_for(kAsleepPoll);
+  }
+}
+
+// The process on this machine of a controller (asked once; again if that process is gone).
+std::optional<int> SimLoop::controllerPid(const std::string& caller) {
+  {
+    std::lock_guard<std::mutex> lock(pids_mutex_);
+    auto found = controller_pids_.find(caller);
+    if (found != controller_pids_.end() && (!found->second || processExists(*found->second)))
+      return found->second;
+  }
+  std::optional<int> pid = localNodePid(caller);
+  if (pid && *pid == int(::getpid())) pid.reset();  // a client inside this node: it never rests
+  std::lock_guard<std::mutex> lock(pids_mutex_);
+  controller_pids_[caller] = pid;
+  return pid;
 }
 
 void SimLoop::publishClock(int64_t time_ns) {
@@ -292,7 +370,10 @@ void SimLoop::publishHeldClock() {
 
 void SimLoop::publish(const StepOutput& out) {
   refreshClockFrequency();
-  if (out.publish_clock) std::this_thread::sleep_until(out.clock_not_before);
+  if (out.publish_clock) {
+    std::this_thread::sleep_until(out.clock_not_before);
+    awaitAsleep(out.watched);
+  }
   if (out.publish_clock ||
       (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
     // Latched, so roscpp wakes its poll thread for every message, subscribers or not: with
@@ -358,24 +439,48 @@ void SimLoop::pace(double max_update_rate, bool resumed) {
 
 SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
   EffortResult result;
+  efforts_heard_.fetch_add(1);
+  // The caller's process and its runs before the reply: the stop's clock waits until it has run
+  // since (awaitAsleep).
+  std::optional<int> pid;
+  uint64_t runs = 0;
+  if (lockstep_.enabled()) {
+    pid = controllerPid(command.caller);
+    if (pid) runs = processRuns(*pid);
+  }
   {
     Lock lock(*this);
     if (lockstep_.enabled()) lockstep_.heardFrom(command.caller, Lockstep::Clock::now());
     // Under a wake-up clock a client's "now" is the time shown, ahead of the world's: it means
     // the world's.
+    const int64_t now_ns = world_.timeNs();
     int64_t start_ns = command.start_ns;
-    if (clock_ahead_ns_ >= 0 && start_ns > world_.timeNs() && start_ns <= clock_ahead_ns_)
-      start_ns = world_.timeNs();
-    result.status = world_.applyJointEffort(command.joint, command.effort, start_ns,
-                                            command.duration_ns, &result.job);
+    int64_t duration_ns = command.duration_ns;
+    if (clock_ahead_ns_ >= 0 && start_ns > now_ns && start_ns <= clock_ahead_ns_) start_ns = now_ns;
+    // A lock-stepped period already under way or over when its command comes (a controller
+    // behind the world: it started while the world ran free) acts for what is left of it only,
+    // so the world's next stop falls on the controller's grid of periods and the two are in step
+    // from then on. Gazebo starts such a job now for its whole duration: the world would run a
+    // period ahead of the controller for good, each sample read a period after its stamp.
+    if (lockstep_.enabled() && start_ns > 0 && start_ns < now_ns && duration_ns > 0) {
+      duration_ns = start_ns + duration_ns - now_ns;
+      if (duration_ns <= 0) result.period_over_at_ns = now_ns;
+    }
+    if (result.period_over_at_ns) {
+      JointInfo joint;
+      result.status = world_.jointInfo(command.joint, &joint);
+    } else {
+      result.status = world_.applyJointEffort(command.joint, command.effort, start_ns,
+                                              duration_ns, &result.job);
+    }
     if (result.status.ok() && result.job.queued) {
       last_command_at_ = Lockstep::Clock::now();
+      lockstep_.commandedFrom(command.caller, pid, runs);
       result.joined_lockstep =
           lockstep_.heard(command.joint, command.caller, command.duration_ns < 0,
                           world_.timeNs(), command.duration_ns);
       // The last awaited command: the world moves on, and the next request waits for the next
       // stop (Lock) even when it comes before the loop has taken its first step.
-      const int64_t now_ns = world_.timeNs();
       if (!paused_ && lockstep_.running(world_, now_ns) && lockstep_.awaited(world_, now_ns).empty())
         between_stops_ = true;
     }
@@ -473,6 +578,22 @@ void SimLoop::attachPlugins(const std::string& model,
   }
   auto& attached = plugins_[model];
   for (auto& plugin : plugins) attached.push_back(std::move(plugin));
+}
+
+void SimLoop::detachPluginsOfRemovedModels(
+    std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached) {
+  ModelInfo unused;
+  for (auto it = plugins_.begin(); it != plugins_.end();) {
+    if (world_.modelProperties(it->first, &unused).ok()) {
+      ++it;
+      continue;
+    }
+    for (auto& plugin : it->second) {
+      plugin->stop(world_);
+      detached->push_back(std::move(plugin));
+    }
+    it = plugins_.erase(it);
+  }
 }
 
 Status SimLoop::deleteModel(const std::string& model) {

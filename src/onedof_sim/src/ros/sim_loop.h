@@ -16,6 +16,8 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -67,8 +69,13 @@ class SimLoop {
     Status status;
     JobOutcome job;
     bool joined_lockstep = false;  // the joint's first command in lock-step: say so once
+    // In lock-step, set when the command's period was over at this sim time: nothing applied.
+    std::optional<int64_t> period_over_at_ns;
   };
   EffortResult applyJointEffort(const EffortCommand& command);
+  // apply_joint_effort's reply is written (its caller may go on): said by the thread serving it
+  // after each call, whatever its outcome.
+  void effortReplied() { efforts_replied_.fetch_add(1); }
 
   bool paused();
   void setPaused(bool paused);
@@ -127,6 +134,11 @@ class SimLoop {
                      bool want_markers);
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
+  bool awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) const;
+  void awaitAsleep(const std::vector<Lockstep::Watched>& controllers);
+  std::optional<int> controllerPid(const std::string& caller);
+  // Lock held: moves out the plugins of models no longer in the world, stopped.
+  void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
   void publishClock(int64_t time_ns);
   // The latest time not published for want of subscribers (-1: none), for the latched /clock
@@ -159,10 +171,17 @@ class SimLoop {
   // Ends a step request in progress, lock held: `by` is the request that ends it.
   void endStepRequest(const char* by);
   std::atomic<int> waiting_callbacks_{0};
+  std::atomic<uint64_t> efforts_heard_{0};    // apply_joint_effort calls begun
+  std::atomic<uint64_t> efforts_replied_{0};  // and answered (effortReplied)
   // Each model's plugins, called in this order around every step.
   std::map<std::string, std::vector<std::unique_ptr<plugins::ModelPlugin>>> plugins_;
 
+  // The processes of apply_joint_effort's callers on this machine (empty: elsewhere), by name.
+  std::mutex pids_mutex_;
+  std::map<std::string, std::optional<int>> controller_pids_;
+
   // Step-loop state (only the loop thread touches these).
+  std::set<std::string> busy_controllers_;  // named once for never resting (awaitAsleep)
   double states_publish_frequency_;
   double clock_frequency_ = 0;  // /gazebo/pub_clock_frequency; <= 0: every step
   std::chrono::steady_clock::time_point next_param_refresh_;

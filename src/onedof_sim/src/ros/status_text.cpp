@@ -109,6 +109,10 @@ std::string statusText(const Wording& wording, const Status& status) {
       text = jobs.str();
       break;
     }
+    case StatusCode::EngineFault:
+      text = "the physics engine failed (" + subject + "); the request was taken back and the "
+             "world goes on without it";
+      break;
   }
   return std::string(wording.service) + ": " + text;
 }
@@ -179,6 +183,21 @@ std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, i
     text << " " << joint.joint << " (last commanded by " << joint.caller << ")";
   text << "; going on without " << (awaited.size() > 1 ? "them" : "it")
        << " until commanded again (~lockstep_timeout sets the wait)";
+  return text.str();
+}
+
+std::string lockstepPeriodOverNote(int64_t now_ns) {
+  return "; lock-step: its period (start_time + duration) was over at sim time " +
+         simSeconds(now_ns) + ", where the world is, so nothing was applied; the world waits for "
+         "the command of the period under way";
+}
+
+std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock::duration waited) {
+  std::ostringstream text;
+  text << "lock-step: the process of " << caller << " (pid " << pid << ") did not rest for "
+       << std::chrono::duration<double>(waited).count()
+       << " s (wall) after its command (a thread of it never blocks); its stops' clock goes out "
+          "without waiting for it to sleep, so on a busy machine it may sleep past a stop";
   return text.str();
 }
 

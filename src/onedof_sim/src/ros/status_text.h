@@ -91,6 +91,9 @@ std::string simSeconds(int64_t ns);
 std::string lockstepJoinText(const std::string& joint, const std::string& caller);
 std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, int64_t t_ns,
                                 Lockstep::Clock::duration timeout);
+// A lock-stepped command whose period had ended where the world is (at now_ns).
+std::string lockstepPeriodOverNote(int64_t now_ns);
+std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock::duration waited);
 
 // Bad input: the call succeeds with success False and the reason, and the node says it too.
 template <class Response>

@@ -14,6 +14,11 @@
 // axes and the adapter turns poses back into the BodySpec frame; twists and forces are in world
 // axes about the centre of mass and need no conversion.
 //
+// Bullet never ends the process on its own: btAssert is empty unless DEBUG, _DEBUG or BT_DEBUG is
+// defined (none is, here or in Debian's release build, whose libBullet* and libLinearMath import
+// neither __assert_fail nor abort), so it throws no EngineFault; what it does with a body it
+// cannot step is a non-finite state, which the world's rollback takes back (World::stepEngine).
+//
 // Friction is isotropic: a contact uses the smaller mu of its two shapes and mu2 is ignored.
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <btBulletDynamicsCommon.h>

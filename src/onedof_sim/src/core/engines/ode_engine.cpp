@@ -4,6 +4,17 @@
 // with themselves: that is what keeps a model from colliding with itself. ODE takes a hinge's or
 // slider's zero from the body poses at the moment its axis is set, which is why attachJoints
 // re-attaches every joint in the zero configuration.
+//
+// ODE reports an internal error (a failed assertion, dIASSERT and dUASSERT: dxNormalize4 on a
+// non-finite quaternion, the LDLT factorisation of a singular contact matrix) through dDebug, and
+// a fatal one through dError; both end the process once their handler returns. Their handlers
+// here throw EngineFault out of the ODE call instead, when that call is inside an engine call
+// (OdeTrap). ODE's state is then inconsistent: the step's threading job list keeps the jobs the
+// throw skipped, a space stays locked by an unfinished collision pass, and ODE's own teardown
+// asserts on both. So a faulted engine never calls ODE again, bar the state readers: its world,
+// spaces, bodies and threading implementation are left allocated, and World builds a new engine.
+// Each world steps on a threading implementation of its own rather than ODE's process-wide
+// default, so that the jobs a fault leaves behind cannot reach another world.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -11,6 +22,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <deque>
+#include <exception>
 
 #include "engine.h"
 #include "pose_math.h"
@@ -68,9 +80,43 @@ void collectOdeMessage(int, const char* format, va_list args) {
   }
 }
 
+// Inside an engine call: ODE's internal errors throw EngineFault (see the top of the file).
+thread_local int trap_depth = 0;
+
+void throwOdeError(int number, const char* format, va_list args) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, args);
+  if (trap_depth > 0) throw EngineFault(std::string("ODE internal error: ") + text);
+  // Outside an engine call: ODE ends the process when this returns, as it would without it.
+  std::fprintf(stderr, "ODE internal error %d: %s\n", number, text);
+}
+
+// Marks an engine call: an ODE internal error inside it throws EngineFault, and marks the
+// engine faulted on its way out.
+class OdeTrap {
+ public:
+  explicit OdeTrap(bool* faulted) : faulted_(faulted), exceptions_(std::uncaught_exceptions()) {
+    if (*faulted_) throw EngineFault("ODE: the engine faulted before and takes no more calls");
+    ++trap_depth;
+  }
+  ~OdeTrap() {
+    --trap_depth;
+    if (std::uncaught_exceptions() > exceptions_) *faulted_ = true;
+  }
+  OdeTrap(const OdeTrap&) = delete;
+  OdeTrap& operator=(const OdeTrap&) = delete;
+
+ private:
+  bool* faulted_;
+  int exceptions_;
+};
+
 class OdeModel : public EngineModel {
  public:
-  OdeModel(dWorldID world, dSpaceID parent_space, const ModelSpec& spec) {
+  // faulted: the engine's flag (OdeTrap), which outlives the model.
+  OdeModel(dWorldID world, dSpaceID parent_space, const ModelSpec& spec, bool* faulted)
+      : faulted_(faulted) {
+    OdeTrap trap(faulted_);
     space_ = dSimpleSpaceCreate(parent_space);
     for (const BodySpec& spec_body : spec.bodies) {
       dBodyID body = dBodyCreate(world);
@@ -81,7 +127,7 @@ class OdeModel : public EngineModel {
         dGeomSetBody(geom, body);
         body_geoms_.back().push_back(geom);
       }
-      setBodyMass(static_cast<int>(bodies_.size()) - 1, spec_body);
+      setMass(static_cast<int>(bodies_.size()) - 1, spec_body);
     }
     for (const ShapeSpec& shape : spec.anchored_shapes) anchored_.push_back(createGeom(shape));
     for (const JointSpec& spec_joint : spec.joints) {
@@ -106,6 +152,7 @@ class OdeModel : public EngineModel {
   }
 
   ~OdeModel() override {
+    if (*faulted_) return;  // left to the faulted world (see the top of the file)
     for (const Joint& joint : joints_) dJointDestroy(joint.id);
     dSpaceSetCleanup(space_, 1);  // destroys its geoms
     dSpaceDestroy(space_);
@@ -114,6 +161,7 @@ class OdeModel : public EngineModel {
 
   void attachJoints(const std::vector<Pose>& zero_poses,
                     const std::vector<JointFrame>& frames) override {
+    OdeTrap trap(faulted_);
     for (size_t b = 0; b < bodies_.size(); ++b) setPose(bodies_[b], zero_poses[b]);
     for (size_t j = 0; j < joints_.size(); ++j) {
       const Joint& joint = joints_[j];
@@ -140,6 +188,7 @@ class OdeModel : public EngineModel {
   }
 
   void setBodyState(int body, const Pose& pose, const Twist& twist) override {
+    OdeTrap trap(faulted_);
     dBodyID id = bodies_[body];
     setPose(id, pose);
     dBodySetLinearVel(id, twist.linear.x, twist.linear.y, twist.linear.z);
@@ -148,17 +197,13 @@ class OdeModel : public EngineModel {
   }
 
   void setAnchoredShapePose(int shape, const Pose& world_pose) override {
+    OdeTrap trap(faulted_);
     setGeomPose(anchored_[shape], world_pose, false);
   }
 
   void setBodyMass(int body, const BodySpec& spec) override {
-    dMass mass;
-    dMassSetParameters(&mass, spec.mass, 0, 0, 0, spec.ixx, spec.iyy, spec.izz, spec.ixy, spec.ixz,
-                       spec.iyz);
-    dBodySetMass(bodies_[body], &mass);
-    dBodySetGravityMode(bodies_[body], spec.gravity ? 1 : 0);
-    for (size_t g = 0; g < spec.shapes.size(); ++g)
-      setGeomPose(body_geoms_[body][g], spec.shapes[g].pose, true);
+    OdeTrap trap(faulted_);
+    setMass(body, spec);
   }
 
   double jointPosition(int joint) const override {
@@ -172,6 +217,7 @@ class OdeModel : public EngineModel {
   }
 
   void addJointEffort(int joint, double effort) override {
+    OdeTrap trap(faulted_);
     const Joint& j = joints_[joint];
     dBodyEnable(bodies_[j.child]);
     if (j.parent >= 0) dBodyEnable(bodies_[j.parent]);
@@ -199,6 +245,7 @@ class OdeModel : public EngineModel {
   }
 
   void addBodyWrench(int body, const Vec3& force, const Vec3& point, const Vec3& torque) override {
+    OdeTrap trap(faulted_);
     dBodyID id = bodies_[body];
     dBodyEnable(id);
     dBodyAddForceAtPos(id, force.x, force.y, force.z, point.x, point.y, point.z);
@@ -212,6 +259,16 @@ class OdeModel : public EngineModel {
     bool hinge;
     double friction;  // Coulomb friction, the motor's bound while no velocity motor is on
   };
+
+  void setMass(int body, const BodySpec& spec) {
+    dMass mass;
+    dMassSetParameters(&mass, spec.mass, 0, 0, 0, spec.ixx, spec.iyy, spec.izz, spec.ixy, spec.ixz,
+                       spec.iyz);
+    dBodySetMass(bodies_[body], &mass);
+    dBodySetGravityMode(bodies_[body], spec.gravity ? 1 : 0);
+    for (size_t g = 0; g < spec.shapes.size(); ++g)
+      setGeomPose(body_geoms_[body][g], spec.shapes[g].pose, true);
+  }
 
   dGeomID createGeom(const ShapeSpec& shape) {
     const Vec3& s = shape.size;
@@ -230,6 +287,7 @@ class OdeModel : public EngineModel {
     dBodySetQuaternion(body, q);
   }
 
+  bool* faulted_;
   dSpaceID space_ = nullptr;
   std::vector<dBodyID> bodies_;
   std::vector<std::vector<dGeomID>> body_geoms_;  // per body, in its BodySpec's shape order
@@ -243,19 +301,28 @@ class OdeEngine : public Engine {
   OdeEngine() {
     dInitODE2(0);
     dSetMessageHandler(&collectOdeMessage);
+    dSetDebugHandler(&throwOdeError);
+    dSetErrorHandler(&throwOdeError);
     world_ = dWorldCreate();
+    threading_ = dThreadingAllocateSelfThreadedImplementation();
+    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_),
+                                         threading_);
     space_ = dSimpleSpaceCreate(nullptr);
     contact_group_ = dJointGroupCreate(0);
   }
 
   ~OdeEngine() override {
-    dJointGroupDestroy(contact_group_);
-    dSpaceDestroy(space_);  // destroys the ground plane with it
-    dWorldDestroy(world_);
+    if (!faulted_) {
+      dJointGroupDestroy(contact_group_);
+      dSpaceDestroy(space_);  // destroys the ground plane with it
+      dWorldDestroy(world_);
+      dThreadingFreeImplementation(threading_);  // after the world, which frees its waits in it
+    }
     dCloseODE();
   }
 
   void setParams(const PhysicsParams& p) override {
+    OdeTrap trap(&faulted_);
     params_ = p;
     dWorldSetGravity(world_, p.gravity.x, p.gravity.y, p.gravity.z);
     dWorldSetERP(world_, p.erp);
@@ -270,25 +337,32 @@ class OdeEngine : public Engine {
   }
 
   void addGroundPlane(double mu, double mu2) override {
+    OdeTrap trap(&faulted_);
     ground_surface_ = {mu, mu2};
     dGeomID ground = dCreatePlane(space_, 0, 0, 1, 0);
     dGeomSetData(ground, &ground_surface_);
   }
 
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
-    return std::make_unique<OdeModel>(world_, space_, spec);
+    return std::make_unique<OdeModel>(world_, space_, spec, &faulted_);
   }
 
   bool exactSolver(const PhysicsParams& params) const override { return !params.quick_step; }
 
   void step(double dt, std::string* solver_message) override {
+    OdeTrap trap(&faulted_);
     stepping_message = solver_message;
     stepping_message_set = false;
-    dSpaceCollide(space_, this, &nearCallback);
-    if (params_.quick_step)
-      dWorldQuickStep(world_, dt);
-    else
-      dWorldStep(world_, dt);
+    try {
+      dSpaceCollide(space_, this, &nearCallback);
+      if (params_.quick_step)
+        dWorldQuickStep(world_, dt);
+      else
+        dWorldStep(world_, dt);
+    } catch (const EngineFault&) {
+      stepping_message = nullptr;
+      throw;
+    }
     stepping_message = nullptr;
     dJointGroupEmpty(contact_group_);
   }
@@ -325,7 +399,9 @@ class OdeEngine : public Engine {
   }
 
   PhysicsParams params_;
+  bool faulted_ = false;  // an ODE internal error left the objects below inconsistent (OdeTrap)
   dWorldID world_ = nullptr;
+  dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
   Surface ground_surface_;

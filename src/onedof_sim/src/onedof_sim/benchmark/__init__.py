@@ -3,4 +3,5 @@ order of the items), one module per measured item (startup, loop_speed, memory, 
 round_trips, controller_periods, real_time_factor, lockstep_speed, busy_machine), graph (the
 private ROS graph, the nodes and bare loops they start, what a run records), profiling, plots,
 report (arithmetic and the table, no ROS), pybullet_loop (bare pybullet, the reference of the
-Bullet node) and concurrent_clients (many clients spawning at once)."""
+Bullet node), concurrent_clients (many clients spawning at once) and blocking_requests (how long
+each heavy request holds up another client's get_world_properties)."""

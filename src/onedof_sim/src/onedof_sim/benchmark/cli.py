@@ -90,6 +90,10 @@ def parse_args(argv):
     parser.add_argument('--no-profiles', action='store_true',
                         help='never profile, also where an aim is missed (for tests, whose path '
                              'must not depend on how busy the machine is)')
+    parser.add_argument('--book-client-overlay', metavar='FOLDER',
+                        help='build the book-shaped C++ client (row 8) in FOLDER once and reuse '
+                             'that build in later runs given the same FOLDER (default: a fresh '
+                             'build in each run)')
     parser.add_argument('--items', default=','.join(str(row) for row in ROWS),
                         help='comma-separated row numbers to measure (default: all, %s)'
                              % ','.join(str(row) for row in ROWS))
@@ -147,7 +151,8 @@ def main(argv=None):
     date = datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')
     with PrivateRos(log_dir=log_dir) as ros:
         say('roscore on %s (logs in %s)' % (ros.master_uri, log_dir))
-        bench = Bench(ros, sizes, output, engines, profiles=not args.no_profiles)
+        bench = Bench(ros, sizes, output, engines, profiles=not args.no_profiles,
+                      book_client_overlay=args.book_client_overlay)
         chosen = [(title, run) for rows, title, run in items(bench, engines, sizes)
                   if rows & args.items]
         try:

@@ -139,8 +139,11 @@ class Bench:
     simulators and helpers it starts there, and what it records (rows of the table, notes, raw
     results)."""
 
-    def __init__(self, ros, sizes, output, engines, profiles=True):
+    def __init__(self, ros, sizes, output, engines, profiles=True, book_client_overlay=None):
         self.ros = ros
+        # Where the book-shaped C++ client is built once for every run that names the folder
+        # (None: a build of this run's own).
+        self.book_client_overlay = book_client_overlay
         self.profiles = profiles  # profile where an aim is missed
         self.sizes = sizes
         self.output = output

@@ -22,7 +22,11 @@ def measure(bench, engine):
     # same topic delivers nothing to the next subscriber.
     pos_cmd = bench.rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
     try:
-        setup, build_error = book_client.build_overlay(bench.work), None
+        if bench.book_client_overlay:
+            setup = book_client.shared_overlay(bench.book_client_overlay)
+        else:
+            setup = book_client.build_overlay(bench.work)
+        build_error = None
     except (RuntimeError, subprocess.TimeoutExpired) as error:
         setup, build_error = None, str(error)
     for rate in (100, 1000):

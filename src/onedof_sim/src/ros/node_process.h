@@ -1,0 +1,14 @@
+// The process of a ROS node, when it runs on this machine: asked of the master (lookupNode) and
+// of the node's own slave API (getPid), as rosnode does.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace onedof_sim {
+
+// The pid of `node` if its XML-RPC server listens on an address of this machine; empty if the
+// node is elsewhere, unknown to the master, or did not answer.
+std::optional<int> localNodePid(const std::string& node);
+
+}  // namespace onedof_sim
