@@ -124,7 +124,8 @@ class Engine {
   // kMaxExactSolverJoints; an iterative solver's cost grows linearly.
   virtual bool exactSolver(const PhysicsParams& params) const = 0;
   // One step of dt seconds with the forces added since the last one. Solver trouble the engine
-  // reports during the step (ODE's "LCP internal error") goes to *solver_message, first one only.
+  // reports during the step and could not work around (ODE retakes a step whose exact LCP fails
+  // with its iterative solver) goes to *solver_message, first one only.
   virtual void step(double dt, std::string* solver_message) = 0;
 };
 
