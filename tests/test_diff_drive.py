@@ -102,16 +102,8 @@ def path_figures(run):
     return speed, turn_rate, radius, turned, figures
 
 
-# Encoder odometry on Bullet is known to drift past 2 % (3.7 % after 3.1 m): Bullet keeps a
-# cylinder wheel's ground contact at one rim, so the base turns on a narrower track than the
-# wheel separation the odometry integrates with (see the path test below).
-ENCODER_ON_BULLET = pytest.mark.xfail(strict=True, reason="Bullet's rim contact of a cylinder wheel")
-
-
 @pytest.mark.parametrize('engine,odometry_source', [
-    pytest.param(engine, source, marks=[ENCODER_ON_BULLET] if (engine, source) == (
-        'bullet', 'encoder') else [])
-    for engine in ENGINES for source in ('world', 'encoder')])
+    (engine, source) for engine in ENGINES for source in ('world', 'encoder')])
 def test_a_diff_drive_base_reports_its_drive_on_odometry_tf_joint_states_and_ground_truth(
         ros, rospy_client, engine, odometry_source):
     run = drive(ros, rospy_client, engine, odometry_source)
@@ -173,15 +165,10 @@ def test_a_diff_drive_base_reports_its_drive_on_odometry_tf_joint_states_and_gro
     assert log.count("sensor 'base_lidar' (type ray)") == 1, log
 
 
-# Known to fail, strictly (it passes the day the engines drive it right): a cylinder wheel lying on
-# the ground touches it along a line, which both engines resolve badly. ODE's exact solver
-# (dWorldStep) with the world's CFM of 0 fails its LCP on the two contact points of each wheel with
-# its hinge ("LCP internal error, s <= 0" about every other step) and the base drifts off the
-# command (0.315 m/s, 0.307 rad/s); with a CFM floor of 1e-10 on joints the failures stop but the
-# two points' scrub friction holds the base from turning at all under 5 N m. Bullet keeps its
-# contact at one rim, so the base turns on a narrower track (0.324 rad/s). Wheels as spheres drive
-# the twist exactly on ODE.
-@pytest.mark.xfail(strict=True, reason='cylinder wheels on the ground: see the comment above')
+# A cylinder wheel lying on the ground touches it along a line, which the engines resolve as one
+# (src/onedof_sim/src/core/engines: ODE with its force and friction across the wheel's width,
+# Bullet with its resultant at its middle); ODE takes a step whose exact LCP fails again with its
+# iterative solver, so no solver warning is logged.
 @pytest.mark.parametrize('engine', ENGINES)
 def test_a_diff_drive_base_drives_the_commanded_twist_without_solver_warnings(
         ros, rospy_client, engine):
