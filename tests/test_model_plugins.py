@@ -84,3 +84,27 @@ def test_a_plugin_sees_its_hooks_in_order_in_sim_time_and_is_gone_after_delete(
     log = ros.log_text(probe_sim)
     assert log.count(UNKNOWN) == 1, log  # logged once, by name, for its two uses
     assert "model 'probed'" in log and 'ignored' in log
+
+
+def test_a_plugin_without_a_robot_namespace_takes_the_spawn_requests(
+        ros, rospy_client, probe_sim):
+    """As Gazebo's spawn services do: the request's robot_namespace becomes the <robotNamespace>
+    of each plugin that has none; a plugin's own stays; an empty request's leaves it at '/'."""
+    rospy = rospy_client
+    api = GazeboApi(rospy)
+    urdf = tutorial_urdf().replace('</robot>', """
+  <gazebo><plugin name="defaulted" filename="libonedof_sim_hook_probe.so"/></gazebo>
+  <gazebo><plugin name="own" filename="libonedof_sim_hook_probe.so">
+    <robotNamespace>/probe</robotNamespace></plugin></gazebo>
+</robot>""")
+    spawned = api.spawn_urdf_model('namespaced', urdf, '/r1', pose(), '')
+    assert spawned.success, spawned.status_message
+    spawned = api.spawn_urdf_model('plain', urdf.replace('/probe<', '/probe2<'), '', pose(x=2.0),
+                                   '')
+    assert spawned.success, spawned.status_message
+
+    def topics():
+        return {name for name, _ in rospy.get_published_topics()}
+    expected = {'/r1/hook_probe', '/probe/hook_probe', '/hook_probe', '/probe2/hook_probe'}
+    wait_until(lambda: expected <= topics(), 30, what="the probes' topics")
+    assert not any(name.startswith('/r1/') and name != '/r1/hook_probe' for name in topics())

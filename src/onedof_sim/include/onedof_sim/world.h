@@ -299,6 +299,14 @@ class World {
   // applyJointEffort's, bar the job count.
   Status setJointEffortCommand(const std::string& joint, double effort,
                                JobOutcome* outcome = nullptr);
+  // A velocity motor on the joint for the next step() only, as a Gazebo joint's SetParam("vel")
+  // with SetParam("fmax") (gazebo_ros_diff_drive drives its wheels so): the engine's solver
+  // drives the joint's rate to `velocity` (rad/s or m/s) pushing with at most `max_effort`
+  // (N m or N, held within the joint's effort limit), implicitly, so it is stable at any bound.
+  // It acts beside the joint's efforts, in place of its friction; the owner sets it again before
+  // each step. Refuses: JointNotFound, JointIsFixed, NotFinite ("velocity", "max_effort"),
+  // InvalidParameter "max_effort" (negative), and OutOfRange "velocity" past the speed cap.
+  Status setJointVelocityCommand(const std::string& joint, double velocity, double max_effort);
   // Drops every pending job on joints of that bare name (any model).
   void clearJointForces(const std::string& joint);
   // Whether an effort job acts on the joint in the step that starts at t_ns; false for a joint

@@ -98,6 +98,11 @@ class EngineModel {
 
   // Forces for the coming step only: the engine clears them when it has stepped.
   virtual void addJointEffort(int joint, double effort) = 0;  // + on the child, - on the parent
+  // A velocity motor in the joint's constraint, until set again: the solver drives the joint's
+  // rate (as jointRate reads it) to `velocity` pushing with at most `max_effort` (> 0), within
+  // the step, as ODE's dParamVel and dParamFMax do. max_effort 0 turns it off and gives the
+  // joint back its JointSpec friction.
+  virtual void setJointMotor(int joint, double velocity, double max_effort) = 0;
   virtual void addBodyWrench(int body, const Vec3& force, const Vec3& world_point,
                              const Vec3& torque) = 0;
 };
@@ -119,7 +124,8 @@ class Engine {
   // kMaxExactSolverJoints; an iterative solver's cost grows linearly.
   virtual bool exactSolver(const PhysicsParams& params) const = 0;
   // One step of dt seconds with the forces added since the last one. Solver trouble the engine
-  // reports during the step (ODE's "LCP internal error") goes to *solver_message, first one only.
+  // reports during the step and could not work around (ODE retakes a step whose exact LCP fails
+  // with its iterative solver) goes to *solver_message, first one only.
   virtual void step(double dt, std::string* solver_message) = 0;
 };
 

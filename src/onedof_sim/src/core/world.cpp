@@ -93,6 +93,7 @@ bool World::Impl::isBlownUp(const ModelRecord& model) const {
 void World::Impl::stepEngine() {
   std::string solver_message;
   applyDamping(applyJobs(time_ns));
+  applyMotors();
   engine->step(params.step, &solver_message);
   std::vector<ModelRecord*> newly_blown;
   for (const auto& model : models)
@@ -103,9 +104,12 @@ void World::Impl::stepEngine() {
       model->blown_up = true;
       holdAtSavedState(*model);
     }
+    releaseMotors();
     applyDamping(applyJobs(time_ns));
+    applyMotors();
     engine->step(params.step, &solver_message);
   }
+  releaseMotors();
   if (!solver_message.empty() && !engine_struggled) warn(solver_message);
   engine_struggled = !solver_message.empty();
   for (const auto& model : models) {
@@ -172,6 +176,7 @@ Status World::Impl::step() {
   ++steps;
   dropExpiredJobs(time_ns);
   joint_commands.clear();
+  joint_motors.clear();
   return status;
 }
 

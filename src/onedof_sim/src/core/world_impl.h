@@ -121,6 +121,14 @@ struct JointEffortCommand {
   double effort;
 };
 
+// A velocity motor for the coming step alone (World::setJointVelocityCommand), its bound held
+// within the joint's effort limit.
+struct JointMotorCommand {
+  const ModelRecord* model;
+  size_t joint;
+  double velocity, max_effort;
+};
+
 // The effort the jobs and commands of one step put on a joint, after clamping.
 struct JointEffortSum {
   const ModelRecord* model;
@@ -218,6 +226,7 @@ struct World::Impl {
   std::vector<std::unique_ptr<ModelRecord>> models;  // spawn order; records never move
   std::vector<JointEffortJob> joint_jobs;
   std::vector<JointEffortCommand> joint_commands;  // for the next step only
+  std::vector<JointMotorCommand> joint_motors;     // for the next step only
   std::vector<BodyWrenchJob> wrench_jobs;
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
@@ -243,6 +252,10 @@ struct World::Impl {
         std::remove_if(joint_commands.begin(), joint_commands.end(),
                        [&](const JointEffortCommand& c) { return on_model(c.model); }),
         joint_commands.end());
+    joint_motors.erase(
+        std::remove_if(joint_motors.begin(), joint_motors.end(),
+                       [&](const JointMotorCommand& c) { return on_model(c.model); }),
+        joint_motors.end());
     wrench_jobs.erase(std::remove_if(wrench_jobs.begin(), wrench_jobs.end(),
                                      [&](const BodyWrenchJob& j) { return on_model(j.model); }),
                       wrench_jobs.end());
@@ -330,6 +343,13 @@ struct World::Impl {
   // Returns the effort put on each joint that has any.
   std::vector<JointEffortSum> applyJobs(int64_t t);
   void dropExpiredJobs(int64_t next_step_start);
+
+  // --- motors (world_motors.cpp) ------------------------------------------------------------
+
+  // Puts the velocity motors commanded for the coming step on their joints (a blown-up model's
+  // are left out, as its jobs are); releaseMotors, once the step is done, turns them off.
+  void applyMotors();
+  void releaseMotors();
 
   // --- damping (world_damping.cpp) -----------------------------------------------------------
 

@@ -350,7 +350,8 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
                     << (requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model"));
     loop_.attachPlugins(req.model_name,
                         plugins::createModelPlugins(plugin_types_, req.model_name, req.model_xml,
-                                                    format, loop_.world(), loop_.lockWorld()));
+                                                    format, req.robot_namespace, loop_.world(),
+                                                    loop_.lockWorld()));
   }
   return answer(res, spawned, statusText(kSpawnModel, spawned));
 }

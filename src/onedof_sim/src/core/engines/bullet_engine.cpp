@@ -20,6 +20,18 @@
 // cannot step is a non-finite state, which the world's rollback takes back (World::stepEngine).
 //
 // Friction is isotropic: a contact uses the smaller mu of its two shapes and mu2 is ignored.
+//
+// A cylinder lying on the ground touches it along a line. Bullet's convex-plane collision finds
+// one deepest point a step, which for a line is one end of it, and its manifold keeps the points
+// of the last steps: a wheel's contact stays at one rim, so a two-wheeled base turns on a
+// narrower track than its wheels' and turns faster than they command. Two points on the line do
+// not cure it: the sequential-impulse solver gives the whole load of two points that the body
+// cannot tilt about to the one it resolves first (a base's wheels: each on its inner point, the
+// track 3.5 cm narrower). LyingCylinderPlane gives the line's resultant instead, one point at
+// its middle, at the line's depth there; the line's friction torque about the normal (ODE's
+// engine resolves it, ode_engine.cpp) is left out. Any other pose of a cylinder on the ground
+// is Bullet's own collision.
+#include <BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <btBulletDynamicsCommon.h>
 
@@ -39,6 +51,10 @@ namespace {
 // checked against the geometry within a few mrad. Boxes and cylinders keep their outer extents
 // whatever the margin (it is taken from the inside), and a sphere's margin is its radius.
 constexpr double kMargin = 0.0005;
+
+// A cylinder lies on the ground when its axis is square to the ground's normal within this (the
+// sine of the angle between axis and ground), as in ode_engine.cpp.
+constexpr double kLyingTilt = 0.01;
 
 btVector3 toBt(const Vec3& v) { return {v.x, v.y, v.z}; }
 btQuaternion toBt(const Quat& q) { return {q.x, q.y, q.z, q.w}; }
@@ -95,6 +111,71 @@ bool onContactAdded(btManifoldPoint& point, const btCollisionObjectWrapper* a, i
   return true;
 }
 
+// A cylinder against the ground plane: the middle of its contact line when it lies on it (see
+// the top of the file), Bullet's convex-plane collision otherwise, on one manifold.
+class LyingCylinderPlane : public btCollisionAlgorithm {
+ public:
+  LyingCylinderPlane(const btCollisionAlgorithmConstructionInfo& info,
+                     const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
+                     bool swapped)
+      : btCollisionAlgorithm(info), general_(nullptr, info, a, b, swapped, 1, 0),
+        swapped_(swapped) {}
+
+  void processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
+                        const btDispatcherInfo& dispatch, btManifoldResult* result) override {
+    const btCollisionObjectWrapper* cylinder_object = swapped_ ? b : a;
+    const btCollisionObjectWrapper* plane_object = swapped_ ? a : b;
+    const auto* cylinder =
+        static_cast<const btCylinderShape*>(cylinder_object->getCollisionShape());
+    const auto* plane = static_cast<const btStaticPlaneShape*>(plane_object->getCollisionShape());
+    const btTransform& plane_pose = plane_object->getWorldTransform();
+    const btTransform& cylinder_pose = cylinder_object->getWorldTransform();
+    const btVector3 normal = plane_pose.getBasis() * plane->getPlaneNormal();
+    const int up = cylinder->getUpAxis();
+    const btVector3 axis = cylinder_pose.getBasis().getColumn(up);
+    const btScalar across = axis.dot(normal);
+    btManifoldArray manifolds;
+    general_.getAllContactManifolds(manifolds);
+    if (std::fabs(across) > kLyingTilt || manifolds.size() == 0) {
+      general_.processCollision(a, b, dispatch, result);
+      return;
+    }
+    btPersistentManifold* manifold = manifolds[0];
+    result->setPersistentManifold(manifold);
+    const btVector3 on_plane = plane_pose * (plane->getPlaneNormal() * plane->getPlaneConstant());
+    const btVector3 down = -(normal - across * axis).normalized();  // to the line, from the axis
+    const btVector3 middle = cylinder_pose.getOrigin() + cylinder->getRadius() * down;
+    const btScalar distance = normal.dot(middle - on_plane);
+    if (distance < manifold->getContactBreakingThreshold())
+      result->addContactPoint(normal, middle - distance * normal, distance);
+    result->refreshContactPoints();
+  }
+
+  btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
+                                 btManifoldResult*) override {
+    return 1;  // no continuous collision detection, as for Bullet's convex-plane pair
+  }
+
+  void getAllContactManifolds(btManifoldArray& manifolds) override {
+    general_.getAllContactManifolds(manifolds);
+  }
+
+  struct CreateFunc : btCollisionAlgorithmCreateFunc {
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& info,
+                                                   const btCollisionObjectWrapper* a,
+                                                   const btCollisionObjectWrapper* b) override {
+      // Outside the dispatcher's pool, whose element size is that of Bullet's own algorithms;
+      // the dispatcher frees memory that is not from its pool with btAlignedFree.
+      void* memory = btAlignedAlloc(sizeof(LyingCylinderPlane), 16);
+      return new (memory) LyingCylinderPlane(info, a, b, m_swapped);
+    }
+  };
+
+ private:
+  btConvexPlaneCollisionAlgorithm general_;  // owns the manifold
+  bool swapped_;  // the plane is the first object
+};
+
 // Objects carry their model's id as user index (-1: the ground); one model never collides with
 // itself, whatever was added or removed before.
 struct ModelFilter : btOverlapFilterCallback {
@@ -108,22 +189,30 @@ struct ModelFilter : btOverlapFilterCallback {
   }
 };
 
-// Joint friction as a motor that wants zero speed and may push at most `friction`. The hinge
-// takes the motor bound as an impulse, so it is set from the step the solver is running.
-class FrictionHinge : public btHingeConstraint {
+// A hinge's motor: joint friction (a motor that wants zero speed and may push at most
+// `friction`) or, while one is set, a velocity motor (setMotor). The hinge takes the motor bound
+// as an impulse, so it is set from the step the solver is running.
+class MotorHinge : public btHingeConstraint {
  public:
-  FrictionHinge(btRigidBody& a, btRigidBody& b, const btTransform& frame_a,
-                const btTransform& frame_b, double friction)
+  MotorHinge(btRigidBody& a, btRigidBody& b, const btTransform& frame_a,
+             const btTransform& frame_b, double friction)
       : btHingeConstraint(a, b, frame_a, frame_b), friction_(friction) {
-    enableAngularMotor(true, 0, 0);
+    setMotor(0, 0);
+  }
+  // max_effort 0: back to the friction.
+  void setMotor(double velocity, double max_effort) {
+    const bool on = max_effort > 0;
+    max_effort_ = on ? max_effort : friction_;
+    enableAngularMotor(max_effort_ > 0, on ? velocity : 0, 0);
   }
   void getInfo2(btConstraintInfo2* info) override {
-    setMaxMotorImpulse(friction_ / info->fps);
+    setMaxMotorImpulse(max_effort_ / info->fps);
     btHingeConstraint::getInfo2(info);
   }
 
  private:
   double friction_;
+  double max_effort_ = 0;
 };
 
 class BulletModel : public EngineModel {
@@ -208,18 +297,12 @@ class BulletModel : public EngineModel {
           slider->setLowerLinLimit(spec.lower);
           slider->setUpperLinLimit(spec.upper);
         }
-        if (spec.friction > 0) {
-          slider->setPoweredLinMotor(true);
-          slider->setTargetLinMotorVelocity(0);
-          slider->setMaxLinMotorForce(spec.friction);  // a force: Bullet divides by the rate
-        }
         joint.constraint = std::move(slider);
+        setJointMotor(static_cast<int>(j), 0, 0);
       } else {
         // getHingeAngle is A's rotation relative to B about the axis: child as A.
-        std::unique_ptr<btHingeConstraint> hinge =
-            spec.friction > 0
-                ? std::make_unique<FrictionHinge>(child, parent, in_child, in_parent, spec.friction)
-                : std::make_unique<btHingeConstraint>(child, parent, in_child, in_parent);
+        auto hinge =
+            std::make_unique<MotorHinge>(child, parent, in_child, in_parent, spec.friction);
         if (limited) {
           // As ODE, which ignores stops outside [-pi, pi]. Bias 1: the stop is corrected at the
           // world's erp like every other constraint; relaxation 0: Bullet uses it as the
@@ -335,6 +418,22 @@ class BulletModel : public EngineModel {
     parent->applyTorque(-0.5 * couple);
   }
 
+  // The joint's motor: friction (vel 0, bound `friction`) unless a velocity motor is on.
+  void setJointMotor(int joint, double velocity, double max_effort) override {
+    Joint& j = joints_[joint];
+    if (!j.constraint) return;
+    const bool on = max_effort > 0;
+    if (!j.spec.prismatic) {
+      static_cast<MotorHinge&>(*j.constraint).setMotor(velocity, max_effort);
+      return;
+    }
+    auto& slider = static_cast<btSliderConstraint&>(*j.constraint);
+    const double bound = on ? max_effort : j.spec.friction;
+    slider.setPoweredLinMotor(bound > 0);
+    slider.setTargetLinMotorVelocity(on ? velocity : 0);
+    slider.setMaxLinMotorForce(bound);  // a force: Bullet divides by the rate
+  }
+
   void addBodyWrench(int body, const Vec3& force, const Vec3& world_point,
                      const Vec3& torque) override {
     btRigidBody& rigid = *bodies_[body].rigid;
@@ -393,8 +492,17 @@ class BulletEngine : public Engine {
     world_.getPairCache()->setOverlapFilterCallback(&filter_);
     btContactSolverInfo& solver = world_.getSolverInfo();
     // ODE's friction pyramid has two directions; Bullet's default, one along the sliding
-    // velocity, lets a body at rest creep sideways under a steady push.
-    solver.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    // velocity, lets a body at rest creep sideways under a steady push. Both are fixed in the
+    // contact plane, as ODE's: along a sliding velocity they turn from step to step, and the
+    // friction impulses the solver starts each step from (warm starting) then push along the
+    // last step's directions. A two-wheeled base yawed 2.5 % faster than its wheels turned.
+    solver.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS |
+                           SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
+    plane_cylinder_.m_swapped = true;
+    dispatcher_.registerCollisionCreateFunc(CYLINDER_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE,
+                                            &cylinder_plane_);
+    dispatcher_.registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, CYLINDER_SHAPE_PROXYTYPE,
+                                            &plane_cylinder_);
   }
 
   void setParams(const PhysicsParams& p) override {
@@ -430,6 +538,7 @@ class BulletEngine : public Engine {
  private:
   // Declared in construction order; the world goes first on destruction.
   btDefaultCollisionConfiguration configuration_;
+  LyingCylinderPlane::CreateFunc cylinder_plane_, plane_cylinder_;
   btCollisionDispatcher dispatcher_{&configuration_};
   btDbvtBroadphase broadphase_;
   btSequentialImpulseConstraintSolver solver_;

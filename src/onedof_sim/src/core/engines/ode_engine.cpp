@@ -15,6 +15,22 @@
 // spaces, bodies and threading implementation are left allocated, and World builds a new engine.
 // Each world steps on a threading implementation of its own rather than ODE's process-wide
 // default, so that the jobs a fault leaves behind cannot reach another world.
+//
+// dWorldStep's Dantzig LCP with friction can fail to solve a well-posed step ("LCP internal
+// error, s <= 0") and keeps the failed, partial solution: the diff-drive base of
+// tests/test_diff_drive.py fails about one step in ten, and still fails with every joint welded,
+// one rigid body on four sphere contacts. Such a step is taken again,
+// from the state it started in, with dWorldQuickStep (ODE's iterative solver, Gazebo's default),
+// and only trouble that solver reports too reaches the world.
+//
+// A cylinder lying on a flat face touches it along a line. dCollide gives that line's two end
+// points on the rims; resolved as two points, their friction opposes the cylinder turning about
+// the normal with mu N w / 2 (w the cylinder's length), twice what a line under uniform pressure
+// does, and drags a wheel's contact to whichever rim the solver loads. lineContact replaces them
+// by the two points at a quarter and three quarters of the line: sharing the load evenly, they
+// give the same total force and the same torque about the normal as the uniform line
+// (mu N w / 4), with the first friction direction along the cylinder's axis, so that the
+// friction pyramid's sides are the wheel's lateral and rolling directions whatever its heading.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -38,6 +54,42 @@ namespace {
 // removed every such failure in those scenes; it is a floor for contacts only, so joints and the
 // reported cfm stay exact.
 constexpr double kMinContactCfm = 1e-10;
+
+// A cylinder lies on a face when its axis is square to the contact normal within this (the sine
+// of the angle between the axis and the face): 10 mrad, 0.7 mm of height over the book's 7 cm
+// wheel. Beyond it only one rim touches, and dCollide's points stand.
+constexpr double kLyingTilt = 0.01;
+
+double dot3(const dReal* a, const dReal* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The two contacts of `cylinder` (cylinder against a flat face) when they are the ends of a side
+// line, as dCollide gives them for a lying cylinder: the same normal, square to the axis, and the
+// segment between them along the axis. Replaces them by the line's quarter points and sets
+// `axis` (unit, in the contact plane) for the first friction direction.
+bool lineContact(dGeomID cylinder, dContactGeom* points, dVector3 axis) {
+  if (dGeomGetClass(cylinder) != dCylinderClass) return false;
+  const dReal* rotation = dGeomGetRotation(cylinder);
+  const dVector3 z = {rotation[2], rotation[6], rotation[10]};  // the cylinder's axis
+  dContactGeom& p = points[0];
+  dContactGeom& q = points[1];
+  const dVector3 segment = {q.pos[0] - p.pos[0], q.pos[1] - p.pos[1], q.pos[2] - p.pos[2]};
+  const double length = std::sqrt(dot3(segment, segment));
+  if (dot3(p.normal, q.normal) < 1 - 1e-9 || std::fabs(dot3(z, p.normal)) > kLyingTilt ||
+      length == 0 || std::fabs(dot3(segment, z)) < length * (1 - 1e-6))
+    return false;
+  const dContactGeom ends[2] = {p, q};
+  const double at[2] = {0.25, 0.75};
+  for (int i = 0; i < 2; ++i) {
+    dContactGeom& point = points[i];
+    for (int k = 0; k < 3; ++k) point.pos[k] = ends[0].pos[k] + at[i] * segment[k];
+    point.depth = ends[0].depth + at[i] * (ends[1].depth - ends[0].depth);
+  }
+  const double across = dot3(z, p.normal);
+  for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * p.normal[k];
+  const double norm = std::sqrt(dot3(axis, axis));
+  for (int k = 0; k < 3; ++k) axis[k] /= norm;
+  return true;
+}
 
 Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
 void toOde(const Quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
@@ -113,14 +165,17 @@ class OdeTrap {
 
 class OdeModel : public EngineModel {
  public:
-  // faulted: the engine's flag (OdeTrap), which outlives the model.
-  OdeModel(dWorldID world, dSpaceID parent_space, const ModelSpec& spec, bool* faulted)
-      : faulted_(faulted) {
+  // faulted: the engine's flag (OdeTrap), which outlives the model; all_bodies: the engine's list
+  // of every body in its world, which this model's bodies join while it lives.
+  OdeModel(dWorldID world, dSpaceID parent_space, const ModelSpec& spec, bool* faulted,
+           std::vector<dBodyID>* all_bodies)
+      : faulted_(faulted), all_bodies_(all_bodies) {
     OdeTrap trap(faulted_);
     space_ = dSimpleSpaceCreate(parent_space);
     for (const BodySpec& spec_body : spec.bodies) {
       dBodyID body = dBodyCreate(world);
       bodies_.push_back(body);
+      all_bodies_->push_back(body);
       body_geoms_.emplace_back();
       for (const ShapeSpec& shape : spec_body.shapes) {
         dGeomID geom = createGeom(shape);
@@ -147,7 +202,7 @@ class OdeModel : public EngineModel {
         set(dParamVel, 0);
         set(dParamFMax, spec_joint.friction);
       }
-      joints_.push_back({joint, spec_joint.parent, spec_joint.child, hinge});
+      joints_.push_back({joint, spec_joint.parent, spec_joint.child, hinge, spec_joint.friction});
     }
   }
 
@@ -156,7 +211,10 @@ class OdeModel : public EngineModel {
     for (const Joint& joint : joints_) dJointDestroy(joint.id);
     dSpaceSetCleanup(space_, 1);  // destroys its geoms
     dSpaceDestroy(space_);
-    for (dBodyID body : bodies_) dBodyDestroy(body);
+    for (dBodyID body : bodies_) {
+      all_bodies_->erase(std::find(all_bodies_->begin(), all_bodies_->end(), body));
+      dBodyDestroy(body);
+    }
   }
 
   void attachJoints(const std::vector<Pose>& zero_poses,
@@ -227,6 +285,23 @@ class OdeModel : public EngineModel {
       dJointAddSliderForce(j.id, effort);
   }
 
+  // ODE's joint motor, the one joint friction uses: a motor replaces the friction while it is on.
+  void setJointMotor(int joint, double velocity, double max_effort) override {
+    const Joint& j = joints_[joint];
+    const bool on = max_effort > 0;
+    const double vel = on ? velocity : 0, fmax = on ? max_effort : j.friction;
+    if (j.hinge) {
+      dJointSetHingeParam(j.id, dParamVel, vel);
+      dJointSetHingeParam(j.id, dParamFMax, fmax);
+    } else {
+      dJointSetSliderParam(j.id, dParamVel, vel);
+      dJointSetSliderParam(j.id, dParamFMax, fmax);
+    }
+    if (!on) return;
+    dBodyEnable(bodies_[j.child]);
+    if (j.parent >= 0) dBodyEnable(bodies_[j.parent]);
+  }
+
   void addBodyWrench(int body, const Vec3& force, const Vec3& point, const Vec3& torque) override {
     OdeTrap trap(faulted_);
     dBodyID id = bodies_[body];
@@ -240,6 +315,7 @@ class OdeModel : public EngineModel {
     dJointID id;
     int parent, child;
     bool hinge;
+    double friction;  // Coulomb friction, the motor's bound while no velocity motor is on
   };
 
   void setMass(int body, const BodySpec& spec) {
@@ -270,6 +346,7 @@ class OdeModel : public EngineModel {
   }
 
   bool* faulted_;
+  std::vector<dBodyID>* all_bodies_;
   dSpaceID space_ = nullptr;
   std::vector<dBodyID> bodies_;
   std::vector<std::vector<dGeomID>> body_geoms_;  // per body, in its BodySpec's shape order
@@ -326,7 +403,7 @@ class OdeEngine : public Engine {
   }
 
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
-    return std::make_unique<OdeModel>(world_, space_, spec, &faulted_);
+    return std::make_unique<OdeModel>(world_, space_, spec, &faulted_, &bodies_);
   }
 
   bool exactSolver(const PhysicsParams& params) const override { return !params.quick_step; }
@@ -337,10 +414,18 @@ class OdeEngine : public Engine {
     stepping_message_set = false;
     try {
       dSpaceCollide(space_, this, &nearCallback);
-      if (params_.quick_step)
+      if (params_.quick_step) {
         dWorldQuickStep(world_, dt);
-      else
+      } else {
+        saveBodies();
         dWorldStep(world_, dt);
+        if (stepping_message_set) {  // the exact solve failed: see the top of the file
+          restoreBodies();
+          solver_message->clear();
+          stepping_message_set = false;
+          dWorldQuickStep(world_, dt);
+        }
+      }
     } catch (const EngineFault&) {
       stepping_message = nullptr;
       throw;
@@ -368,9 +453,21 @@ class OdeEngine : public Engine {
     const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
     const int count = dCollide(a, b, static_cast<int>(contact_buffer_.size()),
                                &contact_buffer_[0].geom, sizeof(dContact));
+    dContactGeom line[2];
+    dVector3 axis;
+    bool lying = false;
+    if (count == 2) {
+      line[0] = contact_buffer_[0].geom, line[1] = contact_buffer_[1].geom;
+      lying = lineContact(a, line, axis) || lineContact(b, line, axis);
+      if (lying) contact_buffer_[0].geom = line[0], contact_buffer_[1].geom = line[1];
+    }
     for (int i = 0; i < count; ++i) {
       dContact& contact = contact_buffer_[i];
       contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM;
+      if (lying) {
+        contact.surface.mode |= dContactFDir1;
+        for (int k = 0; k < 3; ++k) contact.fdir1[k] = axis[k];
+      }
       contact.surface.mu = std::min(surface_a->mu, surface_b->mu);
       contact.surface.mu2 = std::min(surface_a->mu2, surface_b->mu2);
       contact.surface.soft_erp = params_.erp;
@@ -380,8 +477,44 @@ class OdeEngine : public Engine {
     }
   }
 
+  // The bodies' state before a dWorldStep, for taking the step again: with the forces and
+  // torques added for it, which the step clears.
+  struct SavedBody {
+    dBodyID id;
+    dVector3 position, linear, angular, force, torque;
+    dQuaternion orientation;
+  };
+
+  void saveBodies() {
+    saved_.resize(bodies_.size());
+    auto copy = [](dReal* out, const dReal* in, int n) { std::copy(in, in + n, out); };
+    for (size_t i = 0; i < bodies_.size(); ++i) {
+      SavedBody& saved = saved_[i];
+      const dBodyID body = saved.id = bodies_[i];
+      copy(saved.position, dBodyGetPosition(body), 3);
+      copy(saved.orientation, dBodyGetQuaternion(body), 4);
+      copy(saved.linear, dBodyGetLinearVel(body), 3);
+      copy(saved.angular, dBodyGetAngularVel(body), 3);
+      copy(saved.force, dBodyGetForce(body), 3);
+      copy(saved.torque, dBodyGetTorque(body), 3);
+    }
+  }
+
+  void restoreBodies() {
+    for (const SavedBody& s : saved_) {
+      dBodySetPosition(s.id, s.position[0], s.position[1], s.position[2]);
+      dBodySetQuaternion(s.id, s.orientation);
+      dBodySetLinearVel(s.id, s.linear[0], s.linear[1], s.linear[2]);
+      dBodySetAngularVel(s.id, s.angular[0], s.angular[1], s.angular[2]);
+      dBodySetForce(s.id, s.force[0], s.force[1], s.force[2]);
+      dBodySetTorque(s.id, s.torque[0], s.torque[1], s.torque[2]);
+    }
+  }
+
   PhysicsParams params_;
   bool faulted_ = false;  // an ODE internal error left the objects below inconsistent (OdeTrap)
+  std::vector<dBodyID> bodies_;  // every model's, in the world
+  std::vector<SavedBody> saved_;
   dWorldID world_ = nullptr;
   dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;

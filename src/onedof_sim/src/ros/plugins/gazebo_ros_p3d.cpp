@@ -1,0 +1,161 @@
+// libgazebo_ros_p3d.so (gazebo_plugins' GazeboRosP3D): a link's ground truth as nav_msgs/Odometry
+// on <topicName>: its pose and twist in <frameName> ("world" or "map", the default "world", or
+// another link of the model), moved by <xyzOffset> and turned by <rpyOffset>, the twist with
+// Gaussian noise of <gaussianNoise> (standard deviation), at <updateRate> of sim time (0: every
+// step), stamped in sim time, while anyone subscribes. Relative to a link, pose and twist are as
+// get_link_state gives them in that link's frame.
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include <nav_msgs/Odometry.h>
+#include <ros/console.h>
+
+#include "conversions.h"
+#include "model_plugin.h"
+#include "plugin_params.h"
+
+namespace onedof_sim::plugins {
+namespace {
+
+struct P3dParams {
+  std::string body;              // <bodyName>, a link of the model
+  std::string topic;             // <topicName>
+  std::string frame = "world";   // <frameName>
+  std::string reference;         // the World's reference frame: "" or "model::link"
+  Vec3 xyz_offset;
+  Quat rpy_offset;
+  double gaussian_noise = 0;
+  double update_rate = 0;
+};
+
+bool readVector(const PluginParams& params, const char* tag, Vec3* out, std::string* error) {
+  if (!params.has(tag)) return true;
+  std::istringstream in(params.text(tag, ""));
+  if (!(in >> out->x >> out->y >> out->z)) {
+    *error = "<" + std::string(tag) + "> is not three numbers";
+    return false;
+  }
+  return true;
+}
+
+// The core's pose arithmetic is private to it; the offsets need these two.
+Quat product(const Quat& a, const Quat& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+
+// Fixed-axis roll, pitch, yaw: Rz(yaw) Ry(pitch) Rx(roll).
+Quat fromRpy(const Vec3& rpy) {
+  const double cr = std::cos(rpy.x / 2), sr = std::sin(rpy.x / 2);
+  const double cp = std::cos(rpy.y / 2), sp = std::sin(rpy.y / 2);
+  const double cy = std::cos(rpy.z / 2), sy = std::sin(rpy.z / 2);
+  return {cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+          cr * cp * sy - sr * sp * cy};
+}
+
+class GazeboRosP3d : public ModelPlugin {
+ public:
+  GazeboRosP3d(const ModelPluginContext& context, const P3dParams& params)
+      : model_(context.model), params_(params), node_(context.node), noise_(0.0, 1.0) {
+    frame_id_ = resolveTfFrame(tfPrefix(node_), params_.frame);
+    {
+      std::unique_lock<std::mutex> lock = context.lock_world();
+      last_ns_ = context.world->timeNs();
+    }
+    publisher_ = node_.advertise<nav_msgs::Odometry>(params_.topic, 1);
+  }
+
+  void beforeStep(World& world, const StepTime& at) override {
+    if (at.time_ns < last_ns_) last_ns_ = at.time_ns;  // reset_simulation
+    const int64_t elapsed = at.time_ns - last_ns_;
+    if (params_.update_rate > 0 && elapsed * 1e-9 < 1.0 / params_.update_rate) return;
+    if (elapsed == 0 || publisher_.getNumSubscribers() == 0) return;
+    last_ns_ = at.time_ns;
+    Pose pose;
+    Twist twist;
+    if (!world.linkState(model_ + "::" + params_.body, params_.reference, &pose, &twist).ok())
+      return;
+    pose.position = {pose.position.x + params_.xyz_offset.x, pose.position.y + params_.xyz_offset.y,
+                     pose.position.z + params_.xyz_offset.z};
+    pose.orientation = product(params_.rpy_offset, pose.orientation);
+    nav_msgs::Odometry msg;
+    msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
+    msg.header.frame_id = frame_id_;
+    msg.child_frame_id = params_.body;
+    msg.pose.pose = toMsg(pose);
+    const double sigma = params_.gaussian_noise;
+    auto noisy = [&](double value) { return sigma > 0 ? value + sigma * noise_(random_) : value; };
+    msg.twist.twist.linear.x = noisy(twist.linear.x);
+    msg.twist.twist.linear.y = noisy(twist.linear.y);
+    msg.twist.twist.linear.z = noisy(twist.linear.z);
+    msg.twist.twist.angular.x = noisy(twist.angular.x);
+    msg.twist.twist.angular.y = noisy(twist.angular.y);
+    msg.twist.twist.angular.z = noisy(twist.angular.z);
+    for (int i : {0, 7, 14, 21, 28, 35})
+      msg.pose.covariance[i] = msg.twist.covariance[i] = sigma * sigma;
+    ros::Publisher publisher = publisher_;
+    pending_.push_back([publisher, msg] { publisher.publish(msg); });
+  }
+
+  std::vector<Publication> takePublications() override {
+    std::vector<Publication> out;
+    out.swap(pending_);
+    return out;
+  }
+
+ private:
+  std::string model_;
+  P3dParams params_;
+  ros::NodeHandle node_;
+  std::string frame_id_;
+  ros::Publisher publisher_;
+  int64_t last_ns_ = 0;
+  std::mt19937 random_{std::random_device{}()};
+  std::normal_distribution<double> noise_;
+  std::vector<Publication> pending_;
+};
+
+}  // namespace
+
+std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext& context,
+                                              std::string* error) {
+  const PluginParams params(context.plugin_xml, "gazebo_ros_p3d (" + context.model + ")");
+  P3dParams p;
+  if (!params.has("bodyName")) {
+    *error = "missing <bodyName>";
+    return nullptr;
+  }
+  if (!params.has("topicName")) {
+    *error = "missing <topicName>";
+    return nullptr;
+  }
+  p.body = params.text("bodyName", "");
+  p.topic = params.text("topicName", "");
+  p.frame = params.text("frameName", p.frame);
+  Vec3 rpy;
+  if (!readVector(params, "xyzOffset", &p.xyz_offset, error) ||
+      !readVector(params, "rpyOffset", &rpy, error) ||
+      !params.number("gaussianNoise", 0, &p.gaussian_noise, error) ||
+      !params.number("updateRate", 0, &p.update_rate, error))
+    return nullptr;
+  p.rpy_offset = fromRpy(rpy);
+  const bool world_frame =
+      p.frame == "world" || p.frame == "/world" || p.frame == "map" || p.frame == "/map";
+  if (!world_frame) p.reference = context.model + "::" + p.frame;
+  {
+    std::unique_lock<std::mutex> lock = context.lock_world();
+    LinkInfo info;
+    if (!context.world->linkProperties(context.model + "::" + p.body, &info).ok()) {
+      *error = "bodyName: " + p.body + " does not exist";
+      return nullptr;
+    }
+    if (!world_frame && !context.world->linkProperties(p.reference, &info).ok()) {
+      *error = "frameName: " + p.frame + " does not exist";
+      return nullptr;
+    }
+  }
+  return std::make_unique<GazeboRosP3d>(context, p);
+}
+
+}  // namespace onedof_sim::plugins
