@@ -69,8 +69,8 @@ commands: | deps venv build
 	missing=$$(awk '!/^#/ && NF {print $$1 " (" $$2 ")"}' $(REQUIRED_COMMANDS) | while read command from; do \
 	  case "$$command" in \
 	    */*) package=$${command%/*} executable=$${command#*/}; \
-	         { dir=$$(rospack find $$package) && { catkin_find --libexec $$package $$executable \
-	           || find -L "$$dir" -type f -name $$executable -perm /111 | grep -q .; }; } >/dev/null 2>&1 \
+	         { dir=$$(rospack find $$package) && { catkin_find --libexec $$package $$executable; \
+	           find -L "$$dir" -type f -name $$executable -perm /111; } | grep -q .; } >/dev/null 2>&1 \
 	           || echo "  rosrun $$package $$executable $$from";; \
 	    *) PATH=$(VENV)/bin:$(WS)/$(DEVEL)/bin:$$PATH command -v "$$command" >/dev/null || echo "  $$command $$from";; \
 	  esac; done); \
