@@ -1,7 +1,10 @@
-"""The book's own minimal_robot_description (learning_ros, Part_2; its files as printed in
-tests/learning_ros) in an overlay on this workspace, as the README's recipe builds it: it
-shadows ours, and its launch files start the simulator, spawn the robot (from a URDF, and from a
-xacro through `$(find xacro)/xacro`) and run its controllers.
+"""A package in the shape of the book's minimal_robot_description (learning_ros, Part_2), of our
+own making (tests/book_shaped): the same package name and launch file names, and the same ROS
+features (an included empty_world.launch, spawn_model from a parameter, controllers from a YAML
+started by the spawner, a robot converted by `$(find xacro)/xacro` from a xacro that includes
+macros by `$(find)`), over robots written for this test. Built in an overlay on this workspace, as
+the README's recipe builds the book's: it shadows ours, and its launch files start the simulator,
+spawn the robot and run its controllers.
 
 The overlay is built once for the session's tests: a folder beside the workers' own, under a
 lock (book_client.shared_overlay)."""
@@ -14,7 +17,7 @@ from conftest import start_sim
 from controller_manager_cli import NS, listing
 from onedof_harness import book_client
 
-BOOK_PACKAGE = os.path.join('learning_ros', 'minimal_robot_description')
+BOOK_PACKAGE = os.path.join('book_shaped', 'minimal_robot_description')
 
 
 @pytest.fixture
@@ -28,7 +31,7 @@ def in_overlay(setup, *command):
     return ['bash', '-c', 'source %s && exec "$@"' % setup, 'overlay'] + list(command)
 
 
-def test_the_books_package_shadows_ours(ros, overlay):
+def test_the_overlays_package_shadows_ours(ros, overlay):
     found = ros.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'))
     assert found.returncode == 0, found.stderr
     overlay_root = os.path.dirname(os.path.dirname(overlay))  # <overlay>/devel/setup.bash
@@ -73,7 +76,7 @@ def test_minimal_robot_w_jnt_ctl_launch_runs_the_books_controllers(ros, rospy_cl
 def test_prismatic_robot_from_xacro_spawns_with_its_velocity_controller(
         ros, rospy_client, overlay):
     """prismatic_1dof_robot_w_jnt_ctl.launch converts its robot with `$(find xacro)/xacro` and
-    spawns it into a running simulator, as the book runs it after empty_world.launch."""
+    spawns it into a running simulator, as the book's runs after empty_world.launch."""
     start_sim(ros)
     ros.start(in_overlay(overlay, 'roslaunch', 'minimal_robot_description',
                          'prismatic_1dof_robot_w_jnt_ctl.launch'), name='roslaunch')
