@@ -31,6 +31,8 @@ PYTEST_ARGS ?=
 REQUIRED_COMMANDS := $(WS)/scripts/required-commands
 COMMAND_PACKAGES := $(shell awk '!/^\#/ && NF && $$2 !~ /^(requirements.txt|workspace)$$/ {print $$2}' $(REQUIRED_COMMANDS) | sort -u)
 # The libraries, headers and Python modules the build and the nodes use, and those commands' packages.
+# libtf-dev and libimage-view-dev carry the manifests rosrun needs to find tf's and image_view's
+# tools; Eigen 3 and cmake_modules (ros-cmake-modules) are what the book's C++ packages build with.
 APT_PACKAGES := \
   ca-certificates build-essential cmake \
   ros-core-dev python3-rospy python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
@@ -39,6 +41,7 @@ APT_PACKAGES := \
   python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
   procps python3-tk \
+  libtf-dev libimage-view-dev libeigen3-dev ros-cmake-modules \
   $(COMMAND_PACKAGES)
 
 # Set-up steps print one line each (what, how long); their full output goes to SETUP_LOG, and a
@@ -60,9 +63,18 @@ SOURCES := $(shell find $(WS)/src -type f -not -name '*.pyc' -not -path '*/__pyc
 setup: deps venv build commands
 
 # Fails set-up, naming the package to install, when a command the targets or tests run is missing.
+# A PACKAGE/EXECUTABLE entry is one `rosrun PACKAGE EXECUTABLE` runs: its manifest and executable
+# are looked up as rosrun does (the package's libexec folder, then the package's own folder).
 commands: | deps venv build
-	@missing=$$(awk '!/^#/ && NF {print $$1 " (" $$2 ")"}' $(REQUIRED_COMMANDS) | while read command from; do \
-	  PATH=$(VENV)/bin:$(WS)/$(DEVEL)/bin:$$PATH command -v "$$command" >/dev/null || echo "  $$command $$from"; done); \
+	@source $(WS)/$(DEVEL)/setup.bash; \
+	missing=$$(awk '!/^#/ && NF {print $$1 " (" $$2 ")"}' $(REQUIRED_COMMANDS) | while read command from; do \
+	  case "$$command" in \
+	    */*) package=$${command%/*} executable=$${command#*/}; \
+	         { dir=$$(rospack find $$package) && { catkin_find --libexec $$package $$executable; \
+	           find -L "$$dir" -type f -name $$executable -perm /111; } | grep -q .; } >/dev/null 2>&1 \
+	           || echo "  rosrun $$package $$executable $$from";; \
+	    *) PATH=$(VENV)/bin:$(WS)/$(DEVEL)/bin:$$PATH command -v "$$command" >/dev/null || echo "  $$command $$from";; \
+	  esac; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "set-up: these commands are missing (from $(REQUIRED_COMMANDS)):"; echo "$$missing"; exit 1; fi
 

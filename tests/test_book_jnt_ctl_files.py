@@ -10,7 +10,7 @@ import xml.etree.ElementTree as ET
 import yaml
 
 from api_client import ROBOT, GazeboApi
-from conftest import TUTORIAL_URDF, WORKSPACE, start_sim
+from conftest import TUTORIAL_URDF, WORKSPACE
 from controller_manager_cli import NS, listing
 from onedof_harness.private_ros import wait_until
 
@@ -83,11 +83,12 @@ def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_node
 
 
 def test_book_launch_runs_as_printed(ros, rospy_client):
-    start_sim(ros, args=['_max_update_rate:=0'])  # the settling's sim time in a few wall seconds
+    """The launch file starts the simulator itself (its empty_world.launch include)."""
+    ros.set_param('/gazebo/max_update_rate', 0)  # the settling's sim time in a few wall seconds
     launch_spawns_robot_and_controllers(
         ros, rospy_client,
         ['roslaunch', 'minimal_robot_description', 'minimal_robot_w_jnt_ctl.launch'],
-        [NS + '/controller_spawner', '/spawn_urdf'])
+        ['/gazebo', '/gazebo_gui', NS + '/controller_spawner', '/spawn_urdf'])
 
 
 def test_our_launch_starts_the_simulator_too(ros, rospy_client):

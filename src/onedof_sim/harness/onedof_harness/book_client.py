@@ -15,13 +15,14 @@ EXECUTABLES = {100: 'book_controller', 1000: 'book_controller_1khz'}
 NODE = '/book_controller'
 
 
-def build_overlay(directory):
-    """catkin_make of the client in directory/overlay, under the workspace devel of this process's
-    environment; returns the overlay's devel/setup.bash. Raises RuntimeError with the build's
-    output when it fails."""
+def build_overlay(directory, packages=(PACKAGE,)):
+    """catkin_make of packages (folders under the workspace's tests/, the client by default) in
+    directory/overlay, under the workspace devel of this process's environment; returns the
+    overlay's devel/setup.bash. Raises RuntimeError with the build's output when it fails."""
     overlay = os.path.join(str(directory), 'overlay')
-    shutil.copytree(os.path.join(workspace_root(), 'tests', PACKAGE),
-                    os.path.join(overlay, 'src', PACKAGE))
+    for package in packages:
+        shutil.copytree(os.path.join(workspace_root(), 'tests', package),
+                        os.path.join(overlay, 'src', os.path.basename(package)))
     env = dict(os.environ)
     env.pop('PYTHONPATH', None)  # as the Makefile builds: catkin_make sets its own
     # -C: catkin_make takes the workspace from $PWD (inherited: this workspace's), not the cwd.
@@ -31,12 +32,12 @@ def build_overlay(directory):
                             text=True, timeout=600)
     if result.returncode != 0:
         raise RuntimeError('catkin_make of %s failed:\n%s%s' % (
-            PACKAGE, result.stdout[-3000:], result.stderr[-3000:]))
+            ', '.join(packages), result.stdout[-3000:], result.stderr[-3000:]))
     return os.path.join(overlay, 'devel', 'setup.bash')
 
 
-def shared_overlay(folder):
-    """build_overlay(folder) done once for every process that asks with the same folder (an
+def shared_overlay(folder, packages=(PACKAGE,)):
+    """build_overlay(folder, packages) done once for every process that asks with the same folder (an
     exclusive lock while it builds); returns the overlay's devel/setup.bash."""
     folder = str(folder)
     os.makedirs(folder, exist_ok=True)
@@ -46,7 +47,7 @@ def shared_overlay(folder):
         if not os.path.exists(built):
             # catkin_make writes setup.bash before it compiles: only this file says it succeeded.
             shutil.rmtree(os.path.join(folder, 'overlay'), ignore_errors=True)
-            setup = build_overlay(folder)
+            setup = build_overlay(folder, packages)
             with open(built, 'w') as f:
                 f.write(setup)
         with open(built) as f:

@@ -1,0 +1,90 @@
+"""A package in the shape of the book's minimal_robot_description (learning_ros, Part_2), of our
+own making (tests/book_shaped): the same package name and launch file names, and the same ROS
+features (an included empty_world.launch, spawn_model from a parameter, controllers from a YAML
+started by the spawner, a robot converted by `$(find xacro)/xacro` from a xacro that includes
+macros by `$(find)`), over robots written for this test. Built in an overlay on this workspace, as
+the README's recipe builds the book's: it shadows ours, and its launch files start the simulator,
+spawn the robot and run its controllers.
+
+The overlay is built once for the session's tests: a folder beside the workers' own, under a
+lock (book_client.shared_overlay)."""
+import os
+
+import pytest
+
+from api_client import ROBOT, GazeboApi, ros_duration, ros_time
+from conftest import start_sim
+from controller_manager_cli import NS, listing
+from onedof_harness import book_client
+
+BOOK_PACKAGE = os.path.join('book_shaped', 'minimal_robot_description')
+
+
+@pytest.fixture
+def overlay(tmp_path_factory):
+    """The overlay's setup.bash."""
+    folder = tmp_path_factory.getbasetemp().parent / 'book_minimal_robot_description'
+    return book_client.shared_overlay(folder, packages=(BOOK_PACKAGE,))
+
+
+def in_overlay(setup, *command):
+    return ['bash', '-c', 'source %s && exec "$@"' % setup, 'overlay'] + list(command)
+
+
+def test_the_overlays_package_shadows_ours(ros, overlay):
+    found = ros.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'))
+    assert found.returncode == 0, found.stderr
+    overlay_root = os.path.dirname(os.path.dirname(overlay))  # <overlay>/devel/setup.bash
+    assert found.stdout.strip() == os.path.join(overlay_root, 'src', 'minimal_robot_description')
+
+
+def robot_responds(ros, api):
+    """The spawned robot's joint1 turns under an effort applied now (upright, gravity alone
+    would not tip it)."""
+    ros.wait_until(lambda: ROBOT in api.get_world_properties().model_names, 120,
+                   what=ROBOT + ' spawned')
+    api.unpause_physics()
+    start = api.get_joint_properties('joint1').position[0]
+    api.apply_joint_effort('joint1', 5.0, ros_time(api.sim_time_ns()), ros_duration(10 ** 9))
+    ros.wait_until(lambda: abs(api.get_joint_properties('joint1').position[0] - start) > 0.01,
+                   120, what='joint1 to move')
+
+
+def test_minimal_robot_description_launch_starts_the_simulator_and_spawns(
+        ros, rospy_client, overlay):
+    ros.start(in_overlay(overlay, 'roslaunch', 'minimal_robot_description',
+                         'minimal_robot_description.launch', 'gui:=false'), name='roslaunch')
+    ros.wait_until(lambda: ros.has_service('/gazebo/get_world_properties'), 120,
+                   what='the simulator the launch file starts')
+    robot_responds(ros, GazeboApi(rospy_client))
+
+
+def test_minimal_robot_w_jnt_ctl_launch_runs_the_books_controllers(ros, rospy_client, overlay):
+    ros.set_param('/gazebo/max_update_rate', 0)  # the settling's sim time in a few wall seconds
+    ros.start(in_overlay(overlay, 'roslaunch', 'minimal_robot_description',
+                         'minimal_robot_w_jnt_ctl.launch'), name='roslaunch')
+    ros.wait_until(lambda: ros.has_service(NS + '/controller_manager/list_controllers')
+                   and len(listing(ros)) == 2 and all('running' in c for c in listing(ros)),
+                   180, what='the book launch file\'s two controllers running')
+    api = GazeboApi(rospy_client)
+    ros.start(['rostopic', 'pub', NS + '/joint1_position_controller/command',
+               'std_msgs/Float64', '1.0'], name='rostopic_pub')
+    ros.wait_until(lambda: abs(api.get_joint_properties('joint1').position[0] - 1.0) < 0.05,
+                   180, what='joint1 to come to the commanded 1.0 rad')
+
+
+def test_prismatic_robot_from_xacro_spawns_with_its_velocity_controller(
+        ros, rospy_client, overlay):
+    """prismatic_1dof_robot_w_jnt_ctl.launch converts its robot with `$(find xacro)/xacro` and
+    spawns it into a running simulator, as the book's runs after empty_world.launch."""
+    start_sim(ros)
+    ros.start(in_overlay(overlay, 'roslaunch', 'minimal_robot_description',
+                         'prismatic_1dof_robot_w_jnt_ctl.launch'), name='roslaunch')
+    api = GazeboApi(rospy_client)
+    ros.wait_until(lambda: ROBOT in api.get_world_properties().model_names, 120,
+                   what='the prismatic robot spawned')
+    assert api.get_joint_properties('joint1').success
+    ros.wait_until(lambda: ros.has_service(NS + '/controller_manager/list_controllers')
+                   and any('joint1_velocity_controller' in c and 'running' in c
+                           for c in listing(ros)), 180,
+                   what='the velocity controller running')
