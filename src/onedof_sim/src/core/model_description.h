@@ -4,9 +4,11 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "mesh_loader.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -62,11 +64,22 @@ constexpr size_t kMaxModelIncludes = 100;
 // 8 ms, 200 about 70 ms, 1000 seconds). The iterative solvers (ODE's quick_step, Bullet) grow
 // linearly, about 10 us a joint, so the link limit bounds them at about 10 ms a step.
 constexpr size_t kMaxExactSolverJoints = 50;
+// Triangles of one collision mesh and of all the collision meshes of a model. A robot's
+// collision meshes have hundreds to a few thousand triangles each (rviz and Gazebo users
+// decimate them); a scanned part may have a hundred thousand. A contact pass finds the triangles
+// near a shape through a bounding-volume tree, so a step's cost grows with the triangles in
+// touch, but building the tree and a moving mesh's every bound update grow with all of them.
+constexpr size_t kMaxMeshTriangles = 100000;
+constexpr size_t kMaxModelMeshTriangles = 200000;
+// A mesh file's size, checked before it is read: an ASCII STL of kMaxMeshTriangles is about
+// 25 MB, a binary one 5 MB.
+constexpr size_t kMaxMeshFileBytes = 50000000;
 
 struct CollisionDescription {
   std::string name;
   GeometryShape shape = GeometryShape::Box;
   Vec3 size;  // as CollisionShape::size
+  std::shared_ptr<const TriangleMesh> mesh;  // Mesh: scaled by size
   Pose pose;  // in the link frame
   // Gazebo's defaults for a model surface; a contact uses the smaller value of the two geoms.
   double mu = 1, mu2 = 1;
@@ -116,11 +129,12 @@ inline Status rejected(std::string reason) {
 // parse). Ok for XML that is not well-formed: the parser then says why.
 Status precheckModelXml(const std::string& xml, ModelFormat format);
 
-// Both fill `out` only on success; else ModelRejected with the reason.
-Status parseUrdf(const std::string& xml, ModelDescription* out);
-// model_path: absolute folders where model://NAME URIs are looked up, in order (an <include>'s
-// model, a mesh file). An SDF may also be gazebo_ros' -database request, a <world> whose one
+// Both fill `out` only on success; else ModelRejected with the reason. model_path: absolute
+// folders where model://NAME URIs are looked up, in order (an <include>'s model, a mesh file:
+// resolveMeshUri). An SDF may also be gazebo_ros' -database request, a <world> whose one
 // <include> names the model; the include's <pose> is then the model's pose in the spawn frame.
+Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_path,
+                 ModelDescription* out);
 Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
                 ModelDescription* out);
 

@@ -156,6 +156,7 @@ class OdeModel : public EngineModel {
     for (const Joint& joint : joints_) dJointDestroy(joint.id);
     dSpaceSetCleanup(space_, 1);  // destroys its geoms
     dSpaceDestroy(space_);
+    for (dTriMeshDataID data : mesh_data_) dGeomTriMeshDataDestroy(data);  // after their geoms
     for (dBodyID body : bodies_) dBodyDestroy(body);
   }
 
@@ -256,10 +257,28 @@ class OdeModel : public EngineModel {
     const Vec3& s = shape.size;
     dGeomID geom = shape.shape == GeometryShape::Box        ? dCreateBox(space_, s.x, s.y, s.z)
                    : shape.shape == GeometryShape::Cylinder ? dCreateCylinder(space_, s.x, s.z)
+                   : shape.shape == GeometryShape::Mesh     ? createTriMesh(*shape.mesh)
                                                             : dCreateSphere(space_, s.x);
+    if (shape.mesh) meshes_.push_back(shape.mesh);
     surfaces_.push_back({shape.mu, shape.mu2});
     dGeomSetData(geom, &surfaces_.back());  // a deque: never moves
     return geom;
+  }
+
+  // A dGeomTriMesh over the mesh's own arrays (ODE copies neither: meshes_ keeps them). ODE 0.16
+  // with OPCODE collides a trimesh with spheres, boxes, capsules, cylinders, planes, rays and
+  // other trimeshes; trimesh against convex hulls and heightfields would need libccd, and no
+  // shape here is either.
+  dGeomID createTriMesh(const TriangleMesh& mesh) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(dTriIndex) == sizeof(uint32_t),
+                  "the mesh's arrays are handed to ODE as they are");
+    dTriMeshDataID data = dGeomTriMeshDataCreate();
+    mesh_data_.push_back(data);
+    dGeomTriMeshDataBuildDouble(data, mesh.vertices.data(), sizeof(Vec3),
+                                static_cast<int>(mesh.vertices.size()), mesh.triangles.data(),
+                                static_cast<int>(3 * mesh.triangles.size()),
+                                sizeof(mesh.triangles[0]));
+    return dCreateTriMesh(space_, data, nullptr, nullptr, nullptr);
   }
 
   static void setPose(dBodyID body, const Pose& pose) {
@@ -276,6 +295,8 @@ class OdeModel : public EngineModel {
   std::vector<dGeomID> anchored_;
   std::vector<Joint> joints_;
   std::deque<Surface> surfaces_;
+  std::vector<dTriMeshDataID> mesh_data_;
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes_;  // what mesh_data_ points into
 };
 
 class OdeEngine : public Engine {
