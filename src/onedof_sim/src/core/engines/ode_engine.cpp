@@ -39,6 +39,13 @@ namespace {
 // reported cfm stay exact.
 constexpr double kMinContactCfm = 1e-10;
 
+// A trimesh gives a contact for each of its vertices or triangles in touch, in the mesh's order,
+// and dCollide stops when the buffer is full: a dense mesh's first max_contacts points can all lie
+// along one edge of what touches, and the rest of it sinks in (a 0.2 m box of 19,200 triangles on
+// the ground sank 75 mm with 20). As Gazebo's ODE collides (MAX_COLLIDE_RETURNS), up to this many
+// points are asked for and the max_contacts deepest kept.
+constexpr int kMeshContactCandidates = 250;
+
 Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
 void toOde(const Quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
 
@@ -387,8 +394,7 @@ class OdeEngine : public Engine {
     if ((!body_a && !body_b) || contact_buffer_.empty()) return;
     const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
-    const int count = dCollide(a, b, static_cast<int>(contact_buffer_.size()),
-                               &contact_buffer_[0].geom, sizeof(dContact));
+    const int count = collide(a, b);
     for (int i = 0; i < count; ++i) {
       dContact& contact = contact_buffer_[i];
       contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM;
@@ -401,6 +407,23 @@ class OdeEngine : public Engine {
     }
   }
 
+  // dCollide into contact_buffer_: at most its size, a trimesh pair's deepest.
+  int collide(dGeomID a, dGeomID b) {
+    const int wanted = static_cast<int>(contact_buffer_.size());
+    if (dGeomGetClass(a) != dTriMeshClass && dGeomGetClass(b) != dTriMeshClass)
+      return dCollide(a, b, wanted, &contact_buffer_[0].geom, sizeof(dContact));
+    mesh_candidates_.resize(kMeshContactCandidates);
+    int count = dCollide(a, b, kMeshContactCandidates, mesh_candidates_.data(), sizeof(dContactGeom));
+    if (count > wanted) {
+      std::partial_sort(mesh_candidates_.begin(), mesh_candidates_.begin() + wanted,
+                        mesh_candidates_.begin() + count,
+                        [](const dContactGeom& x, const dContactGeom& y) { return x.depth > y.depth; });
+      count = wanted;
+    }
+    for (int i = 0; i < count; ++i) contact_buffer_[i].geom = mesh_candidates_[i];
+    return count;
+  }
+
   PhysicsParams params_;
   bool faulted_ = false;  // an ODE internal error left the objects below inconsistent (OdeTrap)
   dWorldID world_ = nullptr;
@@ -409,6 +432,7 @@ class OdeEngine : public Engine {
   dJointGroupID contact_group_ = nullptr;
   Surface ground_surface_;
   std::vector<dContact> contact_buffer_;
+  std::vector<dContactGeom> mesh_candidates_;
 };
 
 }  // namespace
