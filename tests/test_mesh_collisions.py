@@ -96,8 +96,8 @@ def test_meshes_past_the_limit_missing_unreadable_or_unknown_are_refused(api, tm
         return res.status_message
 
     past = tmp_path / 'past.stl'
-    past.write_bytes(binary_stl(100001))
-    assert ('the mesh file %s has 100001 triangles; at most 100000 are accepted per mesh' % past
+    past.write_bytes(binary_stl(20001))
+    assert ('the mesh file %s has 20001 triangles; at most 20000 are accepted per mesh' % past
             in refused('file://%s' % past))
 
     assert ("the mesh '%s/meshes/gone.stl', which is not found" % MODEL
