@@ -148,15 +148,17 @@ struct ModelInfo {
   bool is_static = false;
 };
 
-enum class GeometryShape { Box, Cylinder, Sphere, Plane };
+// Mesh: a triangle mesh read from a file (STL, COLLADA), scaled.
+enum class GeometryShape { Box, Cylinder, Sphere, Plane, Mesh };
 
 // One collision shape in world coordinates, for visualisation (rviz MarkerArray).
 struct CollisionShape {
   std::string model;
   std::string link;
   GeometryShape shape = GeometryShape::Box;
-  Vec3 size;  // box: x y z; cylinder: radius, -, length; sphere: radius
-  Pose pose;  // world pose of the shape's centre
+  Vec3 size;  // box: x y z; cylinder: radius, -, length; sphere: radius; mesh: its scale
+  Pose pose;  // world pose of the shape's centre (a mesh's: of its file's origin)
+  std::string mesh_file;  // mesh: the file it was read from (absolute)
 };
 
 enum class ModelFormat { Urdf, Sdf };

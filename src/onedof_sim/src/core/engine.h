@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_loader.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -32,13 +33,16 @@ class EngineFault : public std::runtime_error {
 };
 
 struct ShapeSpec {
-  // Box, Cylinder (along z) or Sphere; never Plane (the ground is addGroundPlane).
+  // Box, Cylinder (along z), Sphere or Mesh; never Plane (the ground is addGroundPlane).
   GeometryShape shape = GeometryShape::Box;
   Vec3 size;   // as CollisionShape::size
   Pose pose;   // in the body frame; for an anchored shape, set by setAnchoredShapePose
   // A contact uses the smaller value of its two shapes; an engine with isotropic friction
   // (Bullet) uses mu only.
   double mu = 1, mu2 = 1;
+  // Mesh: the triangles, already scaled, in the shape's frame. The engine may keep pointers into
+  // it while it holds this pointer.
+  std::shared_ptr<const TriangleMesh> mesh;
 };
 
 struct BodySpec {

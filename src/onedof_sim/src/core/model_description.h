@@ -4,9 +4,11 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "mesh_loader.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -62,11 +64,26 @@ constexpr size_t kMaxModelIncludes = 100;
 // 8 ms, 200 about 70 ms, 1000 seconds). The iterative solvers (ODE's quick_step, Bullet) grow
 // linearly, about 10 us a joint, so the link limit bounds them at about 10 ms a step.
 constexpr size_t kMaxExactSolverJoints = 50;
+// Triangles of one collision mesh and of all the collision meshes of a model. A robot's
+// collision meshes have hundreds to a few thousand triangles each (the book's irb120: 270 to 2,150
+// a link, 8,700 in all; its building floor 2,700). Dense meshes cost steps and contact quality:
+// 0.2 m blocks of about 19,000 triangles rest where they should on both engines (a box on a
+// 2 m floor of 20,000 triangles steps in about 0.2 ms on ODE and 1 to 2 ms on Bullet, the block
+// on that floor, mesh on coplanar mesh, in 0.4 ms on ODE and 15 to 30 ms on Bullet's GImpact, on
+// 2 busy cores), while at 50,000 Bullet's GImpact throws the block off the ground and at 100,000
+// ODE throws it off the floor.
+constexpr size_t kMaxMeshTriangles = 20000;
+constexpr size_t kMaxModelMeshTriangles = 50000;
+// A mesh file's size, checked before it is read, so that the read itself is bounded: an ASCII
+// STL of kMaxMeshTriangles is about 5 MB, a COLLADA file with normals and texture coordinates
+// somewhat less.
+constexpr size_t kMaxMeshFileBytes = 20000000;
 
 struct CollisionDescription {
   std::string name;
   GeometryShape shape = GeometryShape::Box;
   Vec3 size;  // as CollisionShape::size
+  std::shared_ptr<const TriangleMesh> mesh;  // Mesh: scaled by size
   Pose pose;  // in the link frame
   // Gazebo's defaults for a model surface; a contact uses the smaller value of the two geoms.
   double mu = 1, mu2 = 1;
@@ -116,11 +133,12 @@ inline Status rejected(std::string reason) {
 // parse). Ok for XML that is not well-formed: the parser then says why.
 Status precheckModelXml(const std::string& xml, ModelFormat format);
 
-// Both fill `out` only on success; else ModelRejected with the reason.
-Status parseUrdf(const std::string& xml, ModelDescription* out);
-// model_path: absolute folders where model://NAME URIs are looked up, in order (an <include>'s
-// model, a mesh file). An SDF may also be gazebo_ros' -database request, a <world> whose one
+// Both fill `out` only on success; else ModelRejected with the reason. model_path: absolute
+// folders where model://NAME URIs are looked up, in order (an <include>'s model, a mesh file:
+// resolveMeshUri). An SDF may also be gazebo_ros' -database request, a <world> whose one
 // <include> names the model; the include's <pose> is then the model's pose in the spawn frame.
+Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_path,
+                 ModelDescription* out);
 Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
                 ModelDescription* out);
 

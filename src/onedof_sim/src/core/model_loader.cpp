@@ -13,7 +13,7 @@
 #include <set>
 #include <sstream>
 
-#include "mesh_bounds.h"
+#include "mesh_loader.h"
 #include "model_description.h"
 #include "pose_math.h"
 
@@ -100,9 +100,16 @@ Status checkLimits(const ModelDescription& model) {
       const Vec3& size = collision.size;
       if (!withinPosition(collision.pose.position))
         return rejected(what + ": collision '" + collision.name + "' lies" + position_range);
-      if (std::max({size.x, size.y, size.z}) > kMaxShapeSize)
+      const TriangleMesh* mesh = collision.mesh.get();
+      const bool too_large =
+          mesh ? std::max({std::abs(mesh->min.x), std::abs(mesh->min.y), std::abs(mesh->min.z),
+                           std::abs(mesh->max.x), std::abs(mesh->max.y),
+                           std::abs(mesh->max.z)}) > kMaxShapeSize / 2
+               : std::max({size.x, size.y, size.z}) > kMaxShapeSize;
+      if (too_large)
         return rejected(what + ": collision '" + collision.name + "' is larger than " +
-                        formatNumber(kMaxShapeSize) + " m");
+                        formatNumber(kMaxShapeSize) + " m" +
+                        (mesh ? " (a mesh: more than half of it from its origin)" : ""));
     }
   }
   for (const JointDescription& joint : model.joints) {
@@ -167,7 +174,34 @@ Status finish(ModelDescription* model) {
   return {};
 }
 
-Status addUrdfCollision(const urdf::Collision& collision, size_t index, LinkDescription* link) {
+std::string joinedPath(const std::vector<std::string>& folders) {
+  std::string text;
+  for (const std::string& folder : folders) text += (text.empty() ? "" : ", ") + folder;
+  return text.empty() ? "(empty)" : text;
+}
+
+// A mesh collision: the file its URI names (resolveMeshUri), read and scaled.
+Status meshCollision(const std::string& uri, const Vec3& scale, const std::string& relative_to,
+                     const std::vector<std::string>& model_path, MeshReader* meshes,
+                     const std::string& link, CollisionDescription* c) {
+  const std::string where =
+      "link '" + link + "': collision '" + c->name + "' is the mesh '" + uri + "'";
+  if (!isFinite(scale) || scale.x == 0 || scale.y == 0 || scale.z == 0)
+    return rejected(where + " with a zero or non-finite scale");
+  const std::string file = resolveMeshUri(uri, model_path, relative_to);
+  if (file.empty())
+    return rejected(where + ", which is not found (model:// and package:// URIs are looked up in " +
+                    joinedPath(model_path) + ")");
+  c->shape = GeometryShape::Mesh;
+  c->size = scale;
+  Status status = meshes->read(file, scale, &c->mesh);
+  if (!status.ok()) return rejected(where + ": " + status.subject);
+  return {};
+}
+
+Status addUrdfCollision(const urdf::Collision& collision, size_t index,
+                        const std::vector<std::string>& model_path, MeshReader* meshes,
+                        LinkDescription* link) {
   CollisionDescription out;
   out.name = collisionName(collision.name, link->name, index);
   out.pose = toPose(collision.origin);
@@ -190,9 +224,16 @@ Status addUrdfCollision(const urdf::Collision& collision, size_t index, LinkDesc
       out.size = {static_cast<const urdf::Sphere&>(*collision.geometry).radius, 0, 0};
       break;
     }
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(*collision.geometry);
+      Status status = meshCollision(mesh.filename, {mesh.scale.x, mesh.scale.y, mesh.scale.z}, "",
+                                    model_path, meshes, link->name, &out);
+      if (!status.ok()) return status;
+      break;
+    }
     default:
       return rejected("link '" + link->name +
-                      "': only box, cylinder and sphere collisions are supported");
+                      "': only box, cylinder, sphere and mesh collisions are supported");
   }
   link->collisions.push_back(out);
   return {};
@@ -202,7 +243,8 @@ Status checkShape(const CollisionDescription& collision, const std::string& link
   const Vec3& s = collision.size;
   const bool ok = collision.shape == GeometryShape::Box ? (s.x > 0 && s.y > 0 && s.z > 0)
                   : collision.shape == GeometryShape::Cylinder ? (s.x > 0 && s.z > 0)
-                                                                 : s.x > 0;
+                  : collision.shape == GeometryShape::Mesh     ? collision.mesh != nullptr
+                                                               : s.x > 0;
   if (ok && isFinite(s) && isFinite(collision.pose)) return {};
   return rejected("link '" + link + "': collision '" + collision.name +
                   "' has a non-positive or non-finite size or pose");
@@ -213,7 +255,9 @@ Pose childPose(const Pose& parent_pose, const urdf::Joint& joint) {
 }
 
 // Adds one URDF link (at its model-frame pose) and the joints to its children.
-Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* out) {
+Status addUrdfLink(const urdf::Link& link, const Pose& pose,
+                   const std::vector<std::string>& model_path, MeshReader* meshes,
+                   ModelDescription* out) {
   if (link.name != kWorldLink) {
     LinkDescription desc;
     desc.name = link.name;
@@ -230,7 +274,7 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* o
     std::vector<urdf::CollisionSharedPtr> collisions = link.collision_array;
     if (collisions.empty() && link.collision) collisions.push_back(link.collision);
     for (size_t i = 0; i < collisions.size(); ++i) {
-      Status status = addUrdfCollision(*collisions[i], i, &desc);
+      Status status = addUrdfCollision(*collisions[i], i, model_path, meshes, &desc);
       if (!status.ok()) return status;
       status = checkShape(desc.collisions.back(), desc.name);
       if (!status.ok()) return status;
@@ -283,7 +327,8 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose, ModelDescription* o
 
 }  // namespace
 
-Status parseUrdf(const std::string& xml, ModelDescription* out) {
+Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_path,
+                 ModelDescription* out) {
   urdf::ModelInterfaceSharedPtr urdf;
   std::string parser_errors;
   bool parser_has_errors = false;
@@ -308,9 +353,10 @@ Status parseUrdf(const std::string& xml, ModelDescription* out) {
       return rejected("joint '" + name + "' has link '" + joint->child_link_name +
                       "' as both its parent and its child");
   ModelDescription model;
+  MeshReader meshes;
   std::function<Status(const urdf::Link&, const Pose&)> visit = [&](const urdf::Link& link,
                                                                      const Pose& pose) {
-    Status status = addUrdfLink(link, pose, &model);
+    Status status = addUrdfLink(link, pose, model_path, &meshes, &model);
     if (!status.ok()) return status;
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
@@ -351,65 +397,9 @@ void readSdfFriction(const sdf::Collision& collision, CollisionDescription* out)
   if (element->HasElement("mu2")) out->mu2 = element->Get<double>("mu2");
 }
 
-std::string joinedPath(const std::vector<std::string>& folders) {
-  std::string text;
-  for (const std::string& folder : folders) text += (text.empty() ? "" : ", ") + folder;
-  return text.empty() ? "(empty)" : text;
-}
-
-// The file a mesh URI names: model://NAME/... in the first folder of the model path that has it,
-// file:// and absolute paths as they are, a relative one from the folder of the SDF file that
-// holds it. Empty when none exists.
-std::string meshFile(const sdf::Mesh& mesh, const std::vector<std::string>& model_path) {
-  namespace fs = std::filesystem;
-  const std::string uri = mesh.Uri();
-  const std::string model_scheme = "model://", file_scheme = "file://";
-  std::vector<fs::path> candidates;
-  if (uri.rfind(model_scheme, 0) == 0) {
-    for (const std::string& folder : model_path)
-      candidates.push_back(fs::path(folder) / uri.substr(model_scheme.size()));
-  } else if (uri.rfind(file_scheme, 0) == 0) {
-    candidates.push_back(uri.substr(file_scheme.size()));
-  } else if (uri.find("://") == std::string::npos) {
-    if (fs::path(uri).is_absolute())
-      candidates.push_back(uri);
-    else if (!mesh.FilePath().empty())
-      candidates.push_back(fs::path(mesh.FilePath()).parent_path() / uri);
-  }
-  for (const fs::path& candidate : candidates) {
-    std::error_code ignored;
-    if (fs::is_regular_file(candidate, ignored)) return candidate.string();
-  }
-  return "";
-}
-
-// A mesh collision becomes the box that bounds its vertices (scaled), centred where they are.
-Status meshCollisionBox(const sdf::Mesh& mesh, const std::vector<std::string>& model_path,
-                        const std::string& link, CollisionDescription* c) {
-  const std::string where = "link '" + link + "': collision '" + c->name + "' is the mesh '" +
-                            mesh.Uri() + "'";
-  const std::string path = meshFile(mesh, model_path);
-  if (path.empty())
-    return rejected(where + ", which is not found (model:// URIs are looked up in " +
-                    joinedPath(model_path) + ")");
-  MeshBounds bounds;
-  std::string error;
-  if (!readMeshBounds(path, &bounds, &error))
-    return rejected(where + ": " + error + "; use a box, cylinder or sphere collision instead");
-  const ignition::math::Vector3d& scale = mesh.Scale();
-  const Vec3 s{std::abs(scale.X()), std::abs(scale.Y()), std::abs(scale.Z())};
-  const Vec3 centre{scale.X() * (bounds.min.x + bounds.max.x) / 2,
-                    scale.Y() * (bounds.min.y + bounds.max.y) / 2,
-                    scale.Z() * (bounds.min.z + bounds.max.z) / 2};
-  c->shape = GeometryShape::Box;
-  c->size = {s.x * (bounds.max.x - bounds.min.x), s.y * (bounds.max.y - bounds.min.y),
-             s.z * (bounds.max.z - bounds.min.z)};
-  c->pose = compose(c->pose, {centre, Quat()});
-  return {};
-}
-
 Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::string& prefix,
-                  const std::vector<std::string>& model_path, ModelDescription* out) {
+                  const std::vector<std::string>& model_path, MeshReader* meshes,
+                  ModelDescription* out) {
   LinkDescription desc;
   desc.name = prefix + link.Name();
   ignition::math::Pose3d pose;
@@ -444,11 +434,16 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
       c.shape = GeometryShape::Sphere;
       c.size = {geometry.SphereShape()->Radius(), 0, 0};
     } else if (geometry.Type() == sdf::GeometryType::MESH) {
-      Status status = meshCollisionBox(*geometry.MeshShape(), model_path, desc.name, &c);
+      const sdf::Mesh& mesh = *geometry.MeshShape();
+      const ignition::math::Vector3d& scale = mesh.Scale();
+      const std::string folder =
+          mesh.FilePath().empty() ? "" : std::filesystem::path(mesh.FilePath()).parent_path();
+      Status status = meshCollision(mesh.Uri(), {scale.X(), scale.Y(), scale.Z()}, folder,
+                                    model_path, meshes, desc.name, &c);
       if (!status.ok()) return status;
     } else {
       return rejected("link '" + desc.name +
-                      "': only box, cylinder, sphere and STL/OBJ mesh collisions are supported");
+                      "': only box, cylinder, sphere and mesh collisions are supported");
     }
     readSdfFriction(collision, &c);
     Status status = checkShape(c, desc.name);
@@ -508,9 +503,10 @@ Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::s
 
 // Nested models become links and joints named "nested::name" in one flat model.
 Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::string& prefix,
-                   const std::vector<std::string>& model_path, ModelDescription* out) {
+                   const std::vector<std::string>& model_path, MeshReader* meshes,
+                   ModelDescription* out) {
   for (uint64_t i = 0; i < model.LinkCount(); ++i) {
-    Status status = addSdfLink(*model.LinkByIndex(i), model_pose, prefix, model_path, out);
+    Status status = addSdfLink(*model.LinkByIndex(i), model_pose, prefix, model_path, meshes, out);
     if (!status.ok()) return status;
   }
   for (uint64_t i = 0; i < model.JointCount(); ++i) {
@@ -524,7 +520,7 @@ Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::s
     if (!errors.empty()) return rejected("model '" + nested.Name() + "': " + joinErrors(errors));
     Status status =
         addSdfModel(nested, compose(model_pose, toPose(pose)), prefix + nested.Name() + "::",
-                    model_path, out);
+                    model_path, meshes, out);
     if (!status.ok()) return status;
   }
   return {};
@@ -595,7 +591,8 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
                     "<include> or <model>");
   ModelDescription desc;
   desc.is_static = model->Static();
-  Status status = addSdfModel(*model, include_pose, "", model_path, &desc);
+  MeshReader meshes;
+  Status status = addSdfModel(*model, include_pose, "", model_path, &meshes, &desc);
   if (!status.ok()) return status;
   const auto canonical = model->CanonicalLinkAndRelativeName();
   if (!canonical.first) return rejected("invalid SDF: the model has no link");

@@ -254,7 +254,7 @@ PreparedModel World::prepare(const std::string& xml, ModelFormat format,
   content.status = precheckModelXml(xml, format);
   if (!content.status.ok()) return prepared;
   ModelDescription desc;
-  content.status = format == ModelFormat::Urdf ? parseUrdf(xml, &desc)
+  content.status = format == ModelFormat::Urdf ? parseUrdf(xml, model_path, &desc)
                                                : parseSdf(xml, model_path, &desc);
   if (!content.status.ok()) return prepared;
   content.record.is_static = desc.is_static;
@@ -353,6 +353,7 @@ std::vector<CollisionShape> World::collisionShapes() const {
         shape.shape = collision.shape;
         shape.size = collision.size;
         shape.pose = compose(impl_->linkWorldPose(*model, link), collision.pose);
+        if (collision.mesh) shape.mesh_file = collision.mesh->file;
         shapes.push_back(shape);
       }
   return shapes;

@@ -106,7 +106,8 @@ double leverRatio(double m, const Matrix3& b, const Vec3& p) {
 }
 
 // The largest lever ratio over the corners of each shape's bounding box (for a cylinder or a
-// sphere a little beyond the shape, which errs on the accepting side by at most 3).
+// sphere a little beyond the shape, which errs on the accepting side by at most 3; for a mesh,
+// the box that bounds its vertices).
 double largestLeverRatio(const BodySpec& body, const Matrix3& inertia) {
   const Matrix3 b = inverse(inertia);
   double largest = 0;
@@ -116,9 +117,11 @@ double largestLeverRatio(const BodySpec& body, const Matrix3& inertia) {
                           : shape.shape == GeometryShape::Cylinder
                                 ? Vec3{shape.size.x, shape.size.x, shape.size.z / 2}
                                 : Vec3{shape.size.x, shape.size.x, shape.size.x};
+    const Vec3 low = shape.mesh ? shape.mesh->min : -1.0 * half;
+    const Vec3 high = shape.mesh ? shape.mesh->max : half;
     for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 local{corner & 1 ? half.x : -half.x, corner & 2 ? half.y : -half.y,
-                       corner & 4 ? half.z : -half.z};
+      const Vec3 local{corner & 1 ? high.x : low.x, corner & 2 ? high.y : low.y,
+                       corner & 4 ? high.z : low.z};
       const Vec3 p = transformPoint(shape.pose, local);
       largest = std::max(largest, leverRatio(body.mass, b, p));
     }

@@ -32,7 +32,8 @@ Pose jointMotion(const JointDescription& joint, double q) {
 namespace core {
 
 ShapeSpec shapeSpec(const CollisionDescription& collision) {
-  return {collision.shape, collision.size, collision.pose, collision.mu, collision.mu2};
+  return {collision.shape, collision.size, collision.pose, collision.mu, collision.mu2,
+          collision.mesh};
 }
 
 const LinkRecord& referenceLink(const ModelRecord& model, int body) {

@@ -99,6 +99,11 @@ visualization_msgs::Marker toMarker(const CollisionShape& shape, int id) {
       marker.type = visualization_msgs::Marker::SPHERE;
       marker.scale.x = marker.scale.y = marker.scale.z = 2 * shape.size.x;
       break;
+    case GeometryShape::Mesh:
+      marker.type = visualization_msgs::Marker::MESH_RESOURCE;
+      marker.mesh_resource = "file://" + shape.mesh_file;
+      marker.scale = toVector3(shape.size);
+      break;
     case GeometryShape::Plane:
       marker.type = visualization_msgs::Marker::CUBE;
       marker.scale.x = marker.scale.y = kGroundMarkerSize;

@@ -6,6 +6,7 @@
 #include <tinyxml2.h>
 
 #include "conversions.h"
+#include "package_uris.h"
 #include "plugins/model_plugins.h"
 #include "status_text.h"
 
@@ -330,6 +331,9 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
     ROS_WARN_STREAM("SpawnModel: " << detected.subject);
     return refuse(res, kNotUrdfOrSdf);
   }
+  std::string missing_package;
+  if (format == ModelFormat::Urdf && !resolvePackageUris(&req.model_xml, &missing_package))
+    return refuse(res, "urdf reference package name does not exist: " + missing_package);
   const Pose pose = toCore(req.initial_pose);
   std::vector<std::string> model_path;
   Status spawned = loop_.withWorld([&](World& world) {

@@ -730,7 +730,7 @@ TEST_P(Errors, UnsupportedContentIsRefused) {
   const std::string mesh =
       "<robot name=\"r\"><link name=\"a\">" + inertial(1, 1, 1, 1) +
       "<collision><geometry><mesh filename=\"x.stl\"/></geometry></collision></link></robot>";
-  rejectedFor(mesh, ModelFormat::Urdf, "only box, cylinder and sphere");
+  rejectedFor(mesh, ModelFormat::Urdf, "the mesh 'x.stl', which is not found");
   EXPECT_TRUE(world.modelNames().empty());
 }
 
@@ -871,9 +871,8 @@ std::string meshGeometry(const std::string& uri, const std::string& scale = "1 1
   return "<geometry><mesh><uri>" + uri + "</uri><scale>" + scale + "</scale></mesh></geometry>";
 }
 
-TEST_P(Models, MeshCollisionsBecomeTheirBoundingBoxAndVisualsAreIgnored) {
+TEST_P(Models, MeshCollisionsAreTheirScaledMeshAndVisualsAreIgnored) {
   ModelFolder folder;
-  // A block spanning x 0..0.2, y 0..0.4, z 0..0.1 (two of its vertices suffice for the bounds).
   folder.write("block/meshes/block.stl",
                "solid block\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.2 0.4 0.1\n"
                "vertex 0 0.4 0\nendloop\nendfacet\nendsolid block\n");
@@ -890,21 +889,12 @@ TEST_P(Models, MeshCollisionsBecomeTheirBoundingBoxAndVisualsAreIgnored) {
   ASSERT_TRUE(block.ok()) << block;
   const std::vector<CollisionShape> shapes = world.collisionShapes();
   ASSERT_EQ(shapes.size(), 2u);
-  EXPECT_EQ(shapes[1].shape, GeometryShape::Box);
-  EXPECT_NEAR(shapes[1].size.x, 0.4, 1e-6);
-  EXPECT_NEAR(shapes[1].size.y, 0.4, 1e-6);
-  EXPECT_NEAR(shapes[1].size.z, 0.1, 1e-6);
-  EXPECT_NEAR(shapes[1].pose.position.x, 1.2, 1e-6);
-  EXPECT_NEAR(shapes[1].pose.position.y, 0.2, 1e-6);
-  EXPECT_NEAR(shapes[1].pose.position.z, 0.55, 1e-6);
-
-  folder.write("obj_block/meshes/block.obj", "# a block\nv -0.1 -0.1 0\nv 0.1 0.1 0.3\nf 1 2 1\n");
-  folder.addModel("obj_block", "<collision name=\"hull\">" +
-                                   meshGeometry("model://obj_block/meshes/block.obj") +
-                                   "</collision>");
-  ASSERT_TRUE(world.spawn("obj_block", databaseRequestSdf("obj_block"), ModelFormat::Sdf, Pose()).ok());
-  EXPECT_NEAR(world.collisionShapes().back().size.z, 0.3, 1e-6);
-  EXPECT_NEAR(world.collisionShapes().back().pose.position.z, 0.15, 1e-6);
+  EXPECT_EQ(shapes[1].shape, GeometryShape::Mesh);
+  EXPECT_EQ(shapes[1].mesh_file, folder.root() + "/block/meshes/block.stl");
+  EXPECT_NEAR(shapes[1].size.x, 2, 1e-12);
+  EXPECT_NEAR(shapes[1].size.y, 1, 1e-12);
+  EXPECT_NEAR(shapes[1].pose.position.x, 1, 1e-12);
+  EXPECT_NEAR(shapes[1].pose.position.z, 0.5, 1e-12);
 }
 
 TEST_P(Models, UnreadableMeshCollisionIsRefusedNamingLinkAndMesh) {
@@ -924,6 +914,11 @@ TEST_P(Models, UnreadableMeshCollisionIsRefusedNamingLinkAndMesh) {
     EXPECT_NE(status.subject.find("link 'link'"), std::string::npos) << status;
     EXPECT_NE(status.subject.find("model://" + name + "/meshes/"), std::string::npos) << status;
   }
+  const Status unreadable = world.spawn("dae_table", databaseRequestSdf("dae_table"),
+                                        ModelFormat::Sdf, Pose());
+  EXPECT_NE(unreadable.subject.find("cannot read the mesh file " + folder.root() +
+                                    "/dae_table/meshes/table.dae"),
+            std::string::npos) << unreadable;
   EXPECT_TRUE(world.modelNames().empty());
 }
 

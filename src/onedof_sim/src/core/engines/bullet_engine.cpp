@@ -33,6 +33,8 @@
 // is Bullet's own collision.
 #include <BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
+#include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
+#include <BulletCollision/Gimpact/btGImpactShape.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
@@ -76,10 +78,47 @@ btTransform jointFrame(const Vec3& origin, const Vec3& axis, int axis_column) {
   return btTransform(basis, toBt(origin));
 }
 
-std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec) {
+// A mesh's triangles as Bullet reads them, over the mesh's own arrays (held here).
+class MeshArrays : public btTriangleIndexVertexArray {
+ public:
+  explicit MeshArrays(std::shared_ptr<const TriangleMesh> mesh) : mesh_(std::move(mesh)) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(double), "vertices are handed over as they are");
+    btIndexedMesh part;
+    part.m_numTriangles = static_cast<int>(mesh_->triangles.size());
+    part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(mesh_->triangles.data());
+    part.m_triangleIndexStride = sizeof(mesh_->triangles[0]);
+    part.m_numVertices = static_cast<int>(mesh_->vertices.size());
+    part.m_vertexBase = reinterpret_cast<const unsigned char*>(mesh_->vertices.data());
+    part.m_vertexStride = sizeof(Vec3);
+    part.m_indexType = PHY_INTEGER;
+    part.m_vertexType = PHY_DOUBLE;
+    addIndexedMesh(part, PHY_INTEGER);
+  }
+
+ private:
+  std::shared_ptr<const TriangleMesh> mesh_;
+};
+
+// A collision shape; a mesh's also needs its arrays (*arrays), which must outlive the shape.
+// A mesh on the static environment is a btBvhTriangleMeshShape (a tree of its triangles, built
+// once); on a moving body a btGImpactMeshShape, which collides as the triangles it is, concave
+// parts included, with every shape and with the static meshes. Gazebo's Bullet takes every mesh
+// as the convex hull of its triangles (btConvexTriangleMeshShape) instead.
+std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec, bool moving,
+                                            std::unique_ptr<MeshArrays>* arrays) {
   const Vec3& s = spec.size;
   std::unique_ptr<btCollisionShape> shape;
   switch (spec.shape) {
+    case GeometryShape::Mesh:
+      *arrays = std::make_unique<MeshArrays>(spec.mesh);
+      if (moving) {
+        auto gimpact = std::make_unique<btGImpactMeshShape>(arrays->get());
+        gimpact->setMargin(kMargin);
+        gimpact->updateBound();
+        return gimpact;
+      }
+      shape = std::make_unique<btBvhTriangleMeshShape>(arrays->get(), true);
+      break;
     case GeometryShape::Box:
       shape = std::make_unique<btBoxShape>(btVector3(s.x / 2, s.y / 2, s.z / 2));
       break;
@@ -89,7 +128,8 @@ std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec) {
     case GeometryShape::Sphere:
       return std::make_unique<btSphereShape>(s.x);
     default:
-      throw std::invalid_argument("Bullet engine: a model shape must be a box, cylinder or sphere");
+      throw std::invalid_argument(
+          "Bullet engine: a model shape must be a box, cylinder, sphere or mesh");
   }
   shape->setMargin(kMargin);
   return shape;
@@ -105,9 +145,17 @@ double shapeMu(const btCollisionObjectWrapper* wrapper, int child) {
   return object->getFriction();
 }
 
+// The child of the object's own shape that a contact's shape belongs to: a contact on a mesh
+// reports its triangle's wrapper and index, a level below the compound's child.
+int childIndex(const btCollisionObjectWrapper* wrapper, int index) {
+  while (wrapper->m_parent && wrapper->m_parent->m_parent) wrapper = wrapper->m_parent;
+  return wrapper->m_parent ? wrapper->m_index : index;
+}
+
 bool onContactAdded(btManifoldPoint& point, const btCollisionObjectWrapper* a, int, int child_a,
                     const btCollisionObjectWrapper* b, int, int child_b) {
-  point.m_combinedFriction = std::min(shapeMu(a, child_a), shapeMu(b, child_b));
+  point.m_combinedFriction =
+      std::min(shapeMu(a, childIndex(a, child_a)), shapeMu(b, childIndex(b, child_b)));
   return true;
 }
 
@@ -223,7 +271,8 @@ class BulletModel : public EngineModel {
       Body& body = bodies_.back();
       body.compound = std::make_unique<btCompoundShape>();
       for (const ShapeSpec& shape : spec_body.shapes) {
-        body.shapes.push_back(makeShape(shape));
+        body.arrays.emplace_back();
+        body.shapes.push_back(makeShape(shape, true, &body.arrays.back()));
         body.compound->addChildShape(btTransform::getIdentity(), body.shapes.back().get());
         body.mu.push_back(shape.mu);
       }
@@ -243,7 +292,7 @@ class BulletModel : public EngineModel {
     for (const ShapeSpec& shape : spec.anchored_shapes) {
       anchored_.emplace_back();
       Anchored& anchored = anchored_.back();
-      anchored.shape = makeShape(shape);
+      anchored.shape = makeShape(shape, false, &anchored.arrays);
       anchored.object = std::make_unique<btCollisionObject>();
       anchored.object->setCollisionShape(anchored.shape.get());
       anchored.object->setWorldTransform(toBt(shape.pose));
@@ -443,6 +492,7 @@ class BulletModel : public EngineModel {
 
  private:
   struct Body {
+    std::vector<std::unique_ptr<MeshArrays>> arrays;  // per shape: a mesh's, else empty
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::unique_ptr<btCompoundShape> compound;
     std::unique_ptr<btRigidBody> rigid;
@@ -450,6 +500,7 @@ class BulletModel : public EngineModel {
     std::vector<double> mu;  // per child shape of `compound`
   };
   struct Anchored {
+    std::unique_ptr<MeshArrays> arrays;  // a mesh's
     std::unique_ptr<btCollisionShape> shape;
     std::unique_ptr<btCollisionObject> object;
   };
@@ -488,6 +539,7 @@ class BulletModel : public EngineModel {
 class BulletEngine : public Engine {
  public:
   BulletEngine() {
+    btGImpactCollisionAlgorithm::registerAlgorithm(&dispatcher_);
     gContactAddedCallback = &onContactAdded;
     world_.getPairCache()->setOverlapFilterCallback(&filter_);
     btContactSolverInfo& solver = world_.getSolverInfo();

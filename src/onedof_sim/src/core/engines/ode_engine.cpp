@@ -91,6 +91,13 @@ bool lineContact(dGeomID cylinder, dContactGeom* points, dVector3 axis) {
   return true;
 }
 
+// A trimesh gives a contact for each of its vertices or triangles in touch, in the mesh's order,
+// and dCollide stops when the buffer is full: a dense mesh's first max_contacts points can all lie
+// along one edge of what touches, and the rest of it sinks in (a 0.2 m box of 19,200 triangles on
+// the ground sank 75 mm with 20). As Gazebo's ODE collides (MAX_COLLIDE_RETURNS), up to this many
+// points are asked for and the max_contacts deepest kept.
+constexpr int kMeshContactCandidates = 250;
+
 Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
 void toOde(const Quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
 
@@ -211,6 +218,7 @@ class OdeModel : public EngineModel {
     for (const Joint& joint : joints_) dJointDestroy(joint.id);
     dSpaceSetCleanup(space_, 1);  // destroys its geoms
     dSpaceDestroy(space_);
+    for (dTriMeshDataID data : mesh_data_) dGeomTriMeshDataDestroy(data);  // after their geoms
     for (dBodyID body : bodies_) {
       all_bodies_->erase(std::find(all_bodies_->begin(), all_bodies_->end(), body));
       dBodyDestroy(body);
@@ -332,10 +340,28 @@ class OdeModel : public EngineModel {
     const Vec3& s = shape.size;
     dGeomID geom = shape.shape == GeometryShape::Box        ? dCreateBox(space_, s.x, s.y, s.z)
                    : shape.shape == GeometryShape::Cylinder ? dCreateCylinder(space_, s.x, s.z)
+                   : shape.shape == GeometryShape::Mesh     ? createTriMesh(*shape.mesh)
                                                             : dCreateSphere(space_, s.x);
+    if (shape.mesh) meshes_.push_back(shape.mesh);
     surfaces_.push_back({shape.mu, shape.mu2});
     dGeomSetData(geom, &surfaces_.back());  // a deque: never moves
     return geom;
+  }
+
+  // A dGeomTriMesh over the mesh's own arrays (ODE copies neither: meshes_ keeps them). ODE 0.16
+  // with OPCODE collides a trimesh with spheres, boxes, capsules, cylinders, planes, rays and
+  // other trimeshes; trimesh against convex hulls and heightfields would need libccd, and no
+  // shape here is either.
+  dGeomID createTriMesh(const TriangleMesh& mesh) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(dTriIndex) == sizeof(uint32_t),
+                  "the mesh's arrays are handed to ODE as they are");
+    dTriMeshDataID data = dGeomTriMeshDataCreate();
+    mesh_data_.push_back(data);
+    dGeomTriMeshDataBuildDouble(data, mesh.vertices.data(), sizeof(Vec3),
+                                static_cast<int>(mesh.vertices.size()), mesh.triangles.data(),
+                                static_cast<int>(3 * mesh.triangles.size()),
+                                sizeof(mesh.triangles[0]));
+    return dCreateTriMesh(space_, data, nullptr, nullptr, nullptr);
   }
 
   static void setPose(dBodyID body, const Pose& pose) {
@@ -353,6 +379,8 @@ class OdeModel : public EngineModel {
   std::vector<dGeomID> anchored_;
   std::vector<Joint> joints_;
   std::deque<Surface> surfaces_;
+  std::vector<dTriMeshDataID> mesh_data_;
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes_;  // what mesh_data_ points into
 };
 
 class OdeEngine : public Engine {
@@ -451,8 +479,7 @@ class OdeEngine : public Engine {
     if ((!body_a && !body_b) || contact_buffer_.empty()) return;
     const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
-    const int count = dCollide(a, b, static_cast<int>(contact_buffer_.size()),
-                               &contact_buffer_[0].geom, sizeof(dContact));
+    const int count = collide(a, b);
     dContactGeom line[2];
     dVector3 axis;
     bool lying = false;
@@ -511,6 +538,23 @@ class OdeEngine : public Engine {
     }
   }
 
+  // dCollide into contact_buffer_: at most its size, a trimesh pair's deepest.
+  int collide(dGeomID a, dGeomID b) {
+    const int wanted = static_cast<int>(contact_buffer_.size());
+    if (dGeomGetClass(a) != dTriMeshClass && dGeomGetClass(b) != dTriMeshClass)
+      return dCollide(a, b, wanted, &contact_buffer_[0].geom, sizeof(dContact));
+    mesh_candidates_.resize(kMeshContactCandidates);
+    int count = dCollide(a, b, kMeshContactCandidates, mesh_candidates_.data(), sizeof(dContactGeom));
+    if (count > wanted) {
+      std::partial_sort(mesh_candidates_.begin(), mesh_candidates_.begin() + wanted,
+                        mesh_candidates_.begin() + count,
+                        [](const dContactGeom& x, const dContactGeom& y) { return x.depth > y.depth; });
+      count = wanted;
+    }
+    for (int i = 0; i < count; ++i) contact_buffer_[i].geom = mesh_candidates_[i];
+    return count;
+  }
+
   PhysicsParams params_;
   bool faulted_ = false;  // an ODE internal error left the objects below inconsistent (OdeTrap)
   std::vector<dBodyID> bodies_;  // every model's, in the world
@@ -521,6 +565,7 @@ class OdeEngine : public Engine {
   dJointGroupID contact_group_ = nullptr;
   Surface ground_surface_;
   std::vector<dContact> contact_buffer_;
+  std::vector<dContactGeom> mesh_candidates_;
 };
 
 }  // namespace

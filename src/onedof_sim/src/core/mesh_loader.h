@@ -1,0 +1,57 @@
+// Triangle meshes for collision shapes: a mesh file's URI resolved as Gazebo resolves it, the
+// file read with assimp (STL, COLLADA and the other formats it reads), scaled. Private to the core.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "onedof_sim/world.h"
+
+namespace onedof_sim {
+namespace core {
+
+// A mesh ready for the engines: vertices already scaled into the collision frame, triangles
+// wound counter-clockwise seen from outside (a mirroring scale turns them back). Immutable and
+// shared: the engines keep pointers into it for as long as a model lives.
+struct TriangleMesh {
+  std::string file;  // the file it was read from
+  std::vector<Vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  Vec3 min, max;  // the vertices' bounds
+};
+
+// The file a mesh URI names, as Gazebo finds it: model://NAME/... in the first folder of the
+// model path that has NAME/...; package://PKG/... the same way (Gazebo's URDF conversion turns
+// package:// into model://; the ROS layer has already replaced the package:// URIs of a URDF by
+// the packages' folders, as gazebo_ros does); file:// and absolute paths as they are; a relative
+// path from `relative_to` (the folder of the SDF file that holds it; empty: not resolved). Empty
+// when no such file exists.
+std::string resolveMeshUri(const std::string& uri, const std::vector<std::string>& model_path,
+                           const std::string& relative_to);
+
+// Reads the mesh files of one model, each file once however many collisions use it.
+class MeshReader {
+ public:
+  // The mesh of `file` scaled by `scale` (each component finite and non-zero), or a
+  // ModelRejected status with the reason: a file past kMaxMeshFileBytes (checked before it is
+  // read), one assimp cannot read (assimp's reason), one without triangles, one with more than
+  // kMaxMeshTriangles, or one that takes the model's meshes past kMaxModelMeshTriangles (checked
+  // before the next file is read).
+  Status read(const std::string& file, const Vec3& scale, std::shared_ptr<const TriangleMesh>* out);
+
+ private:
+  struct Raw {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<uint32_t, 3>> triangles;
+  };
+  Status readRaw(const std::string& file, std::shared_ptr<const Raw>* out);
+  std::map<std::string, std::shared_ptr<const Raw>> files_;
+  size_t model_triangles_ = 0;  // of every mesh read, each time it is read
+};
+
+}  // namespace core
+}  // namespace onedof_sim

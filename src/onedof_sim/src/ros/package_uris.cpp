@@ -1,0 +1,42 @@
+#include "package_uris.h"
+
+#include <ros/package.h>
+
+#include <algorithm>
+#include <cctype>
+
+namespace onedof_sim {
+namespace {
+
+bool isPackageName(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+  });
+}
+
+}  // namespace
+
+bool resolvePackageUris(std::string* xml, std::string* missing) {
+  static const std::string kPrefix = "package://";
+  size_t start = xml->find(kPrefix);
+  while (start != std::string::npos) {
+    const size_t name_start = start + kPrefix.size();
+    const size_t slash = xml->find('/', name_start);
+    if (slash == std::string::npos) break;
+    const std::string package = xml->substr(name_start, slash - name_start);
+    if (!isPackageName(package)) {
+      start = xml->find(kPrefix, name_start);
+      continue;
+    }
+    const std::string folder = ros::package::getPath(package);
+    if (folder.empty()) {
+      *missing = package;
+      return false;
+    }
+    xml->replace(start, slash - start, folder);
+    start = xml->find(kPrefix, start + folder.size());
+  }
+  return true;
+}
+
+}  // namespace onedof_sim
