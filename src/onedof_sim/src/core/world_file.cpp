@@ -112,7 +112,8 @@ WorldFileStatus readModels(const sdf::World& world, WorldFile* out) {
     ignition::math::Pose3d pose;
     const sdf::Errors errors = model.SemanticPose().Resolve(pose, "world");
     if (!errors.empty())
-      return {WorldFileCode::InvalidSdf, "model '" + model.Name() + "': " + core::joinErrors(errors)};
+      return {WorldFileCode::InvalidSdf,
+              "model '" + model.Name() + "': " + core::joinErrors(errors)};
     out->models.push_back({model.Name(), modelDocument(model), core::toPose(pose)});
   }
   return {};

@@ -1,5 +1,6 @@
 #include "world_loading.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -40,7 +41,8 @@ std::string findWorldFile(const std::string& given, std::vector<std::string>* se
   return "";
 }
 
-std::string whyNotLoaded(const WorldFileStatus& status, const std::vector<std::string>& model_path) {
+std::string whyNotLoaded(const WorldFileStatus& status,
+                         const std::vector<std::string>& model_path) {
   switch (status.code) {
     case WorldFileCode::Ok: return "loaded";
     case WorldFileCode::NotFound: return "no such file";
@@ -77,7 +79,8 @@ void logIgnored(const WorldFile& world, const std::string& path) {
     } else if (element.element == "plugin") {
       ROS_WARN_STREAM("world '" << world.name << "': ignoring world plugin '" << element.name
                       << "' (" << element.filename << "): this simulator runs no world plugins");
-    } else {
+    } else if (std::find(others.begin(), others.end(), "<" + element.element + ">") ==
+               others.end()) {
       others.push_back("<" + element.element + ">");
     }
   }
@@ -86,7 +89,8 @@ void logIgnored(const WorldFile& world, const std::string& path) {
                     << joined(lights) << " accepted, not simulated: there is no renderer");
   if (!others.empty())
     ROS_WARN_STREAM("world '" << world.name << "' (" << path << "): ignoring " << joined(others)
-                    << ": this simulator has no renderer, GUI or environment model");
+                    << ": this simulator has no renderer nor GUI, and simulates no atmosphere, "
+                       "wind, actors or saved states");
 }
 
 }  // namespace
@@ -105,9 +109,10 @@ bool loadWorldFile(const std::string& given, const std::vector<std::string>& mod
     *error = "world file '" + path + "' cannot be loaded: " + whyNotLoaded(status, model_path);
     return false;
   }
+  const std::string physics =
+      out->physics_type.empty() ? "" : ", <physics type='" + out->physics_type + "'>";
   ROS_INFO_STREAM("world '" << out->name << "' from " << path << ": " << out->models.size()
-                  << " model" << (out->models.size() == 1 ? "" : "s")
-                  << (out->physics_type.empty() ? "" : ", <physics type='" + out->physics_type + "'>"));
+                  << " model" << (out->models.size() == 1 ? "" : "s") << physics);
   logIgnored(*out, path);
   return true;
 }
