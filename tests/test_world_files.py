@@ -248,6 +248,12 @@ REFUSED = {
                 'cannot be loaded: not well-formed XML: '),
     'no_world': ('<sdf version="1.6"><model name="a"><link name="l"/></model></sdf>',
                  'cannot be loaded: the file has a <model>, no <world>'),
+    'negative_count': ('<sdf version="1.6"><world name="w"><physics type="ode"><ode><solver>'
+                       '<iters>-3</iters></solver></ode></physics></world></sdf>',
+                       'cannot be loaded: <physics>: <iters> is a count and must be >= 0'),
+    'step_out_of_range': ('<sdf version="1.6"><world name="w"><physics type="ode">'
+                          '<max_step_size>0</max_step_size></physics></world></sdf>',
+                          "time_step must be in [1e-06, 0.1] s (the world file's <physics>"),
     'model_refused': ('<sdf version="1.6"><world name="w"><model name="heavy"><link name="l">'
                       '<inertial><mass>1e9</mass></inertial></link></model></world></sdf>',
                       "world 'w': model 'heavy' cannot be spawned: SpawnModel: link 'l' has a "

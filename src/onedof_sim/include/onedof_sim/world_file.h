@@ -48,6 +48,7 @@ enum class WorldFileCode {
   InvalidXml,       // subject: why the XML is not well-formed (tinyxml2's words, with the line)
   InvalidSdf,       // subject: why libsdformat refuses the document
   NoWorld,          // subject: the root's content; the document has no <world>
+  NegativeCount,    // subject: the <physics> element (iters, precon_iters, max_contacts) < 0
   IncludeNotFound,  // subject: the <include>'s URI, found in no folder of the model path
   TooManyModels,    // subject: the count; max: the most models a world may place
 };

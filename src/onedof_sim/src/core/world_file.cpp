@@ -42,18 +42,22 @@ void readValue(const sdf::ElementPtr& element, T* value) {
   if (element) *value = element->Get<T>();
 }
 
-void readCount(const sdf::ElementPtr& element, uint32_t* value) {
+// A count the file sets below 0 is recorded in *negative (its element's name) and not taken.
+void readCount(const sdf::ElementPtr& element, uint32_t* value, std::string* negative) {
   if (!element) return;
   const int count = element->Get<int>();
-  if (count >= 0) *value = uint32_t(count);
+  if (count >= 0)
+    *value = uint32_t(count);
+  else if (negative->empty())
+    *negative = element->GetName();
 }
 
 // <ode>: solver (type quick or world, iters, precon_iters, sor) and constraints.
-void readOdeBlock(const sdf::ElementPtr& ode, PhysicsParams* p) {
+void readOdeBlock(const sdf::ElementPtr& ode, PhysicsParams* p, std::string* negative) {
   if (const sdf::ElementPtr type = setInFile(ode, {"solver", "type"}))
     p->quick_step = type->Get<std::string>() != "world";
-  readCount(setInFile(ode, {"solver", "iters"}), &p->sor_pgs_iters);
-  readCount(setInFile(ode, {"solver", "precon_iters"}), &p->sor_pgs_precon_iters);
+  readCount(setInFile(ode, {"solver", "iters"}), &p->sor_pgs_iters, negative);
+  readCount(setInFile(ode, {"solver", "precon_iters"}), &p->sor_pgs_precon_iters, negative);
   readValue(setInFile(ode, {"solver", "sor"}), &p->sor_pgs_w);
   readValue(setInFile(ode, {"constraints", "cfm"}), &p->cfm);
   readValue(setInFile(ode, {"constraints", "erp"}), &p->erp);
@@ -63,15 +67,15 @@ void readOdeBlock(const sdf::ElementPtr& ode, PhysicsParams* p) {
 }
 
 // <bullet>: solver (iters, sor) and constraints, onto the fields the Bullet engine reads.
-void readBulletBlock(const sdf::ElementPtr& bullet, PhysicsParams* p) {
-  readCount(setInFile(bullet, {"solver", "iters"}), &p->sor_pgs_iters);
+void readBulletBlock(const sdf::ElementPtr& bullet, PhysicsParams* p, std::string* negative) {
+  readCount(setInFile(bullet, {"solver", "iters"}), &p->sor_pgs_iters, negative);
   readValue(setInFile(bullet, {"solver", "sor"}), &p->sor_pgs_w);
   readValue(setInFile(bullet, {"constraints", "cfm"}), &p->cfm);
   readValue(setInFile(bullet, {"constraints", "erp"}), &p->erp);
   readValue(setInFile(bullet, {"constraints", "contact_surface_layer"}), &p->contact_surface_layer);
 }
 
-void readPhysics(const sdf::World& world, const PhysicsParams& base, WorldFile* out) {
+WorldFileStatus readPhysics(const sdf::World& world, const PhysicsParams& base, WorldFile* out) {
   const sdf::ElementPtr world_element = world.Element();
   const sdf::Physics* physics = world.PhysicsDefault();
   sdf::ElementPtr element = physics ? physics->Element() : nullptr;
@@ -79,7 +83,8 @@ void readPhysics(const sdf::World& world, const PhysicsParams& base, WorldFile* 
   if (element) out->physics_type = physics->EngineType();
   PhysicsParams common = base;
   readValue(setInFile(element, "max_step_size"), &common.step);
-  readCount(setInFile(element, "max_contacts"), &common.max_contacts);
+  std::string negative;
+  readCount(setInFile(element, "max_contacts"), &common.max_contacts, &negative);
   if (setInFile(world_element, "gravity")) {
     const ignition::math::Vector3d g = world.Gravity();
     common.gravity = {g.X(), g.Y(), g.Z()};
@@ -88,10 +93,12 @@ void readPhysics(const sdf::World& world, const PhysicsParams& base, WorldFile* 
     out->real_time_update_rate = rate->Get<double>();
   for (const std::string& engine : World::engineNames()) {
     PhysicsParams params = common;
-    if (engine == "ode") readOdeBlock(setInFile(element, "ode"), &params);
-    if (engine == "bullet") readBulletBlock(setInFile(element, "bullet"), &params);
+    if (engine == "ode") readOdeBlock(setInFile(element, "ode"), &params, &negative);
+    if (engine == "bullet") readBulletBlock(setInFile(element, "bullet"), &params, &negative);
     out->physics[engine] = params;
   }
+  if (!negative.empty()) return {WorldFileCode::NegativeCount, negative};
+  return {};
 }
 
 // The model alone: its element without its <pose>, which is the world's business (it may be
@@ -171,8 +178,9 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
   const sdf::World& world = *root.WorldByIndex(0);
   WorldFile file;
   file.name = world.Name();
-  readPhysics(world, base, &file);
-  WorldFileStatus status = readModels(world, &file);
+  WorldFileStatus status = readPhysics(world, base, &file);
+  if (!status.ok()) return status;
+  status = readModels(world, &file);
   if (!status.ok()) return status;
   listIgnored(world, &file);
   *out = std::move(file);

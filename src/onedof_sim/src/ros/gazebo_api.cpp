@@ -318,11 +318,7 @@ bool GazeboApi::spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs
 }
 
 // Gazebo's spawn services both take URDF or SDF (it converts URDF to SDF); so do we, by the
-// root element. `requested` only names the service in log lines. The model is parsed and checked
-// unlocked (a thousand SDF links take seconds), between two short locked steps that keep
-// World::spawn's order of refusals: the name and frame first, then the model. The model's plugins
-// are created unlocked (they advertise and subscribe) and join the loop if the model is still
-// there.
+// root element. `requested` only names the service in log lines.
 bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req,
                            gazebo_msgs::SpawnModel::Response& res) {
   ModelFormat format = requested;
@@ -337,6 +333,10 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
   return answer(res, spawned, statusText(kSpawnModel, spawned));
 }
 
+// The model is parsed and checked unlocked (a thousand SDF links take seconds), between two
+// short locked steps that keep World::spawn's order of refusals: the name and frame first, then
+// the model. The model's plugins are created unlocked (they advertise and subscribe) and join the
+// loop if the model is still there.
 Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                         const Pose& pose, const std::string& reference_frame,
                         const std::string& via) {

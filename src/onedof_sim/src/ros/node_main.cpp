@@ -97,7 +97,10 @@ int runSimulatorNode(int argc, char** argv,
     api.run();
   } catch (const std::invalid_argument& e) {
     // An unknown engine (World's constructor) or invalid physics parameters (setParams).
-    ROS_FATAL_STREAM("onedof_sim: " << e.what());
+    ROS_FATAL_STREAM("onedof_sim: " << e.what()
+                     << (options.world ? " (the world file's <physics> with the node's "
+                                         "parameters over it)"
+                                       : ""));
     return 1;
   } catch (const onedof_sim::WorldModelRefused& e) {
     ROS_FATAL_STREAM("onedof_sim: " << e.what());

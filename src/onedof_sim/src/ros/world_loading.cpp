@@ -57,6 +57,8 @@ std::string whyNotLoaded(const WorldFileStatus& status,
     case WorldFileCode::NoWorld:
       return "the file has " + status.subject + ", no <world> (spawn a model file with "
              "rosrun gazebo_ros spawn_model)";
+    case WorldFileCode::NegativeCount:
+      return "<physics>: <" + status.subject + "> is a count and must be >= 0";
     case WorldFileCode::IncludeNotFound:
       return "<include> " + status.subject + " is not in the model path (" + joined(model_path) +
              "; add a folder to GAZEBO_MODEL_PATH)";

@@ -166,6 +166,10 @@ TEST_F(WorldFileTest, AWorldThatCannotBeReadSaysWhy) {
                                "</model></sdf>"),
                          kModelPath, {}, &world);
   EXPECT_EQ(status.code, WorldFileCode::NoWorld);
+  status = read("<physics type=\"ode\"><ode><solver><iters>-3</iters></solver></ode></physics>",
+                &world);
+  EXPECT_EQ(status.code, WorldFileCode::NegativeCount);
+  EXPECT_EQ(status.subject, "iters");
   status = read("<model name=\"a\"><link name=\"l\"/></model><model name=\"a\"><link "
                 "name=\"l\"/></model>",
                 &world);
