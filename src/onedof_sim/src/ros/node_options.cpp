@@ -103,16 +103,6 @@ void masterSetParam(const std::string& name, bool value) {
   ros::master::execute("setParam", request, response, unused, false);
 }
 
-}  // namespace
-
-std::string maxUpdateRateError(double rate) {
-  if (std::isfinite(rate) && (rate == 0 || rate >= kMinPacedRate)) return "";
-  std::ostringstream text;
-  text << "max_update_rate must be 0 (as fast as possible) or at least " << kMinPacedRate
-       << " step per wall second (pause_physics stops the world), got " << rate;
-  return text.str();
-}
-
 // gzserver's flags that take a value: the value is not the world file.
 const char* const kFlagsWithValue[] = {"-e", "--physics", "-s", "--server-plugin", "-p", "--play",
                                        "--seed", "--iters", "-o", "--profile", "--record_path",
@@ -122,6 +112,16 @@ bool takesValue(const std::string& flag) {
   for (const char* known : kFlagsWithValue)
     if (flag == known) return true;
   return false;
+}
+
+}  // namespace
+
+std::string maxUpdateRateError(double rate) {
+  if (std::isfinite(rate) && (rate == 0 || rate >= kMinPacedRate)) return "";
+  std::ostringstream text;
+  text << "max_update_rate must be 0 (as fast as possible) or at least " << kMinPacedRate
+       << " step per wall second (pause_physics stops the world), got " << rate;
+  return text.str();
 }
 
 ServerArguments parseServerArguments(const std::vector<std::string>& args) {
