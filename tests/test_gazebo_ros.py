@@ -64,7 +64,10 @@ def test_gzserver_runs_the_simulator_with_gzservers_arguments(ros, rospy_client,
     assert '(engine: %s)' % engine in physics.status_message
     log = ros.log_text(server)
     assert log.splitlines()[0].startswith('gzserver: onedof_sim, ' + STANDIN), log
-    assert "ignoring command-line argument 'worlds/empty.world'" in log
+    # Gazebo's default world is this package's: no model, the node's physics.
+    assert "world 'default' from %s/src/onedof_sim/worlds/empty.world: 0 models" % WORKSPACE in log
+    assert 'ignoring command-line argument' not in log, log
+    assert GazeboApi(rospy_client).get_world_properties().model_names == []
 
 
 def test_gzserver_help_says_what_stands_in(ros):

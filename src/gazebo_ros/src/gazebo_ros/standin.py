@@ -22,8 +22,9 @@ serving Gazebo's ROS API under /gazebo/ (rosrun onedof_sim onedof_sim with these
 
   -u, --pause   start paused
   -e ENGINE     physics engine, one of: rosrun onedof_sim onedof_sim --list-physics
-  WORLD_FILE    only the empty world exists here: accepted and ignored with a warning
-                (spawn models with rosrun gazebo_ros spawn_model); so is any other gzserver flag
+  WORLD_FILE    an SDF world: its physics, gravity, models and model:// includes
+                (GAZEBO_MODEL_PATH); lights, scene, GUI and world plugins are said to be ignored;
+                default: the empty world. Any other gzserver flag is ignored with a warning
   _name:=value  the node's parameters (src/onedof_sim/README.md), e.g. _max_update_rate:=0
 """
 

@@ -59,6 +59,9 @@ constexpr size_t kMaxModelLinks = 1000;
 // the model path): a robot is built from a handful.
 constexpr size_t kMaxModelXmlBytes = 10000000;
 constexpr size_t kMaxModelIncludes = 100;
+// Models a world file places (its <model>s and <include>s; a world file has at most
+// kMaxModelXmlBytes too): each is a spawn at start-up, and a large scene has hundreds.
+constexpr size_t kMaxWorldModels = 1000;
 // Moving joints (the 1-DOF joints the engine steps) per model with an exact solver, whose step
 // cost grows as joints^2.8 (ODE's dWorldStep: 50 joints about 1 ms a step on 2 cores, 100 about
 // 8 ms, 200 about 70 ms, 1000 seconds). The iterative solvers (ODE's quick_step, Bullet) grow

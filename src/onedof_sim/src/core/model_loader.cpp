@@ -16,6 +16,7 @@
 #include "mesh_loader.h"
 #include "model_description.h"
 #include "pose_math.h"
+#include "sdf_parsing.h"
 
 namespace onedof_sim {
 namespace core {
@@ -41,20 +42,13 @@ class CapturedParserErrors : public console_bridge::OutputHandler {
   bool has_errors_ = false;
 };
 
-// Models are prepared on any thread (World::prepare), so the parsers run one at a time: urdfdom
-// reports through console_bridge's one process-wide handler (CapturedParserErrors swaps it), and
-// libsdformat 12 does not say it may be used from several threads at once.
-std::mutex parser_mutex;
-
 Pose toPose(const urdf::Pose& p) {
   return {{p.position.x, p.position.y, p.position.z},
           normalized({p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z})};
 }
 
-Pose toPose(const ignition::math::Pose3d& p) {
-  return {{p.Pos().X(), p.Pos().Y(), p.Pos().Z()},
-          normalized({p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z()})};
-}
+// Beside the one for libsdformat's poses (sdf_parsing.h).
+using core::toPose;
 
 Vec3 unit(const Vec3& v) { return (1.0 / norm(v)) * v; }
 
@@ -333,7 +327,7 @@ Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_p
   std::string parser_errors;
   bool parser_has_errors = false;
   {
-    const std::lock_guard<std::mutex> one_parser(parser_mutex);
+    const std::lock_guard<std::mutex> one_parser(parserMutex());
     CapturedParserErrors errors;
     urdf = urdf::parseURDF(xml);
     parser_errors = errors.text();
@@ -378,13 +372,26 @@ Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_p
   return {};
 }
 
-namespace {
+// Models are prepared on any thread (World::prepare), so the parsers run one at a time: urdfdom
+// reports through console_bridge's one process-wide handler (CapturedParserErrors swaps it), and
+// libsdformat 12 does not say it may be used from several threads at once.
+std::mutex& parserMutex() {
+  static std::mutex parsers;
+  return parsers;
+}
+
+Pose toPose(const ignition::math::Pose3d& p) {
+  return {{p.Pos().X(), p.Pos().Y(), p.Pos().Z()},
+          normalized({p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z()})};
+}
 
 std::string joinErrors(const sdf::Errors& errors) {
   std::ostringstream text;
   for (size_t i = 0; i < errors.size(); ++i) text << (i ? "; " : "") << errors[i].Message();
   return text.str();
 }
+
+namespace {
 
 // libsdformat 12 has no accessor for <surface><friction><ode>, so read the element.
 void readSdfFriction(const sdf::Collision& collision, CollisionDescription* out) {
@@ -526,6 +533,8 @@ Status addSdfModel(const sdf::Model& model, const Pose& model_pose, const std::s
   return {};
 }
 
+}  // namespace
+
 // libsdformat looks model://NAME up as FOLDER/NAME in each folder given; a miss is only recorded
 // here, so that the refusal can name the folders searched.
 sdf::ParserConfig modelPathConfig(const std::vector<std::string>& model_path,
@@ -557,14 +566,12 @@ Status checkSdfVersion(const sdf::Root& root) {
                   sdf::SDF::Version() + ")");
 }
 
-}  // namespace
-
 Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
                 ModelDescription* out) {
   sdf::Root root;
   std::vector<std::string> missing;
   sdf::Errors errors;
-  const std::lock_guard<std::mutex> one_parser(parser_mutex);
+  const std::lock_guard<std::mutex> one_parser(parserMutex());
   try {
     errors = root.LoadSdfString(xml, modelPathConfig(model_path, &missing));
   } catch (const std::exception& e) {

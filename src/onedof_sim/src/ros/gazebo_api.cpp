@@ -44,6 +44,7 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       private_nh_("~"),
       spinner_(2),
       step_spinner_(1, &step_queue_) {
+  if (options.world) spawnWorldModels(*options.world);
   parameter_descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
       "parameter_descriptions", 1, true);
   parameter_updates_pub_ =
@@ -318,11 +319,7 @@ bool GazeboApi::spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs
 }
 
 // Gazebo's spawn services both take URDF or SDF (it converts URDF to SDF); so do we, by the
-// root element. `requested` only names the service in log lines. The model is parsed and checked
-// unlocked (a thousand SDF links take seconds), between two short locked steps that keep
-// World::spawn's order of refusals: the name and frame first, then the model. The model's plugins
-// are created unlocked (they advertise and subscribe) and join the loop if the model is still
-// there.
+// root element. `requested` only names the service in log lines.
 bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req,
                            gazebo_msgs::SpawnModel::Response& res) {
   ModelFormat format = requested;
@@ -334,30 +331,50 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
   std::string missing_package;
   if (format == ModelFormat::Urdf && !resolvePackageUris(&req.model_xml, &missing_package))
     return refuse(res, "urdf reference package name does not exist: " + missing_package);
-  const Pose pose = toCore(req.initial_pose);
+  const std::string via = requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model";
+  const Status spawned = spawn(req.model_name, req.model_xml, format, toCore(req.initial_pose),
+                               req.reference_frame, req.robot_namespace, via);
+  return answer(res, spawned, statusText(kSpawnModel, spawned));
+}
+
+// The model is parsed and checked unlocked (a thousand SDF links take seconds), between two
+// short locked steps that keep World::spawn's order of refusals: the name and frame first, then
+// the model. The model's plugins are created unlocked (they advertise and subscribe) and join the
+// loop if the model is still there; robot_namespace is theirs where they name none.
+Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFormat format,
+                        const Pose& pose, const std::string& reference_frame,
+                        const std::string& robot_namespace, const std::string& via) {
   std::vector<std::string> model_path;
   Status spawned = loop_.withWorld([&](World& world) {
     model_path = world.modelPath();
-    return world.checkSpawn(req.model_name, pose, req.reference_frame);
+    return world.checkSpawn(name, pose, reference_frame);
   });
   if (spawned.ok()) {
-    PreparedModel prepared = World::prepare(req.model_xml, format, model_path);
+    PreparedModel prepared = World::prepare(xml, format, model_path);
     spawned = prepared.status();
     if (spawned.ok())
       spawned = loop_.withWorld([&](World& world) {
-        return world.spawn(req.model_name, std::move(prepared), pose, req.reference_frame);
+        return world.spawn(name, std::move(prepared), pose, reference_frame);
       });
   }
   if (spawned.ok()) {
-    ROS_INFO_STREAM("spawned model '" << req.model_name << "' ("
-                    << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via "
-                    << (requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model"));
-    loop_.attachPlugins(req.model_name,
-                        plugins::createModelPlugins(plugin_types_, req.model_name, req.model_xml,
-                                                    format, req.robot_namespace, loop_.world(),
-                                                    loop_.lockWorld()));
+    ROS_INFO_STREAM("spawned model '" << name << "' ("
+                    << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via " << via);
+    loop_.attachPlugins(name, plugins::createModelPlugins(plugin_types_, name, xml, format,
+                                                          robot_namespace, loop_.world(),
+                                                          loop_.lockWorld()));
   }
-  return answer(res, spawned, statusText(kSpawnModel, spawned));
+  return spawned;
+}
+
+void GazeboApi::spawnWorldModels(const WorldFile& world) {
+  for (const WorldFileModel& model : world.models) {
+    const Status spawned = spawn(model.name, model.sdf, ModelFormat::Sdf, model.pose, "", "",
+                                 "world '" + world.name + "'");
+    if (!spawned.ok())
+      throw WorldModelRefused("world '" + world.name + "': model '" + model.name +
+                              "' cannot be spawned: " + statusText(kSpawnModel, spawned));
+  }
 }
 
 bool GazeboApi::deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res) {

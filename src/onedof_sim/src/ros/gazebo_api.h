@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -55,10 +56,17 @@
 
 namespace onedof_sim {
 
+// A model of the world file the simulator refuses (what says why): the node ends at start-up.
+class WorldModelRefused : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class GazeboApi {
  public:
   // plugin_types: the model plugins a spawned model may name (plugins::modelPluginRegistry(),
-  // and any a caller adds).
+  // and any a caller adds). The models of options.world are spawned first, before any service
+  // is up; throws WorldModelRefused for one the world refuses.
   GazeboApi(const NodeOptions& options, std::vector<plugins::ModelPluginType> plugin_types);
   ~GazeboApi();
 
@@ -92,6 +100,13 @@ class GazeboApi {
   bool spawnUrdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool spawnSdfModel(gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   bool spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
+  // What both spawn services and the world file do with a model: check, prepare unlocked,
+  // spawn, create its plugins (robot_namespace for those that name none); `via` names the way it
+  // came in the log line.
+  Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
+               const Pose& pose, const std::string& reference_frame,
+               const std::string& robot_namespace, const std::string& via);
+  void spawnWorldModels(const WorldFile& world);
   bool deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res);
   bool getModelState(gazebo_msgs::GetModelState::Request& req, gazebo_msgs::GetModelState::Response& res);
   bool setModelState(gazebo_msgs::SetModelState::Request& req, gazebo_msgs::SetModelState::Response& res);

@@ -17,6 +17,7 @@
 #include "gazebo_api.h"
 #include "master_watch.h"
 #include "node_options.h"
+#include "world_loading.h"
 
 namespace {
 
@@ -61,12 +62,23 @@ int runSimulatorNode(int argc, char** argv,
                                       args_with_own_time.begin() + ros_argc);
 
   onedof_sim::NodeOptions options;
+  options.model_path = modelPath();
   std::string error;
-  if (!onedof_sim::readNodeOptions(private_nh, args, &options, &error)) {
+  const onedof_sim::ServerArguments arguments = onedof_sim::parseServerArguments(args);
+  // A world that cannot be loaded ends the node at start-up, as gzserver ends.
+  if (!arguments.world_file.empty()) {
+    onedof_sim::WorldFile world;
+    if (!onedof_sim::loadWorldFile(arguments.world_file, options.model_path, options.physics,
+                                   &world, &error)) {
+      ROS_FATAL_STREAM("onedof_sim: " << error);
+      return 1;
+    }
+    options.world = std::move(world);
+  }
+  if (!onedof_sim::readNodeOptions(private_nh, arguments, &options, &error)) {
     ROS_FATAL_STREAM("onedof_sim: " << error);
     return 1;
   }
-  options.model_path = modelPath();
   // Where -database and model:// look, for the tools that spawn into this simulator
   // (spawn_model -database reads it), before any service is advertised.
   private_nh.setParam("model_path", options.model_path);
@@ -85,6 +97,12 @@ int runSimulatorNode(int argc, char** argv,
     api.run();
   } catch (const std::invalid_argument& e) {
     // An unknown engine (World's constructor) or invalid physics parameters (setParams).
+    ROS_FATAL_STREAM("onedof_sim: " << e.what()
+                     << (options.world ? " (the world file's <physics> with the node's "
+                                         "parameters over it)"
+                                       : ""));
+    return 1;
+  } catch (const onedof_sim::WorldModelRefused& e) {
     ROS_FATAL_STREAM("onedof_sim: " << e.what());
     return 1;
   }

@@ -1,5 +1,6 @@
 #include "node_options.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -102,6 +103,17 @@ void masterSetParam(const std::string& name, bool value) {
   ros::master::execute("setParam", request, response, unused, false);
 }
 
+// gzserver's flags that take a value: the value is not the world file.
+const char* const kFlagsWithValue[] = {"-e", "--physics", "-s", "--server-plugin", "-p", "--play",
+                                       "--seed", "--iters", "-o", "--profile", "--record_path",
+                                       "--record_period", "--record_filter", "--record_encoding"};
+
+bool takesValue(const std::string& flag) {
+  for (const char* known : kFlagsWithValue)
+    if (flag == known) return true;
+  return false;
+}
+
 }  // namespace
 
 std::string maxUpdateRateError(double rate) {
@@ -110,6 +122,29 @@ std::string maxUpdateRateError(double rate) {
   text << "max_update_rate must be 0 (as fast as possible) or at least " << kMinPacedRate
        << " step per wall second (pause_physics stops the world), got " << rate;
   return text.str();
+}
+
+ServerArguments parseServerArguments(const std::vector<std::string>& args) {
+  ServerArguments parsed;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "-u" || arg == "--pause") {
+      parsed.paused = true;
+    } else if ((arg == "-e" || arg == "--physics") && i + 1 < args.size()) {
+      parsed.engine = args[++i];
+    } else if (!arg.empty() && arg[0] != '-') {
+      if (!parsed.world_file.empty())
+        ROS_WARN_STREAM("ignoring command-line argument '" << parsed.world_file
+                        << "': the world file is the last one, '" << arg << "'");
+      parsed.world_file = arg;
+    } else if (takesValue(arg) && i + 1 < args.size()) {
+      ROS_WARN_STREAM("ignoring command-line argument '" << arg << " " << args[i + 1] << "'");
+      ++i;
+    } else {
+      ROS_WARN_STREAM("ignoring command-line argument '" << arg << "'");
+    }
+  }
+  return parsed;
 }
 
 // Private start-up parameters (all optional; set them before starting the node, on the command
@@ -126,11 +161,41 @@ std::string maxUpdateRateError(double rate) {
 //   ~lockstep (false; see lockstep.h)
 //   ~lockstep_timeout (wall s a stopped world waits for a controller's command, 5)
 // and, read while running, ~pub_clock_frequency (Hz of sim time; unset or <= 0 = every step).
-bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& args,
+// A world file's physics (options->world) comes between the defaults and these: the engine its
+// <physics type> names unless ~physics or -e names one, its physics for that engine and its
+// real_time_update_rate unless a parameter sets them.
+bool readNodeOptions(const ros::NodeHandle& nh, const ServerArguments& arguments,
                      NodeOptions* options, std::string* error) {
+  std::string engine;
+  if (!readParam(nh, "physics", &engine, error)) return false;
+  if (!arguments.engine.empty()) engine = arguments.engine;
+  const std::vector<std::string> engines = World::engineNames();
+  if (engine.empty() && options->world && !options->world->physics_type.empty()) {
+    engine = options->world->physics_type;
+    if (std::find(engines.begin(), engines.end(), engine) == engines.end()) {
+      std::string known;
+      for (const std::string& name : engines) known += (known.empty() ? "" : ", ") + name;
+      *error = "the world file's <physics type='" + engine + "'> is not an engine of this "
+               "simulator (" + known + "); choose one with physics:= or -e";
+      return false;
+    }
+  }
+  // Empty (a launch file's physics:= left at its default, no world file's type): the default.
+  options->engine = engine.empty() ? engines.front() : engine;
+  if (options->world) {
+    const auto physics = options->world->physics.find(options->engine);
+    if (physics != options->world->physics.end()) options->physics = physics->second;
+    if (const auto& rate = options->world->real_time_update_rate) {
+      const std::string why = maxUpdateRateError(*rate);
+      if (!why.empty()) {
+        *error = "the world file's <real_time_update_rate>: " + why;
+        return false;
+      }
+      options->max_update_rate = *rate;
+    }
+  }
   PhysicsParams& p = options->physics;
-  if (!readParam(nh, "physics", &options->engine, error) ||
-      !readParam(nh, "time_step", &p.step, error) ||
+  if (!readParam(nh, "time_step", &p.step, error) ||
       !readMaxUpdateRate(nh, &options->max_update_rate, error) ||
       !readParam(nh, "paused", &options->paused, error) ||
       !readGravity(nh, &p.gravity, error) ||
@@ -148,18 +213,7 @@ bool readNodeOptions(const ros::NodeHandle& nh, const std::vector<std::string>& 
       !readLockstep(nh, &options->lockstep, error)) {
     return false;
   }
-  // An empty ~physics (a launch file's physics:= left at its default) is the registry's default.
-  if (options->engine.empty()) options->engine = World::engineNames().front();
-  // gzserver's flags, as launch files pass them (-u/--pause, -e ode, --verbose, a world file).
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "-u" || args[i] == "--pause") {
-      options->paused = true;
-    } else if (args[i] == "-e" && i + 1 < args.size()) {
-      options->engine = args[++i];
-    } else {
-      ROS_WARN_STREAM("ignoring command-line argument '" << args[i] << "'");
-    }
-  }
+  if (arguments.paused) options->paused = true;
   return true;
 }
 

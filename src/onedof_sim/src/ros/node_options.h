@@ -1,12 +1,14 @@
 // The node's start-up settings: its private parameters and gzserver's command-line flags.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <ros/ros.h>
 
 #include <onedof_sim/world.h>
+#include <onedof_sim/world_file.h>
 
 #include "lockstep.h"
 
@@ -26,11 +28,25 @@ struct NodeOptions {
   double states_publish_frequency = 0;   // Hz of sim time for model/link_states; 0 = every step
   std::vector<std::string> model_path;   // where SDF's model:// URIs resolve (World::setModelPath)
   Lockstep::Options lockstep;
+  // The world file named on the command line, read (world_loading.h); its models are spawned
+  // before the services are up.
+  std::optional<WorldFile> world;
 };
 
-// Reads the private start-up parameters and gzserver's command-line flags (args without the
-// program name and ROS remappings). Returns false and sets *error on an invalid value.
-bool readNodeOptions(const ros::NodeHandle& private_nh, const std::vector<std::string>& args,
+// gzserver's command line as the node takes it: -u/--pause, -e ENGINE, and the world file (the
+// last argument that is not a flag nor a flag's value). Every other argument is logged as
+// ignored.
+struct ServerArguments {
+  bool paused = false;
+  std::string engine;
+  std::string world_file;
+};
+ServerArguments parseServerArguments(const std::vector<std::string>& args);
+
+// Reads the private start-up parameters and gzserver's flags (parseServerArguments of the
+// arguments without the program name and ROS remappings) over options->world's settings. Returns
+// false and sets *error on an invalid value.
+bool readNodeOptions(const ros::NodeHandle& private_nh, const ServerArguments& arguments,
                      NodeOptions* options, std::string* error);
 
 // Empty if the node can pace at max_update_rate (steps per wall second), else why not.

@@ -1,0 +1,69 @@
+// An SDF <world> file read into what the simulator makes of it, free of ROS: its name, its
+// physics and gravity, the models it places (its <model>s and its <include>s of model://NAME,
+// each one SDF document for World::prepare) and the elements the simulator does not act on.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "onedof_sim/world.h"
+
+namespace onedof_sim {
+
+// A model the world places: one SDF <model> with its includes resolved, without its own <pose>
+// (spawn it at `pose`).
+struct WorldFileModel {
+  std::string name;  // the <model>'s name, or the <include>'s <name> over the included model's
+  std::string sdf;   // an SDF document of the one model, for World::prepare
+  Pose pose;         // the model frame in the world (an <include>'s <pose> over the model's)
+};
+
+// An element of the world the simulator does not act on, as the file gives it, in file order.
+struct WorldFileIgnored {
+  std::string element;   // "light", "plugin", "scene", "gui", "atmosphere", ...
+  std::string name;      // its name attribute, if it has one
+  std::string filename;  // a <plugin>'s filename
+};
+
+struct WorldFile {
+  std::string name;          // <world name>
+  std::string physics_type;  // <physics type> ("ode", "bullet", ...); empty without <physics>
+  // For each engine of World::engineNames(): the base parameters readWorldFile was given with
+  // what the file sets over them: <physics>'s max_step_size and max_contacts, the engine's own
+  // block (<ode> for "ode", <bullet> for "bullet": solver and constraints) and the world's
+  // <gravity>. A field the file does not set keeps the base value.
+  std::map<std::string, PhysicsParams> physics;
+  std::optional<double> real_time_update_rate;  // steps per wall second, when the file sets it
+  std::vector<WorldFileModel> models;           // in file order
+  std::vector<WorldFileIgnored> ignored;
+};
+
+enum class WorldFileCode {
+  Ok,
+  NotFound,         // subject: the path; no such file
+  Unreadable,       // subject: the path; it exists but cannot be read
+  TooLarge,         // subject: the path; max: the most bytes a world file may have
+  InvalidXml,       // subject: why the XML is not well-formed (tinyxml2's words, with the line)
+  InvalidSdf,       // subject: why libsdformat refuses the document
+  NoWorld,          // subject: the root's content; the document has no <world>
+  NegativeCount,    // subject: the <physics> element (iters, precon_iters, max_contacts) < 0
+  IncludeNotFound,  // subject: the <include>'s URI, found in no folder of the model path
+  TooManyModels,    // subject: the count; max: the most models a world may place
+};
+
+struct WorldFileStatus {
+  WorldFileCode code = WorldFileCode::Ok;
+  std::string subject;
+  double max = 0;
+  bool ok() const { return code == WorldFileCode::Ok; }
+};
+
+// Reads the world file at `path` (libsdformat; a relative <uri> is taken from the file's folder)
+// with model://NAME looked up in model_path's folders, in order. Fills *out only on success. The
+// models are not checked here: World::prepare and World::spawn refuse a model as for a spawn.
+WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::string>& model_path,
+                              const PhysicsParams& base, WorldFile* out);
+
+}  // namespace onedof_sim

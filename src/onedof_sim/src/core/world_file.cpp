@@ -1,0 +1,190 @@
+// SDF world files (libsdformat 12) to WorldFile.
+#include "onedof_sim/world_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <ignition/math/Pose3.hh>
+#include <tinyxml2.h>
+
+#include "model_description.h"
+#include "sdf_parsing.h"
+
+namespace onedof_sim {
+namespace {
+
+using core::kMaxModelXmlBytes;
+using core::kMaxWorldModels;
+
+// The world's own children the simulator acts on: the rest is listed as ignored.
+const std::set<std::string> kActedOn = {"physics", "gravity", "model", "frame"};
+
+// The child `name` of parent when the file sets it (libsdformat adds the required ones it does
+// not set, with their defaults, which must not override the base).
+sdf::ElementPtr setInFile(const sdf::ElementPtr& parent, const char* name) {
+  if (!parent || !parent->HasElement(name)) return nullptr;
+  sdf::ElementPtr child = parent->GetElement(name);
+  return child->GetExplicitlySetInFile() ? child : nullptr;
+}
+
+// Walks parent/names[0]/names[1]/..., each set in the file.
+sdf::ElementPtr setInFile(sdf::ElementPtr element, std::initializer_list<const char*> names) {
+  for (const char* name : names) {
+    element = setInFile(element, name);
+    if (!element) return nullptr;
+  }
+  return element;
+}
+
+template <class T>
+void readValue(const sdf::ElementPtr& element, T* value) {
+  if (element) *value = element->Get<T>();
+}
+
+// A count the file sets below 0 is recorded in *negative (its element's name) and not taken.
+void readCount(const sdf::ElementPtr& element, uint32_t* value, std::string* negative) {
+  if (!element) return;
+  const int count = element->Get<int>();
+  if (count >= 0)
+    *value = uint32_t(count);
+  else if (negative->empty())
+    *negative = element->GetName();
+}
+
+// <ode>: solver (type quick or world, iters, precon_iters, sor) and constraints.
+void readOdeBlock(const sdf::ElementPtr& ode, PhysicsParams* p, std::string* negative) {
+  if (const sdf::ElementPtr type = setInFile(ode, {"solver", "type"}))
+    p->quick_step = type->Get<std::string>() != "world";
+  readCount(setInFile(ode, {"solver", "iters"}), &p->sor_pgs_iters, negative);
+  readCount(setInFile(ode, {"solver", "precon_iters"}), &p->sor_pgs_precon_iters, negative);
+  readValue(setInFile(ode, {"solver", "sor"}), &p->sor_pgs_w);
+  readValue(setInFile(ode, {"constraints", "cfm"}), &p->cfm);
+  readValue(setInFile(ode, {"constraints", "erp"}), &p->erp);
+  readValue(setInFile(ode, {"constraints", "contact_max_correcting_vel"}),
+            &p->contact_max_correcting_vel);
+  readValue(setInFile(ode, {"constraints", "contact_surface_layer"}), &p->contact_surface_layer);
+}
+
+// <bullet>: solver (iters, sor) and constraints, onto the fields the Bullet engine reads.
+void readBulletBlock(const sdf::ElementPtr& bullet, PhysicsParams* p, std::string* negative) {
+  readCount(setInFile(bullet, {"solver", "iters"}), &p->sor_pgs_iters, negative);
+  readValue(setInFile(bullet, {"solver", "sor"}), &p->sor_pgs_w);
+  readValue(setInFile(bullet, {"constraints", "cfm"}), &p->cfm);
+  readValue(setInFile(bullet, {"constraints", "erp"}), &p->erp);
+  readValue(setInFile(bullet, {"constraints", "contact_surface_layer"}), &p->contact_surface_layer);
+}
+
+WorldFileStatus readPhysics(const sdf::World& world, const PhysicsParams& base, WorldFile* out) {
+  const sdf::ElementPtr world_element = world.Element();
+  const sdf::Physics* physics = world.PhysicsDefault();
+  sdf::ElementPtr element = physics ? physics->Element() : nullptr;
+  if (element && !element->GetExplicitlySetInFile()) element = nullptr;
+  if (element) out->physics_type = physics->EngineType();
+  PhysicsParams common = base;
+  readValue(setInFile(element, "max_step_size"), &common.step);
+  std::string negative;
+  readCount(setInFile(element, "max_contacts"), &common.max_contacts, &negative);
+  if (setInFile(world_element, "gravity")) {
+    const ignition::math::Vector3d g = world.Gravity();
+    common.gravity = {g.X(), g.Y(), g.Z()};
+  }
+  if (const sdf::ElementPtr rate = setInFile(element, "real_time_update_rate"))
+    out->real_time_update_rate = rate->Get<double>();
+  for (const std::string& engine : World::engineNames()) {
+    PhysicsParams params = common;
+    if (engine == "ode") readOdeBlock(setInFile(element, "ode"), &params, &negative);
+    if (engine == "bullet") readBulletBlock(setInFile(element, "bullet"), &params, &negative);
+    out->physics[engine] = params;
+  }
+  if (!negative.empty()) return {WorldFileCode::NegativeCount, negative};
+  return {};
+}
+
+// The model alone: its element without its <pose>, which is the world's business (it may be
+// relative to the world's frames), as an SDF document of this libsdformat's version.
+std::string modelDocument(const sdf::Model& model) {
+  sdf::ElementPtr element = model.Element()->Clone();
+  while (element->HasElement("pose")) element->RemoveChild(element->GetElement("pose"));
+  return "<?xml version=\"1.0\"?>\n<sdf version=\"" + sdf::SDF::Version() + "\">\n" +
+         element->ToString("") + "</sdf>\n";
+}
+
+WorldFileStatus readModels(const sdf::World& world, WorldFile* out) {
+  if (world.ModelCount() > kMaxWorldModels)
+    return {WorldFileCode::TooManyModels, std::to_string(world.ModelCount()),
+            double(kMaxWorldModels)};
+  for (uint64_t i = 0; i < world.ModelCount(); ++i) {
+    const sdf::Model& model = *world.ModelByIndex(i);
+    ignition::math::Pose3d pose;
+    const sdf::Errors errors = model.SemanticPose().Resolve(pose, "world");
+    if (!errors.empty())
+      return {WorldFileCode::InvalidSdf,
+              "model '" + model.Name() + "': " + core::joinErrors(errors)};
+    out->models.push_back({model.Name(), modelDocument(model), core::toPose(pose)});
+  }
+  return {};
+}
+
+void listIgnored(const sdf::World& world, WorldFile* out) {
+  for (sdf::ElementPtr child = world.Element()->GetFirstElement(); child;
+       child = child->GetNextElement()) {
+    if (!child->GetExplicitlySetInFile() || kActedOn.count(child->GetName())) continue;
+    WorldFileIgnored ignored{child->GetName(), "", ""};
+    if (child->HasAttribute("name")) ignored.name = child->GetAttribute("name")->GetAsString();
+    if (child->HasAttribute("filename"))
+      ignored.filename = child->GetAttribute("filename")->GetAsString();
+    out->ignored.push_back(ignored);
+  }
+}
+
+}  // namespace
+
+WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::string>& model_path,
+                              const PhysicsParams& base, WorldFile* out) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) return {WorldFileCode::NotFound, path};
+  if (!std::ifstream(path).good()) return {WorldFileCode::Unreadable, path};
+  if (fs::file_size(path, error) > kMaxModelXmlBytes)
+    return {WorldFileCode::TooLarge, path, double(kMaxModelXmlBytes)};
+  // libsdformat says only "Unable to read file" of XML that is not well-formed (the reason goes to
+  // stderr): tinyxml2 says where and what.
+  tinyxml2::XMLDocument xml;
+  if (xml.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS) {
+    const char* reason = xml.ErrorStr();
+    return {WorldFileCode::InvalidXml, reason ? reason : "parse error"};
+  }
+  sdf::Root root;
+  std::vector<std::string> missing;
+  sdf::Errors errors;
+  {
+    const std::lock_guard<std::mutex> one_parser(core::parserMutex());
+    try {
+      errors = root.Load(path, core::modelPathConfig(model_path, &missing));
+    } catch (const std::exception& e) {
+      return {WorldFileCode::InvalidSdf, e.what()};
+    }
+  }
+  if (!missing.empty()) return {WorldFileCode::IncludeNotFound, missing.front()};
+  if (!errors.empty()) return {WorldFileCode::InvalidSdf, core::joinErrors(errors)};
+  const Status version = core::checkSdfVersion(root);
+  if (!version.ok()) return {WorldFileCode::InvalidSdf, version.subject};
+  if (root.WorldCount() == 0) {
+    const std::string root_content =
+        root.Model() ? "a <model>" : root.Light() ? "a <light>" : "no <world>";
+    return {WorldFileCode::NoWorld, root_content};
+  }
+  const sdf::World& world = *root.WorldByIndex(0);
+  WorldFile file;
+  file.name = world.Name();
+  WorldFileStatus status = readPhysics(world, base, &file);
+  if (!status.ok()) return status;
+  status = readModels(world, &file);
+  if (!status.ok()) return status;
+  listIgnored(world, &file);
+  *out = std::move(file);
+  return {};
+}
+
+}  // namespace onedof_sim

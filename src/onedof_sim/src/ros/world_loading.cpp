@@ -1,0 +1,122 @@
+#include "world_loading.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include <ros/package.h>
+#include <ros/ros.h>
+
+namespace onedof_sim {
+namespace {
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
+}
+
+// Where a relative world path is looked for, in order.
+std::vector<std::string> resourceFolders() {
+  std::vector<std::string> folders{std::filesystem::current_path().string(),
+                                   ros::package::getPath("onedof_sim")};
+  const char* env = std::getenv("GAZEBO_RESOURCE_PATH");
+  std::istringstream entries(env ? env : "");
+  for (std::string folder; std::getline(entries, folder, ':');)
+    if (!folder.empty()) folders.push_back(folder);
+  return folders;
+}
+
+// The file `given` names, or "" with the folders searched in *searched.
+std::string findWorldFile(const std::string& given, std::vector<std::string>* searched) {
+  namespace fs = std::filesystem;
+  std::error_code ignored;
+  if (fs::path(given).is_absolute()) return fs::exists(given, ignored) ? given : "";
+  for (const std::string& folder : resourceFolders()) {
+    const fs::path candidate = fs::path(folder) / given;
+    if (fs::exists(candidate, ignored)) return candidate.string();
+    searched->push_back(folder);
+  }
+  return "";
+}
+
+std::string whyNotLoaded(const WorldFileStatus& status,
+                         const std::vector<std::string>& model_path) {
+  switch (status.code) {
+    case WorldFileCode::Ok: return "loaded";
+    case WorldFileCode::NotFound: return "no such file";
+    case WorldFileCode::Unreadable: return "the file cannot be read";
+    case WorldFileCode::TooLarge: {
+      std::ostringstream text;
+      text << "the file is larger than " << status.max << " bytes";
+      return text.str();
+    }
+    case WorldFileCode::InvalidXml: return "not well-formed XML: " + status.subject;
+    case WorldFileCode::InvalidSdf: return "invalid SDF: " + status.subject;
+    case WorldFileCode::NoWorld:
+      return "the file has " + status.subject + ", no <world> (spawn a model file with "
+             "rosrun gazebo_ros spawn_model)";
+    case WorldFileCode::NegativeCount:
+      return "<physics>: <" + status.subject + "> is a count and must be >= 0";
+    case WorldFileCode::IncludeNotFound:
+      return "<include> " + status.subject + " is not in the model path (" + joined(model_path) +
+             "; add a folder to GAZEBO_MODEL_PATH)";
+    case WorldFileCode::TooManyModels: {
+      std::ostringstream text;
+      text << "the world places " << status.subject << " models; at most " << status.max
+           << " are accepted";
+      return text.str();
+    }
+  }
+  return "unknown error";
+}
+
+// One line per kind of element the world holds that is not simulated.
+void logIgnored(const WorldFile& world, const std::string& path) {
+  std::vector<std::string> lights, others;
+  for (const WorldFileIgnored& element : world.ignored) {
+    if (element.element == "light") {
+      lights.push_back("'" + element.name + "'");
+    } else if (element.element == "plugin") {
+      ROS_WARN_STREAM("world '" << world.name << "': ignoring world plugin '" << element.name
+                      << "' (" << element.filename << "): this simulator runs no world plugins");
+    } else if (std::find(others.begin(), others.end(), "<" + element.element + ">") ==
+               others.end()) {
+      others.push_back("<" + element.element + ">");
+    }
+  }
+  if (!lights.empty())
+    ROS_INFO_STREAM("world '" << world.name << "': light" << (lights.size() > 1 ? "s " : " ")
+                    << joined(lights) << " accepted, not simulated: there is no renderer");
+  if (!others.empty())
+    ROS_WARN_STREAM("world '" << world.name << "' (" << path << "): ignoring " << joined(others)
+                    << ": this simulator has no renderer nor GUI, and simulates no atmosphere, "
+                       "wind, actors or saved states");
+}
+
+}  // namespace
+
+bool loadWorldFile(const std::string& given, const std::vector<std::string>& model_path,
+                   const PhysicsParams& base, WorldFile* out, std::string* error) {
+  std::vector<std::string> searched;
+  const std::string path = findWorldFile(given, &searched);
+  if (path.empty()) {
+    *error = "world file '" + given + "' not found" +
+             (searched.empty() ? "" : " (looked in " + joined(searched) + ")");
+    return false;
+  }
+  const WorldFileStatus status = readWorldFile(path, model_path, base, out);
+  if (!status.ok()) {
+    *error = "world file '" + path + "' cannot be loaded: " + whyNotLoaded(status, model_path);
+    return false;
+  }
+  const std::string physics =
+      out->physics_type.empty() ? "" : ", <physics type='" + out->physics_type + "'>";
+  ROS_INFO_STREAM("world '" << out->name << "' from " << path << ": " << out->models.size()
+                  << " model" << (out->models.size() == 1 ? "" : "s") << physics);
+  logIgnored(*out, path);
+  return true;
+}
+
+}  // namespace onedof_sim

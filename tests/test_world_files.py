@@ -1,0 +1,291 @@
+"""World files, as Gazebo users start them: `roslaunch gazebo_ros empty_world.launch
+world_name:=FILE`, `rosrun gazebo_ros gazebo FILE` and gzserver. The world's physics and gravity,
+its models and its includes of model://NAME (this package's models/ and GAZEBO_MODEL_PATH) with
+<name>, <pose> and <static> over the included model's; lights accepted and said once; scene and
+world plugins said to be ignored; a world that cannot be loaded ends the simulator naming why."""
+import math
+import subprocess
+
+import pytest
+
+from api_client import GazeboApi
+from conftest import ENGINES, WORKSPACE
+from onedof_harness.private_ros import wait_until
+
+HEADLESS = {'DISPLAY': ''}
+TABLE_TOP = 0.775      # cafe_table: the top face of its surface box
+BLOCK_HALF = 0.0175    # toy_block: 0.035 m high
+BEER_HALF = 0.115      # beer: 0.23 m long
+TABLE_X, TABLE_Y, TABLE_YAW = 1.2, -0.4, 0.5
+
+# A world of our own making with what the book's worlds use: includes of ground_plane, sun and
+# cafe_table (its pose overridden), a toy_block and a beer (renamed) dropped on the table from a
+# few centimetres, a toy_block made static in the air, and physics unlike the defaults.
+CAFE_WORLD = """<?xml version="1.0"?>
+<sdf version="1.6">
+  <world name="test_cafe">
+    <include><uri>model://ground_plane</uri></include>
+    <include><uri>model://sun</uri></include>
+    <include>
+      <uri>model://cafe_table</uri>
+      <pose>{x} {y} 0 0 0 {yaw}</pose>
+    </include>
+    <include>
+      <uri>model://toy_block</uri>
+      <pose>{x} {y} 0.82 0 0 0</pose>
+    </include>
+    <include>
+      <uri>model://beer</uri>
+      <name>my_beer</name>
+      <pose>{beer_x} {y} 0.92 0 0 0</pose>
+    </include>
+    <include>
+      <uri>model://toy_block</uri>
+      <name>floating_block</name>
+      <static>true</static>
+      <pose>-1 0 0.5 0 0 0</pose>
+    </include>
+    <gravity>0 0 -9</gravity>
+    <physics type="{engine}">
+      <max_step_size>0.002</max_step_size>
+      <real_time_update_rate>0</real_time_update_rate>
+    </physics>
+  </world>
+</sdf>
+"""
+CAFE_MODELS = ['ground_plane', 'cafe_table', 'toy_block', 'my_beer', 'floating_block']
+
+# The shape of the book's play_pen.world and cafe.world: SDF 1.4, gravity inside <physics>.
+BOOK_SHAPED_WORLD = """<?xml version="1.0" ?>
+<sdf version="1.4">
+  <world name="default">
+    <include>
+      <uri>model://ground_plane</uri>
+    </include>
+    <include>
+      <uri>model://sun</uri>
+    </include>
+    <include>
+        <uri>model://cafe_table</uri>
+        <pose>0.8 -0.3 0 0 -0 0</pose>
+    </include>
+    <include>
+        <uri>model://beer</uri>
+         <pose>0.7 0 0.775 0 0 0</pose>
+    </include>
+     <include>
+        <uri>model://starting_pen</uri>
+         <pose>0.0 -5 0 0 0 0</pose>
+    </include>
+    <physics type="ode">
+      <real_time_update_rate>1000.0</real_time_update_rate>
+      <gravity>
+        0.0 0.0 -9.81
+      </gravity>
+    </physics>
+  </world>
+</sdf>
+"""
+
+
+def cafe_world(folder, engine):
+    path = folder / 'cafe.world'
+    path.write_text(CAFE_WORLD.format(x=TABLE_X, y=TABLE_Y, yaw=TABLE_YAW, beer_x=TABLE_X + 0.2,
+                                      engine=engine))
+    return path
+
+
+def output(result):
+    return '%s\nstdout:\n%s\nstderr:\n%s' % (result.args, result.stdout, result.stderr)
+
+
+def run(ros, *args, env=None, timeout=120):
+    return subprocess.run(list(args), env=dict(ros.env, **(env or {})), cwd=WORKSPACE,
+                          stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def start_serving(ros, args, name, env=None):
+    """Starts args and waits until /gazebo serves its last service."""
+    proc = ros.start(args, name=name, env=env)
+    wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'), 60,
+               what='%s to serve /gazebo/unpause_physics' % ' '.join(args))
+    assert proc.poll() is None, ros.log_text(proc)
+    return proc
+
+
+def model_position(api, name):
+    state = api.get_model_state(name, '')
+    assert state.success, state.status_message
+    return state.pose.position
+
+
+def check_cafe_world(api, engine):
+    """The cafe world as loaded: its models, its physics, and the objects resting on the table."""
+    world = api.get_world_properties()
+    assert world.model_names == CAFE_MODELS, world
+    physics = api.get_physics_properties()
+    assert physics.time_step == 0.002
+    assert (physics.gravity.x, physics.gravity.y, physics.gravity.z) == (0, 0, -9)
+    assert physics.max_update_rate == 0
+    assert '(engine: %s)' % engine in physics.status_message
+
+    table = api.get_model_state('cafe_table', '').pose
+    assert (table.position.x, table.position.y, table.position.z) == \
+        pytest.approx((TABLE_X, TABLE_Y, 0), abs=1e-9)
+    assert 2 * table.orientation.z * table.orientation.w == pytest.approx(math.sin(TABLE_YAW),
+                                                                         abs=1e-9)
+    assert api.get_model_properties('cafe_table').is_static
+    assert not api.get_model_properties('toy_block').is_static
+    assert api.get_model_properties('floating_block').is_static
+
+    api.run_for(2 * 10 ** 9)  # 2 s of sim time: the block and the can fall a few cm and settle
+    block = model_position(api, 'toy_block')
+    assert block.z == pytest.approx(TABLE_TOP + BLOCK_HALF, abs=0.003)
+    assert (block.x, block.y) == pytest.approx((TABLE_X, TABLE_Y), abs=0.002)
+    beer = model_position(api, 'my_beer')
+    assert beer.z == pytest.approx(TABLE_TOP + BEER_HALF, abs=0.003)
+    assert (beer.x, beer.y) == pytest.approx((TABLE_X + 0.2, TABLE_Y), abs=0.002)
+    assert model_position(api, 'floating_block').z == 0.5
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_world_file_loads_via_empty_world_launch(ros, rospy_client, engine, tmp_path):
+    world = cafe_world(tmp_path, ENGINES[0] if engine != ENGINES[0] else ENGINES[-1])
+    # physics:= names the engine over the world's <physics type>, as gzserver's -e does.
+    roslaunch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch',
+                                    'world_name:=%s' % world, 'physics:=' + engine,
+                                    'paused:=true', 'gui:=false'], 'roslaunch')
+    check_cafe_world(GazeboApi(rospy_client), engine)
+    log = ros.log_text(roslaunch)
+    assert "world 'test_cafe' from %s: 5 models" % world in log, log
+    assert log.count("light 'sun' accepted, not simulated") == 1, log
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_world_file_loads_via_rosrun_gazebo_on_its_physics_engine(ros, rospy_client, engine,
+                                                                 tmp_path):
+    # No engine asked for: the world's <physics type> is the engine.
+    world = cafe_world(tmp_path, engine)
+    gazebo = start_serving(ros, ['rosrun', 'gazebo_ros', 'gazebo', '-u', str(world)], 'gazebo',
+                           env=HEADLESS)
+    check_cafe_world(GazeboApi(rospy_client), engine)
+    assert 'ignoring command-line argument' not in ros.log_text(gazebo)
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_book_shaped_world_loads_with_its_gravity(ros, rospy_client, engine, tmp_path):
+    world = tmp_path / 'play_pen.world'
+    world.write_text(BOOK_SHAPED_WORLD)
+    start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-u', '-e', engine, str(world)],
+                  'gzserver')
+    api = GazeboApi(rospy_client)
+    assert api.get_world_properties().model_names == \
+        ['ground_plane', 'cafe_table', 'beer', 'starting_pen']
+    physics = api.get_physics_properties()
+    assert physics.gravity.z == -9.81 and physics.max_update_rate == 1000
+    assert physics.time_step == 0.001  # the world does not set it: the default
+    pen = model_position(api, 'starting_pen')
+    assert (pen.x, pen.y, pen.z) == (0, -5, 0)
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_models_inline_and_from_gazebo_model_path_and_what_is_ignored_is_said(
+        ros, rospy_client, engine, tmp_path):
+    crate = tmp_path / 'models' / 'crate'
+    crate.mkdir(parents=True)
+    (crate / 'model.config').write_text(
+        '<model><name>crate</name><sdf version="1.6">model.sdf</sdf></model>')
+    (crate / 'model.sdf').write_text(
+        '<sdf version="1.6"><model name="crate"><link name="link"><collision name="c">'
+        '<geometry><box><size>0.4 0.4 0.4</size></box></geometry></collision></link>'
+        '</model></sdf>')
+    world = tmp_path / 'mixed.world'
+    world.write_text(
+        '<sdf version="1.6"><world name="mixed">'
+        '<include><uri>model://crate</uri><pose>2 0 0.2 0 0 0</pose></include>'
+        '<model name="post"><static>true</static><pose>0 3 0.5 0 0 0</pose>'
+        '<link name="link"><collision name="c"><geometry><cylinder><radius>0.1</radius>'
+        '<length>1</length></cylinder></geometry></collision></link></model>'
+        '<light type="point" name="lamp"><pose>0 0 3 0 0 0</pose></light>'
+        '<scene><ambient>0.4 0.4 0.4 1</ambient></scene>'
+        '<plugin name="world_ticker" filename="libworld_ticker.so"/>'
+        '</world></sdf>')
+    gzserver = start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-u', '-e', engine,
+                                   str(world)], 'gzserver',
+                             env={'GAZEBO_MODEL_PATH': str(tmp_path / 'models')})
+    api = GazeboApi(rospy_client)
+    assert api.get_world_properties().model_names == ['crate', 'post']
+    post = model_position(api, 'post')
+    assert (post.x, post.y, post.z) == (0, 3, 0.5)
+    log = ros.log_text(gzserver)
+    assert "world 'mixed': light 'lamp' accepted, not simulated" in log, log
+    assert "ignoring world plugin 'world_ticker' (libworld_ticker.so)" in log, log
+    assert 'ignoring <scene>' in log, log
+    # What a physics parameter is not given keeps the node's default.
+    assert api.get_physics_properties().time_step == 0.001
+
+
+def test_world_with_a_missing_include_stops_the_launch_naming_it(ros, tmp_path):
+    world = tmp_path / 'broken.world'
+    world.write_text('<sdf version="1.6"><world name="broken">'
+                     '<include><uri>model://ground_plane</uri></include>'
+                     '<include><uri>model://no_such_model</uri></include></world></sdf>')
+    result = ros.run(['roslaunch', 'gazebo_ros', 'empty_world.launch', 'world_name:=%s' % world,
+                      'gui:=false'])
+    text = result.stdout + result.stderr
+    assert ("world file '%s' cannot be loaded: <include> model://no_such_model is not in the "
+            "model path" % world) in text, output(result)
+    assert 'all processes on machine have died' in text, output(result)
+
+
+REFUSED = {
+    'missing_include': ('<sdf version="1.6"><world name="w">'
+                        '<include><uri>model://no_such_model</uri></include></world></sdf>',
+                        "cannot be loaded: <include> model://no_such_model is not in the model "
+                        "path ({models}"),
+    'bad_xml': ('<sdf version="1.6"><world name="w"><model name="a"></world></sdf>',
+                'cannot be loaded: not well-formed XML: '),
+    'no_world': ('<sdf version="1.6"><model name="a"><link name="l"/></model></sdf>',
+                 'cannot be loaded: the file has a <model>, no <world>'),
+    'negative_count': ('<sdf version="1.6"><world name="w"><physics type="ode"><ode><solver>'
+                       '<iters>-3</iters></solver></ode></physics></world></sdf>',
+                       'cannot be loaded: <physics>: <iters> is a count and must be >= 0'),
+    'step_out_of_range': ('<sdf version="1.6"><world name="w"><physics type="ode">'
+                          '<max_step_size>0</max_step_size></physics></world></sdf>',
+                          "time_step must be in [1e-06, 0.1] s (the world file's <physics>"),
+    'model_refused': ('<sdf version="1.6"><world name="w"><model name="heavy"><link name="l">'
+                      '<inertial><mass>1e9</mass></inertial></link></model></world></sdf>',
+                      "world 'w': model 'heavy' cannot be spawned: SpawnModel: link 'l' has a "
+                      "mass of 1e+09 kg"),
+}
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+@pytest.mark.parametrize('case', sorted(REFUSED))
+def test_world_that_cannot_be_loaded_ends_gzserver_naming_why(ros, case, engine, tmp_path):
+    world = tmp_path / (case + '.world')
+    world.write_text(REFUSED[case][0])
+    result = run(ros, 'rosrun', 'gazebo_ros', 'gzserver', '-e', engine, str(world))
+    assert result.returncode == 1, output(result)
+    models = WORKSPACE + '/src/onedof_sim/models'
+    assert REFUSED[case][1].format(models=models) in result.stdout + result.stderr, output(result)
+
+
+def test_missing_world_file_ends_gzserver_naming_the_folders_looked_in(ros):
+    result = run(ros, 'rosrun', 'gazebo_ros', 'gzserver', 'worlds/no_such.world',
+                 env={'GAZEBO_RESOURCE_PATH': '/nonexistent/gazebo'})
+    assert result.returncode == 1, output(result)
+    assert ("world file 'worlds/no_such.world' not found (looked in %s, %s/src/onedof_sim, "
+            "/nonexistent/gazebo)" % (WORKSPACE, WORKSPACE)) in result.stdout + result.stderr, \
+        output(result)
+
+
+def test_world_file_found_in_gazebo_resource_path(ros, rospy_client, tmp_path):
+    (tmp_path / 'worlds').mkdir()
+    (tmp_path / 'worlds' / 'one_block.world').write_text(
+        '<sdf version="1.6"><world name="w"><include><uri>model://toy_block</uri>'
+        '<pose>0 0 0.0175 0 0 0</pose></include></world></sdf>')
+    start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-u', 'worlds/one_block.world'],
+                  'gzserver', env={'GAZEBO_RESOURCE_PATH': str(tmp_path)})
+    assert GazeboApi(rospy_client).get_world_properties().model_names == ['toy_block']
