@@ -19,8 +19,20 @@ DATABASE_REQUEST = ('<sdf version="1.4">\n    <world name="default">\n        <i
                     '            <uri>model://{}</uri>\n        </include>\n    </world>\n</sdf>')
 BOX_HALF_SIDE = 0.1  # api_client's BOX_SDF
 # An ASCII STL spanning x, y in [-0.1, 0.1], z in [0, 0.3].
-BLOCK_STL = ('solid block\nfacet normal 0 0 1\nouter loop\nvertex -0.1 -0.1 0\nvertex 0.1 0.1 0.3\n'
-             'vertex 0.1 -0.1 0\nendloop\nendfacet\nendsolid block\n')
+def box_stl(x0, y0, z0, x1, y1, z1):
+    """An ASCII STL of the closed box between two corners, its triangles wound outwards."""
+    corners = [(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    lines = ['solid block']
+    for a, b, c, d in faces:
+        for triangle in ((a, b, c), (a, c, d)):
+            lines += ['facet normal 0 0 0', 'outer loop']
+            lines += ['vertex %g %g %g' % corners[i] for i in triangle]
+            lines += ['endloop', 'endfacet']
+    return '\n'.join(lines + ['endsolid block']) + '\n'
+
+
+BLOCK_STL = box_stl(-0.1, -0.1, 0, 0.1, 0.1, 0.3)
 
 
 def output(result):
@@ -114,8 +126,8 @@ def test_books_table_command_through_gazebo_ros(ros, rospy_client, running_sim):
 
 def test_gazebo_ros_database_request_resolves_in_the_server(ros, rospy_client, engine, tmp_path):
     """The request gazebo_ros' spawn_model builds for -database cafe_table -sdf -model cafe_table
-    -x 0.85, sent as it sends it; models also come from the server's GAZEBO_MODEL_PATH, mesh
-    collisions as their bounds."""
+    -x 0.85, sent as it sends it; models also come from the server's GAZEBO_MODEL_PATH, with
+    their mesh collisions."""
     write_model(tmp_path, 'stl_block',
                 '<collision name="hull"><geometry><mesh><uri>model://stl_block/meshes/block.stl'
                 '</uri></mesh></geometry></collision><visual name="look"><geometry><mesh><uri>'
@@ -135,7 +147,7 @@ def test_gazebo_ros_database_request_resolves_in_the_server(ros, rospy_client, e
     block = api.spawn_sdf_model('block', DATABASE_REQUEST.format('stl_block'), '/',
                                 pose(x=-1), '')
     assert block.success, block.status_message
-    # A box resting on the block's top (z 0.3) shows that the mesh collides as its bounding box.
+    # A box resting on the block's top (z 0.3) shows that the model's mesh collides.
     api.spawn_box('box', pose(x=-1, z=0.5))
     api.run_for(1500 * 10 ** 6)
     box_bottom = api.get_model_state('box', '').pose.position.z - BOX_HALF_SIDE
