@@ -395,6 +395,21 @@ def test_reset_simulation_returns_time_and_robot_to_spawn(shared_sim, api):
     assert ROBOT in api.get_world_properties().model_names
 
 
+def test_reset_simulation_puts_its_time_on_the_latched_clock(shared_sim, api, rospy_client):
+    robot_moved_then_paused(api)
+    stamps, _ = clock_listener(rospy_client)
+    wait_until(lambda: stamps, 30, what='the latched /clock')
+    assert stamps[-1] == api.sim_time_ns() > 0
+    api.reset_simulation()
+    # A node's time goes back with the world's, and a node subscribing afterwards starts from
+    # the reset time, not from the time the world had before it.
+    wait_until(lambda: stamps[-1] == 0, 30, what='/clock of the reset')
+    wait_until(lambda: rospy_client.get_rostime().to_nsec() == 0, 30, what="the client's time")
+    later, _ = clock_listener(rospy_client)
+    wait_until(lambda: later, 30, what='the latched /clock')
+    assert later == [0]
+
+
 def test_reset_world_resets_poses_while_time_runs_on(shared_sim, api):
     robot_moved_then_paused(api)
     paused_at = api.sim_time_ns()

@@ -54,6 +54,7 @@ struct SimLoop::StepOutput {
   bool hold_clock = false;     // lock-stepped controllers' efforts run: only stops are published
   Lockstep::Clock::time_point clock_not_before;  // of a lock-step stop (see stepOnce)
   bool resumed = false;  // the pacing must restart (after a pause or a rate change)
+  int64_t reset_clock_ns = -1;  // a reset's time, published before anything of this output
   int64_t time_ns = 0;
   double max_update_rate = 0;
   bool has_model_states = false;
@@ -115,6 +116,10 @@ void SimLoop::run() {
   while (ros::ok()) {
     StepOutput out;
     stepOnce(&out);
+    // /clock is latched: without this a node subscribing after a reset would first hear the time
+    // the world had before it (a paused world's only message until it moves). Whatever time the
+    // loop held back unpublished is from before the reset, and publishClock drops it.
+    if (out.reset_clock_ns >= 0) publishClock(out.reset_clock_ns);
     for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
     if (!out.stepped) {
       was_stepping = false;
@@ -138,6 +143,13 @@ void SimLoop::stepOnce(StepOutput* out) {
   // Let waiting service callbacks in first; they hold the lock only for one world call.
   while (waiting_callbacks_.load() > 0) std::this_thread::yield();
   std::unique_lock<std::mutex> lock(mutex_);
+  // Taken as the lock is let go, on every return: a reset during a wait below comes before this
+  // output's step, so its clock must go out first.
+  struct TakeResetClock {
+    int64_t& from;
+    int64_t& to;
+    ~TakeResetClock() { std::swap(from, to); }
+  } take_reset_clock{reset_clock_ns_, out->reset_clock_ns};
   const bool requested = step_request_.remaining > 0;
   const bool request_ending = step_request_.active && !requested;
   if (paused_ && !requested && !request_ending) {
@@ -530,6 +542,7 @@ void SimLoop::resetSimulation() {
     Lock lock(*this);
     endStepRequest("reset_simulation");
     world_.resetSimulation();
+    reset_clock_ns_ = world_.timeNs();
     lockstep_.reset();
     between_stops_ = false;
     clock_ahead_ns_ = -1;

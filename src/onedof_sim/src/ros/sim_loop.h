@@ -162,6 +162,7 @@ class SimLoop {
   bool between_stops_ = false;  // a lock-stepped controller's period runs (requests wait)
   std::condition_variable at_stop_;
   int64_t clock_ahead_ns_ = -1;  // the wake-up clock shown ahead of the world, until it gets there
+  int64_t reset_clock_ns_ = -1;  // the time reset_simulation went back to, not yet on /clock
   struct StepRequest {
     bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)
     uint64_t remaining = 0;
