@@ -14,26 +14,32 @@ from onedof_harness import book_client
 
 @pytest.fixture
 def tutorial_robot_frames(ros, rospy_client):
-    """robot_state_publisher on the tutorial robot, fed joint1 = 0.5 on /joint_states."""
+    """robot_state_publisher on the tutorial robot, fed joint1 = 0.5 on /joint_states, each
+    message stamped when it is sent (-s: rostopic pub takes `now` once without it, and
+    robot_state_publisher sends a joint's transform only when its stamp moves on)."""
     from sensor_msgs.msg import JointState
     with open(TUTORIAL_URDF) as f:
         ros.set_param('/robot_description', f.read())
     ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
               name='robot_state_publisher')
-    ros.start(['rostopic', 'pub', '-r', '20', '/joint_states', 'sensor_msgs/JointState',
+    ros.start(['rostopic', 'pub', '-s', '-r', '20', '/joint_states', 'sensor_msgs/JointState',
                '{header: {stamp: now}, name: [joint1], position: [0.5]}'], name='joint_states')
     return 0.5
 
 
 def test_tf_echo_reaches_the_robot_state_publishers_frames(ros, tutorial_robot_frames):
-    """`rosrun tf tf_echo world link2`: link2 sits 1 m above the world, turned by joint1 about y."""
+    """`rosrun tf tf_echo world link2`: link2 sits 1 m above the world, turned by joint1 about y,
+    in transforms that keep coming (tf_echo prints the latest once a second, each later)."""
     q = tutorial_robot_frames
     echo = ros.start(['rosrun', 'tf', 'tf_echo', 'world', 'link2'], name='tf_echo')
-    pattern = re.compile(r'- Translation: \[([-\d.]+), ([-\d.]+), ([-\d.]+)\]\s*'
-                         r'- Rotation: in Quaternion \[([-\d.]+), ([-\d.]+), ([-\d.]+), ([-\d.]+)\]')
-    ros.wait_until(lambda: pattern.search(ros.log_text(echo)), 90,
-                   what='tf_echo to print world -> link2')
-    values = [float(v) for v in pattern.search(ros.log_text(echo)).groups()]
+    number = r'([-\d.]+)'
+    pattern = re.compile(r'At time ([\d.]+)\s*- Translation: \[%s, %s, %s\]\s*'
+                         r'- Rotation: in Quaternion \[%s, %s, %s, %s\]' % ((number,) * 7))
+    ros.wait_until(lambda: len(pattern.findall(ros.log_text(echo))) >= 2, 90,
+                   what='tf_echo to print world -> link2 twice')
+    prints = [[float(v) for v in found] for found in pattern.findall(ros.log_text(echo))]
+    assert prints[1][0] > prints[0][0], 'the transform is not renewed: %s' % prints[:2]
+    values = prints[-1][1:]
     assert values[:3] == pytest.approx([0, 0, 1], abs=1e-3)
     assert values[3:] == pytest.approx([0, math.sin(q / 2), 0, math.cos(q / 2)], abs=1e-3)
 
