@@ -3,12 +3,12 @@ gzserver / gazebo / gzclient, spawn_model, empty_world.launch included by a laun
 book's shape, the gazebo_ros.gazebo_interface module, and gzserver-side model:// resolution of the
 request gazebo_ros' spawn_model sends for -database."""
 import os
-import subprocess
 
 import pytest
 
 from api_client import ROBOT, GazeboApi, pose
 from conftest import ENGINES, TUTORIAL_URDF, WORKSPACE
+from gazebo_commands import output, run, start_serving
 from onedof_harness.private_ros import wait_until
 
 STANDIN = "this workspace's simulator, standing in for Gazebo"
@@ -33,25 +33,6 @@ def box_stl(x0, y0, z0, x1, y1, z1):
 
 
 BLOCK_STL = box_stl(-0.1, -0.1, 0, 0.1, 0.1, 0.3)
-
-
-def output(result):
-    return '%s\nstdout:\n%s\nstderr:\n%s' % (result.args, result.stdout, result.stderr)
-
-
-def run(ros, *args, env=None, timeout=60):
-    return subprocess.run(list(args), env=dict(ros.env, **(env or {})), cwd=WORKSPACE,
-                          stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=timeout)
-
-
-def start_serving(ros, args, name, env=None):
-    """Starts args and waits until /gazebo serves its last service."""
-    proc = ros.start(args, name=name, env=env)
-    wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'), 60,
-               what='%s to serve /gazebo/unpause_physics' % ' '.join(args))
-    assert proc.poll() is None, ros.log_text(proc)
-    return proc
 
 
 def write_model(folder, name, link_content):

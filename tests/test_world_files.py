@@ -4,13 +4,12 @@ its models and its includes of model://NAME (this package's models/ and GAZEBO_M
 <name>, <pose> and <static> over the included model's; lights accepted and said once; scene and
 world plugins said to be ignored; a world that cannot be loaded ends the simulator naming why."""
 import math
-import subprocess
 
 import pytest
 
 from api_client import GazeboApi
 from conftest import ENGINES, WORKSPACE
-from onedof_harness.private_ros import wait_until
+from gazebo_commands import output, run, start_serving
 
 HEADLESS = {'DISPLAY': ''}
 TABLE_TOP = 0.775      # cafe_table: the top face of its surface box
@@ -93,25 +92,6 @@ def cafe_world(folder, engine):
     path.write_text(CAFE_WORLD.format(x=TABLE_X, y=TABLE_Y, yaw=TABLE_YAW, beer_x=TABLE_X + 0.2,
                                       engine=engine))
     return path
-
-
-def output(result):
-    return '%s\nstdout:\n%s\nstderr:\n%s' % (result.args, result.stdout, result.stderr)
-
-
-def run(ros, *args, env=None, timeout=120):
-    return subprocess.run(list(args), env=dict(ros.env, **(env or {})), cwd=WORKSPACE,
-                          stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=timeout)
-
-
-def start_serving(ros, args, name, env=None):
-    """Starts args and waits until /gazebo serves its last service."""
-    proc = ros.start(args, name=name, env=env)
-    wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'), 60,
-               what='%s to serve /gazebo/unpause_physics' % ' '.join(args))
-    assert proc.poll() is None, ros.log_text(proc)
-    return proc
 
 
 def model_position(api, name):

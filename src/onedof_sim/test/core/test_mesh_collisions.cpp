@@ -217,32 +217,34 @@ TEST_P(MeshCollisions, BoxRestsOnAStaticStlFloor) {
   EXPECT_NEAR(pose.position.y, -0.2, kSink);
 }
 
-// A body whose collision is the block scaled to 0.2 x 0.3 x 0.1, its link origin at the middle of
-// its bottom: it rests on the ground with the origin at z 0, whatever height it fell from.
-TEST_P(MeshCollisions, MeshBodyRestsOnTheGround) {
+// The unit block as `data` in the file `name` (named as `uri_prefix` and its path), scaled to
+// `sides` on a free body, its link origin at the middle of its bottom, dropped from `drop`: it
+// rests on the ground with the origin at z 0, whatever height it fell from.
+void expectBlockBodyRestsOnTheGround(const std::string& engine, const std::string& name,
+                                     const std::string& data, const std::string& uri_prefix,
+                                     const Vec3& sides, double drop, const char* what) {
   MeshFolder folder;
-  const std::string stl = folder.write("block.stl", boxStl(kBlockLo, kBlockHi));
-  World world(GetParam());
+  const std::string file = folder.write(name, data);
+  World world(engine);
   const Status status = world.spawn(
-      "body", movingMeshUrdf("file://" + stl, {0.2, 0.3, 0.1}, {0.2, 0.3, 0.1}, 0.05),
-      ModelFormat::Urdf, at(0, 0, 0.3));
+      "body", movingMeshUrdf(uri_prefix + file, sides, sides, sides.z / 2), ModelFormat::Urdf,
+      at(0, 0, drop));
   ASSERT_TRUE(status.ok()) << status;
   double speed = 0;
-  expectRestsAt(restingPose(&world, "body", &speed), speed, 0, "mesh body on the ground");
+  expectRestsAt(restingPose(&world, "body", &speed), speed, 0, what);
+}
+
+// The block scaled to 0.2 x 0.3 x 0.1, named by a file:// URI.
+TEST_P(MeshCollisions, MeshBodyRestsOnTheGround) {
+  expectBlockBodyRestsOnTheGround(GetParam(), "block.stl", boxStl(kBlockLo, kBlockHi), "file://",
+                                  {0.2, 0.3, 0.1}, 0.3, "mesh body on the ground");
 }
 
 // A dense mesh: the block of 19,200 triangles (a vertex every 5 mm) touches the ground at
 // hundreds of points, of which an engine keeps a few; they must spread over its bottom.
 TEST_P(MeshCollisions, DenseMeshBodyRestsOnTheGround) {
-  MeshFolder folder;
-  const std::string stl = folder.write("dense.stl", subdividedBlockStl(40));
-  World world(GetParam());
-  const Status status =
-      world.spawn("body", movingMeshUrdf(stl, {0.2, 0.2, 0.2}, {0.2, 0.2, 0.2}, 0.1),
-                  ModelFormat::Urdf, at(0, 0, 0.05));
-  ASSERT_TRUE(status.ok()) << status;
-  double speed = 0;
-  expectRestsAt(restingPose(&world, "body", &speed), speed, 0, "dense mesh body on the ground");
+  expectBlockBodyRestsOnTheGround(GetParam(), "dense.stl", subdividedBlockStl(40), "",
+                                  {0.2, 0.2, 0.2}, 0.05, "dense mesh body on the ground");
 }
 
 // Mesh on mesh: the body of MeshBodyRestsOnTheGround on the floor of the first test.

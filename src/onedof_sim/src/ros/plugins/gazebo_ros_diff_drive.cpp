@@ -20,6 +20,7 @@
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
+#include "update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -80,10 +81,10 @@ class GazeboRosDiffDrive : public ModelPlugin {
       wheel_frame_[side] = resolveTfFrame(prefix, params_.wheel_link[side]);
       wheel_parent_frame_[side] = resolveTfFrame(prefix, params_.wheel_parent[side]);
     }
-    period_ns_ = params_.update_rate > 0 ? std::llround(1e9 / params_.update_rate) : 0;
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
-      last_update_ns_ = last_odom_ns_ = context.world->timeNs();
+      last_odom_ns_ = context.world->timeNs();
+      update_gate_ = UpdateGate(params_.update_rate, last_odom_ns_);
     }
     if (params_.publish_wheel_joint_state)
       joint_state_pub_ = node_.advertise<sensor_msgs::JointState>("joint_states", 1000);
@@ -100,12 +101,12 @@ class GazeboRosDiffDrive : public ModelPlugin {
 
   void beforeStep(World& world, const StepTime& at) override {
     if (params_.encoder_odometry) updateEncoderOdometry(world, at.time_ns);
-    if (at.time_ns - last_update_ns_ > period_ns_) {
+    int64_t elapsed_ns = 0;
+    if (update_gate_.due(at.time_ns, &elapsed_ns)) {
       if (params_.publish_tf) publishOdometry(world, at.time_ns);
       if (params_.publish_wheel_tf) publishWheelTf(world, at.time_ns);
       if (params_.publish_wheel_joint_state) publishWheelJointState(world, at.time_ns);
-      updateWheelTargets(world, 1e-9 * (at.time_ns - last_update_ns_));
-      last_update_ns_ += period_ns_;
+      updateWheelTargets(world, 1e-9 * elapsed_ns);
     }
     // Gazebo's SetParam("vel") holds until the next update; the motor here is set per step.
     const double radius = params_.wheel_diameter / 2;
@@ -122,7 +123,8 @@ class GazeboRosDiffDrive : public ModelPlugin {
 
   // As Gazebo's Reset: the command and the encoder's pose back to zero.
   void reset(World& world) override {
-    last_update_ns_ = last_odom_ns_ = world.timeNs();
+    last_odom_ns_ = world.timeNs();
+    update_gate_.restart(last_odom_ns_);
     encoder_ = {};
     target_[kRight] = target_[kLeft] = 0;
     instructed_[kRight] = instructed_[kLeft] = 0;
@@ -130,11 +132,7 @@ class GazeboRosDiffDrive : public ModelPlugin {
     linear_ = angular_ = 0;
   }
 
-  std::vector<Publication> takePublications() override {
-    std::vector<Publication> out;
-    out.swap(pending_);
-    return out;
-  }
+  std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
   struct EncoderPose {
@@ -241,8 +239,7 @@ class GazeboRosDiffDrive : public ModelPlugin {
     odom.header.stamp = time;
     odom.header.frame_id = odom_frame_;
     odom.child_frame_id = base_frame_;
-    ros::Publisher publisher = odometry_pub_;
-    pending_.push_back([publisher, odom] { publisher.publish(odom); });
+    publications_.add(odometry_pub_, odom);
   }
 
   // Each wheel link in its joint's parent link.
@@ -269,28 +266,26 @@ class GazeboRosDiffDrive : public ModelPlugin {
       state.name.push_back(info.name);
       state.position.push_back(info.position);
     }
-    ros::Publisher publisher = joint_state_pub_;
-    pending_.push_back([publisher, state] { publisher.publish(state); });
+    publications_.add(joint_state_pub_, state);
   }
 
   void publishTf(const tf2_msgs::TFMessage& tf) {
-    ros::Publisher publisher = tf_pub_;
-    pending_.push_back([publisher, tf] { publisher.publish(tf); });
+    publications_.add(tf_pub_, tf);
   }
 
   std::string model_;
   DiffDriveParams params_;
   ros::NodeHandle node_;
   std::string odom_frame_, base_frame_, wheel_frame_[2], wheel_parent_frame_[2];
-  int64_t period_ns_ = 0;
-  int64_t last_update_ns_ = 0, last_odom_ns_ = 0;
+  UpdateGate update_gate_;
+  int64_t last_odom_ns_ = 0;
   double target_[2] = {0, 0};      // the wheels' rim speeds the motors drive to, m/s
   double instructed_[2] = {0, 0};  // the ramp's speeds (<wheelAcceleration>)
   EncoderPose encoder_;
   bool warned_refusal_ = false;
   std::mutex command_mutex_;
   double linear_ = 0, angular_ = 0;  // the last command, guarded by command_mutex_
-  std::vector<Publication> pending_;
+  PublicationQueue publications_;
   ros::Publisher odometry_pub_, joint_state_pub_, tf_pub_;
   ros::Subscriber command_sub_;
 };

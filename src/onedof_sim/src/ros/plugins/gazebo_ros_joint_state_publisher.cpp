@@ -4,7 +4,6 @@
 // in sim time: names, positions and velocities, as Gazebo fills them.
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <sstream>
 
 #include <ros/console.h>
@@ -12,6 +11,7 @@
 
 #include "model_plugin.h"
 #include "plugin_params.h"
+#include "update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -32,10 +32,9 @@ class GazeboRosJointStatePublisher : public ModelPlugin {
   GazeboRosJointStatePublisher(const ModelPluginContext& context, std::vector<std::string> joints,
                                double update_rate)
       : model_(context.model), joints_(std::move(joints)), node_(context.node) {
-    period_ns_ = update_rate > 0 ? std::llround(1e9 / update_rate) : 0;
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
-      last_update_ns_ = context.world->timeNs();
+      update_gate_ = UpdateGate(update_rate, context.world->timeNs());
     }
     publisher_ = node_.advertise<sensor_msgs::JointState>("joint_states", 1000);
     ROS_INFO_STREAM("gazebo_ros_joint_state_publisher (" << model_ << "): " << joints_.size()
@@ -45,8 +44,7 @@ class GazeboRosJointStatePublisher : public ModelPlugin {
 
   // At the start of the step, as Gazebo's OnUpdate (ConnectWorldUpdateBegin).
   void beforeStep(World& world, const StepTime& at) override {
-    if (at.time_ns < last_update_ns_) last_update_ns_ = at.time_ns;  // reset_simulation
-    if (at.time_ns - last_update_ns_ <= period_ns_) return;
+    if (!update_gate_.due(at.time_ns)) return;
     sensor_msgs::JointState state;
     state.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
     for (const std::string& joint : joints_) {
@@ -56,24 +54,18 @@ class GazeboRosJointStatePublisher : public ModelPlugin {
       state.position.push_back(info.position);
       state.velocity.push_back(info.rate);
     }
-    ros::Publisher publisher = publisher_;
-    pending_.push_back([publisher, state] { publisher.publish(state); });
-    last_update_ns_ += period_ns_;
+    publications_.add(publisher_, state);
   }
 
-  std::vector<Publication> takePublications() override {
-    std::vector<Publication> out;
-    out.swap(pending_);
-    return out;
-  }
+  std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
   std::string model_;
   std::vector<std::string> joints_;
   ros::NodeHandle node_;
   ros::Publisher publisher_;
-  int64_t period_ns_ = 0, last_update_ns_ = 0;
-  std::vector<Publication> pending_;
+  UpdateGate update_gate_;
+  PublicationQueue publications_;
 };
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
+#include "update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -61,17 +62,13 @@ class GazeboRosP3d : public ModelPlugin {
     frame_id_ = resolveTfFrame(tfPrefix(node_), params_.frame);
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
-      last_ns_ = context.world->timeNs();
+      update_gate_ = UpdateGate(params_.update_rate, context.world->timeNs());
     }
     publisher_ = node_.advertise<nav_msgs::Odometry>(params_.topic, 1);
   }
 
   void beforeStep(World& world, const StepTime& at) override {
-    if (at.time_ns < last_ns_) last_ns_ = at.time_ns;  // reset_simulation
-    const int64_t elapsed = at.time_ns - last_ns_;
-    if (params_.update_rate > 0 && elapsed * 1e-9 < 1.0 / params_.update_rate) return;
-    if (elapsed == 0 || publisher_.getNumSubscribers() == 0) return;
-    last_ns_ = at.time_ns;
+    if (!update_gate_.due(at.time_ns) || publisher_.getNumSubscribers() == 0) return;
     Pose pose;
     Twist twist;
     if (!world.linkState(model_ + "::" + params_.body, params_.reference, &pose, &twist).ok())
@@ -94,15 +91,10 @@ class GazeboRosP3d : public ModelPlugin {
     msg.twist.twist.angular.z = noisy(twist.angular.z);
     for (int i : {0, 7, 14, 21, 28, 35})
       msg.pose.covariance[i] = msg.twist.covariance[i] = sigma * sigma;
-    ros::Publisher publisher = publisher_;
-    pending_.push_back([publisher, msg] { publisher.publish(msg); });
+    publications_.add(publisher_, msg);
   }
 
-  std::vector<Publication> takePublications() override {
-    std::vector<Publication> out;
-    out.swap(pending_);
-    return out;
-  }
+  std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
   std::string model_;
@@ -110,10 +102,10 @@ class GazeboRosP3d : public ModelPlugin {
   ros::NodeHandle node_;
   std::string frame_id_;
   ros::Publisher publisher_;
-  int64_t last_ns_ = 0;
+  UpdateGate update_gate_;
   std::mt19937 random_{std::random_device{}()};
   std::normal_distribution<double> noise_;
-  std::vector<Publication> pending_;
+  PublicationQueue publications_;
 };
 
 }  // namespace

@@ -26,6 +26,24 @@ using LockWorld = std::function<std::unique_lock<std::mutex>()>;
 // A message to publish once the world is unlocked.
 using Publication = std::function<void()>;
 
+// The messages a plugin makes under the world lock, kept until the loop takes them
+// (takePublications) to publish once it is unlocked.
+class PublicationQueue {
+ public:
+  template <class Message>
+  void add(const ros::Publisher& publisher, const Message& message) {
+    pending_.push_back([publisher, message] { publisher.publish(message); });
+  }
+  std::vector<Publication> take() {
+    std::vector<Publication> out;
+    out.swap(pending_);
+    return out;
+  }
+
+ private:
+  std::vector<Publication> pending_;
+};
+
 // Where a hook is called: the world's sim time and step count at that moment (before a step:
 // those the step starts from; after it: those it reached).
 struct StepTime {
