@@ -63,6 +63,11 @@ enum class StatusCode {
   // subject: the internal error the physics engine reported (an assertion inside ODE) on a call
   // the world's checks let through; the world took the call back (see World::step and spawn).
   EngineFault,
+  // subject: the internal error the physics engine reported inside a step, then the models in
+  // touch in it if any ("...; models in touch: 'a', 'b'"): its fallback solver failed too, and
+  // the engine cannot tell which model made it fail. Nothing was removed and nothing moved: the
+  // world stands where the step started (see World::step).
+  EngineFaultUnattributed,
 };
 
 struct Status {
@@ -195,11 +200,15 @@ class World {
 
   // --- time and stepping -------------------------------------------------------------------
   // Advances one step of params().step: applies the effort jobs whose window covers the step's
-  // start time, integrates, resolves contacts, then advances time. Ok, or EngineFault when the
-  // engine failed inside the step: the world then built its engine again from the states before
-  // the step, without the model that made it fail (the models the failed step left non-finite;
-  // failing those, the last spawned, and so on until the step succeeds), and took the step; the
-  // warnings (takeWarnings) name the model removed and the engine's error.
+  // start time, integrates, resolves contacts, then advances time. When the engine fails inside
+  // the step (an assertion inside ODE), the world builds its engine again from the states before
+  // the step and takes the step again with the engine's fallback solver (ODE's dWorldQuickStep
+  // for its dWorldStep): Ok, every model kept, a warning (takeWarnings) saying so. When that
+  // fails too: EngineFault, the model that made it fail removed (the models the failed step left
+  // non-finite; failing those, the one model whose bodies were in its contacts) and the step
+  // taken without it, the warnings naming the model and the engine's error; or, when the engine
+  // cannot tell which model that is, EngineFaultUnattributed: no model removed, the step not
+  // taken (time stands), the world where the step started.
   Status step();
   int64_t timeNs() const;
   double time() const;  // seconds

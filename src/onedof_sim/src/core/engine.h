@@ -111,6 +111,13 @@ class EngineModel {
                              const Vec3& torque) = 0;
 };
 
+// One body of one model inside an engine.
+struct BodyRef {
+  const EngineModel* model = nullptr;
+  int body = 0;
+  bool operator==(const BodyRef& other) const { return model == other.model && body == other.body; }
+};
+
 class Engine {
  public:
   virtual ~Engine() = default;
@@ -129,8 +136,17 @@ class Engine {
   virtual bool exactSolver(const PhysicsParams& params) const = 0;
   // One step of dt seconds with the forces added since the last one. Solver trouble the engine
   // reports during the step and could not work around (ODE retakes a step whose exact LCP fails
-  // with its iterative solver) goes to *solver_message, first one only.
-  virtual void step(double dt, std::string* solver_message) = 0;
+  // with its iterative solver) goes to *solver_message, first one only. retake: the step is
+  // taken again, from where the one that threw EngineFault started, on a new engine: the engine
+  // takes it the way it takes a step its solver failed (ODE: dWorldQuickStep).
+  virtual void step(double dt, std::string* solver_message, bool retake = false) = 0;
+  // Whether step(..., retake = true) takes a step another way than a plain step under these
+  // parameters does, so that retaking one that threw EngineFault is worth a new engine.
+  virtual bool retakesFailedSteps(const PhysicsParams& params) const = 0;
+  // The bodies in touch in the last step (the contacts it resolved, ground contacts included),
+  // each once: the bodies an EngineFault inside that step can involve. Readable after a fault.
+  // Empty when the engine cannot tell.
+  virtual std::vector<BodyRef> contactBodies() const = 0;
 };
 
 struct EngineEntry {

@@ -90,11 +90,11 @@ bool World::Impl::isBlownUp(const ModelRecord& model) const {
   return false;
 }
 
-void World::Impl::stepEngine() {
+void World::Impl::stepEngine(bool retake) {
   std::string solver_message;
   applyDamping(applyJobs(time_ns));
   applyMotors();
-  engine->step(params.step, &solver_message);
+  engine->step(params.step, &solver_message, retake);
   std::vector<ModelRecord*> newly_blown;
   for (const auto& model : models)
     if (!model->blown_up && isBlownUp(*model)) newly_blown.push_back(model.get());
@@ -107,7 +107,7 @@ void World::Impl::stepEngine() {
     releaseMotors();
     applyDamping(applyJobs(time_ns));
     applyMotors();
-    engine->step(params.step, &solver_message);
+    engine->step(params.step, &solver_message, retake);
   }
   releaseMotors();
   if (!solver_message.empty() && !engine_struggled) warn(solver_message);
@@ -170,6 +170,11 @@ Status World::Impl::step() {
   }
   saveStates();
   const Status status = stepContained();
+  if (status.code == StatusCode::EngineFaultUnattributed) {  // the world stands where it was
+    joint_commands.clear();
+    joint_motors.clear();
+    return status;
+  }
   guardStates();
   for (const auto& model : models) updateJointPositions(model.get());
   time_ns += step_ns;

@@ -1,6 +1,8 @@
 // Containing an engine that fails inside a call (EngineFault: an assertion inside ODE on input the
 // world's checks let through): the failed engine is dropped and a new one built from the world's
-// own records, every model at its state from before the call, so that the world goes on.
+// own records, every model at its state from before the call, so that the world goes on. A step
+// is first taken again that way with the engine's fallback solver; only when that fails too is
+// a model taken out, and only one the failed step involves.
 #include <string>
 
 #include "world_impl.h"
@@ -46,34 +48,78 @@ void World::Impl::rebuildEngine(const std::vector<BodyState>& states) {
   }
 }
 
+std::vector<size_t> World::Impl::faultedModels() const {
+  std::vector<size_t> found;
+  for (size_t i = 0; i < models.size(); ++i)
+    if (isBlownUp(*models[i])) found.push_back(i);
+  if (!found.empty()) return found;
+  const std::vector<BodyRef> touching = engine->contactBodies();
+  for (size_t i = 0; i < models.size(); ++i)
+    for (const BodyRef& body : touching)
+      if (body.model == models[i]->engine_model.get()) {
+        found.push_back(i);
+        break;
+      }
+  return found;
+}
+
 Status World::Impl::stepContained() {
   std::string fault;
+  bool retake = false, removed = false;
   for (;;) {
     try {
-      stepEngine();
+      stepEngine(retake);
       break;
     } catch (const EngineFault& error) {
       if (models.empty()) throw;  // the ground alone: nothing to take out
-      if (fault.empty()) fault = error.what();
-      // The model that made the step fail: those the failed step left non-finite (a failed
-      // engine can still be read), else the last spawned; the step is then tried again.
-      std::vector<size_t> culprits;
-      for (size_t i = 0; i < models.size(); ++i)
-        if (isBlownUp(*models[i])) culprits.push_back(i);
-      if (culprits.empty()) culprits.push_back(models.size() - 1);
       const std::vector<BodyState> states = saved_states;
+      if (!retake && engine->retakesFailedSteps(params)) {
+        // The step once more from where it started, on a new engine, the way the engine takes
+        // a step its solver failed: usually that step passes, and no model is lost.
+        if (fault.empty()) fault = error.what();
+        rebuildEngine(states);
+        saveStates();
+        retake = true;
+        continue;
+      }
+      if (fault.empty()) fault = error.what();
+      // Only a model the failed step involves is taken out: one it left non-finite, or the one
+      // model in its contacts. With several in touch the engine cannot tell which made it fail,
+      // and the world stops where the step started rather than lose a model that did not.
+      const std::vector<size_t> culprits = faultedModels();
+      const bool blown_up = !culprits.empty() && isBlownUp(*models[culprits.front()]);
+      if (culprits.empty() || (!blown_up && culprits.size() > 1)) {
+        std::string involved;
+        for (size_t i : culprits) involved += (involved.empty() ? "'" : ", '") + models[i]->name + "'";
+        rebuildEngine(states);
+        saveStates();
+        return {StatusCode::EngineFaultUnattributed,
+                involved.empty() ? error.what()
+                                 : std::string(error.what()) + "; models in touch: " + involved};
+      }
       for (auto i = culprits.rbegin(); i != culprits.rend(); ++i) {
         warn("model '" + models[*i]->name + "' made the physics engine fail inside a step (" +
-             error.what() + "): it was removed from the world, and the step taken again from " +
-             "where it started without it");
+             error.what() + (retake ? ", with its fallback solver too" : "") +
+             "): it was removed from the world, and the step taken again from where it started "
+             "without it");
         destroyModel(*i);
       }
+      removed = true;
       rebuildEngine(states);
       saveStates();
+      retake = false;
     }
   }
   if (fault.empty()) return {};
-  return {StatusCode::EngineFault, fault};
+  if (removed) return {StatusCode::EngineFault, fault};
+  // Retaken: warned at most once a second of sim time, as a step can fail again and again.
+  if (last_retake_warning_ns < 0 || time_ns < last_retake_warning_ns ||
+      time_ns - last_retake_warning_ns >= 1000000000) {
+    warn("the physics engine failed inside a step (" + fault + "): the step was taken again " +
+         "from where it started with its fallback solver, every model kept");
+    last_retake_warning_ns = time_ns;
+  }
+  return {};
 }
 
 }  // namespace onedof_sim

@@ -230,6 +230,7 @@ struct World::Impl {
   std::vector<BodyWrenchJob> wrench_jobs;
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
+  int64_t last_retake_warning_ns = -1;  // a failed step taken again (stepContained)
   bool engine_struggled = false;  // warned already, until a step passes without a solver message
   bool time_ended = false;        // warned already that sim time reached kEndOfTimeNs
   std::vector<std::string> model_path;  // absolute
@@ -271,7 +272,8 @@ struct World::Impl {
   // step again (as at first: a model that blew up once is usually only too fast); the first
   // finite step releases it. Logged at most once per model per second of sim time: a model that
   // keeps blowing up would otherwise log at the step rate.
-  void stepEngine();
+  // retake: see Engine::step.
+  void stepEngine(bool retake = false);
   void holdAtSavedState(const ModelRecord& model);
 
   // After the engine step (stepEngine): every model's speed is capped (see kMaxLinearSpeed and
@@ -280,7 +282,11 @@ struct World::Impl {
   Status step();
 
   // stepEngine, with an engine that fails inside it (EngineFault) taken back: see World::step.
+  // Ok, EngineFault (a model removed) or EngineFaultUnattributed (nothing stepped).
   Status stepContained();
+  // The models a step that threw EngineFault involves: those it left non-finite, else those
+  // whose bodies were in its contacts. Indices into models.
+  std::vector<size_t> faultedModels() const;
 
   // After an engine call threw EngineFault: a new engine with the world's parameters and ground,
   // and every model in it again, its bodies at `states` (saveStates' records, made before the

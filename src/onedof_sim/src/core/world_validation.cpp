@@ -106,6 +106,7 @@ std::ostream& operator<<(std::ostream& out, StatusCode code) {
     case StatusCode::InvalidModelName: return out << "InvalidModelName";
     case StatusCode::TooManyJobs: return out << "TooManyJobs";
     case StatusCode::EngineFault: return out << "EngineFault";
+    case StatusCode::EngineFaultUnattributed: return out << "EngineFaultUnattributed";
   }
   return out << "StatusCode(" << static_cast<int>(code) << ")";
 }

@@ -168,6 +168,15 @@ void SimLoop::stepOnce(StepOutput* out) {
   for (auto& [model, plugins] : plugins_)
     for (auto& plugin : plugins) plugin->beforeStep(world_, {world_.timeNs(), world_.stepCount()});
   const Status stepped = world_.step();
+  if (stepped.code == StatusCode::EngineFaultUnattributed) {
+    // The world stood still where the step started: physics pauses, with the reason.
+    paused_ = true;
+    endStepRequest("a physics engine failure (the log says why)");
+    const std::vector<std::string> world_warnings = world_.takeWarnings();
+    out->warnings.insert(out->warnings.end(), world_warnings.begin(), world_warnings.end());
+    out->warnings.push_back(engineStoppedText(stepped));
+    return;
+  }
   // A model the world removed after an engine failure takes its plugins with it (destroyed with
   // the output, unlocked).
   if (!stepped.ok()) detachPluginsOfRemovedModels(&out->detached_plugins);

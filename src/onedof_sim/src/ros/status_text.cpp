@@ -113,6 +113,7 @@ std::string statusText(const Wording& wording, const Status& status) {
       text = "the physics engine failed (" + subject + "); the request was taken back and the "
              "world goes on without it";
       break;
+    case StatusCode::EngineFaultUnattributed: return engineStoppedText(status);
   }
   return std::string(wording.service) + ": " + text;
 }
@@ -207,6 +208,13 @@ std::string stepsOverLimitText(uint64_t asked, uint64_t most, double time_step) 
        << " one request takes (" << double(most) * time_step
        << " s of sim time at this time_step); ask again for the rest, or unpause_physics";
   return text.str();
+}
+
+std::string engineStoppedText(const Status& status) {
+  return "the physics engine failed inside a step, with its fallback solver too (" +
+         status.subject + "), and cannot tell which model made it fail: no model was removed, "
+         "and physics is paused where that step started. Move or delete the model that ran into "
+         "trouble, or reset the world, then unpause physics";
 }
 
 std::string stepsEndedText(const char* ended_by, uint64_t taken, uint64_t asked, int64_t time_ns) {

@@ -81,6 +81,10 @@ std::string configurationText(const Status& status);
 std::string jobNotes(const JobOutcome& job,
                      const std::optional<std::pair<Vec3, Vec3>>& requested_wrench = {});
 
+// The step loop's log line when the world stopped on an engine failure it could not pin on a
+// model (StatusCode::EngineFaultUnattributed).
+std::string engineStoppedText(const Status& status);
+
 // step_simulation's refusal of more steps than a request takes, and its answer when another
 // request (pause_physics, ...) ended it after `taken` of `asked` steps.
 std::string stepsOverLimitText(uint64_t asked, uint64_t most, double time_step);

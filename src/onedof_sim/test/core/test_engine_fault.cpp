@@ -3,7 +3,9 @@
 // angular velocity at the engine seam, past every check the world makes): the engine throws
 // EngineFault instead of aborting, another ODE world in the same process steps on, and a World
 // removes the model that failed, rebuilds its engine and steps on with every other model exactly
-// where a world that never had that model would have it.
+// where a world that never had that model would have it. A failure injected at the engine seam
+// (FailingEngine) shows the world's order: the step retaken with the other solver, then only the
+// model the step involves removed, else the world stopped.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,10 +19,45 @@
 
 namespace onedof_sim {
 
+// An engine whose next plain step fails (EngineFault), around the world's own engine: the
+// world's containment of a fault, on any engine. after_step: the step is taken first, so that
+// the engine's contacts are the step's; retakes: whether it claims a second solver.
+class FailingEngine : public core::Engine {
+ public:
+  FailingEngine(std::unique_ptr<core::Engine> engine, bool after_step, bool retakes)
+      : engine_(std::move(engine)), after_step_(after_step), retakes_(retakes) {}
+  void setParams(const PhysicsParams& params) override { engine_->setParams(params); }
+  void addGroundPlane(double mu, double mu2) override { engine_->addGroundPlane(mu, mu2); }
+  std::unique_ptr<core::EngineModel> addModel(const core::ModelSpec& spec) override {
+    return engine_->addModel(spec);
+  }
+  bool exactSolver(const PhysicsParams& params) const override {
+    return engine_->exactSolver(params);
+  }
+  void step(double dt, std::string* solver_message, bool retake) override {
+    if (after_step_) engine_->step(dt, solver_message, retake);
+    if (!retake) throw core::EngineFault("injected failure");
+  }
+  bool retakesFailedSteps(const PhysicsParams& params) const override {
+    return retakes_ && engine_->retakesFailedSteps(params);
+  }
+  std::vector<core::BodyRef> contactBodies() const override { return engine_->contactBodies(); }
+
+ private:
+  std::unique_ptr<core::Engine> engine_;
+  bool after_step_, retakes_;
+};
+
 // The tests' way to the engine under a world (a friend of World).
 struct WorldTestAccess {
   static core::EngineModel& engineModel(World& world, const std::string& model) {
     return *world.impl_->findModel(model)->engine_model;
+  }
+  // The world's next step fails inside its engine (FailingEngine); the world replaces the
+  // engine as it contains the failure.
+  static void failNextStep(World& world, bool after_step, bool retakes) {
+    world.impl_->engine =
+        std::make_unique<FailingEngine>(std::move(world.impl_->engine), after_step, retakes);
   }
 };
 
@@ -191,6 +228,86 @@ TEST(EngineFault, OdeFailingInsideAStepRemovesTheModelAndTheWorldStepsOn) {
   for (int i = 0; i < 500; ++i) ASSERT_TRUE(world.step().ok());
   ASSERT_TRUE(world.modelState("victim", "", &pose, &twist).ok());
   EXPECT_NEAR(pose.position.z, 0.05, 0.01);  // fell onto the ground
+}
+
+class EngineFaultOn : public ::testing::TestWithParam<std::string> {};
+
+std::vector<std::string> settledNames(World* world) {
+  for (int i = 0; i < 300; ++i) EXPECT_TRUE(world->step().ok());
+  world->takeWarnings();
+  return world->modelNames();
+}
+
+// A step that fails inside the engine is taken again from where it started with the engine's
+// other solver (ODE's dWorldQuickStep), on a new engine, before any model is lost; an engine
+// with one solver cannot, and with nothing to pin the failure on, stops the world unmoved.
+TEST_P(EngineFaultOn, AFailedStepIsTakenAgainWithTheOtherSolverBeforeAnyModelIsLost) {
+  World world(GetParam());
+  populate(&world, true);
+  const std::vector<std::string> names = settledNames(&world);
+  const int64_t start_ns = world.timeNs();
+  Pose before;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("box", "", &before, &twist).ok());
+
+  WorldTestAccess::failNextStep(world, false, true);
+  const Status stepped = world.step();
+  EXPECT_EQ(world.modelNames(), names);
+  const std::vector<std::string> warnings = world.takeWarnings();
+  if (GetParam() == "ode") {  // the exact dWorldStep, retaken with dWorldQuickStep
+    EXPECT_TRUE(stepped.ok()) << stepped;
+    EXPECT_EQ(world.timeNs(), start_ns + std::llround(world.params().step * 1e9));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("taken again"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("injected failure"), std::string::npos) << warnings[0];
+  } else {
+    EXPECT_EQ(stepped.code, StatusCode::EngineFaultUnattributed) << stepped;
+    EXPECT_NE(stepped.subject.find("injected failure"), std::string::npos) << stepped.subject;
+    EXPECT_EQ(world.timeNs(), start_ns);
+    Pose after;
+    ASSERT_TRUE(world.modelState("box", "", &after, &twist).ok());
+    EXPECT_EQ(after.position.z, before.position.z);
+  }
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(world.step().ok());
+  EXPECT_EQ(world.modelNames(), names);
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, EngineFaultOn, ::testing::ValuesIn(World::engineNames()),
+                         [](const auto& info) { return info.param; });
+
+// When the failed step cannot be taken again, the model it involves is removed: the one model
+// whose bodies were in its contacts (the box on the ground; the pendulum and the victim swing
+// and fall in the air), never one merely spawned last. With two models in touch (the victim
+// landed, a second box) the engine cannot tell, and the world stops where the step started
+// with every model.
+TEST(EngineFault, OdeFailureIsPinnedOnTheOneModelInItsContactsElseTheWorldStops) {
+  World world("ode");
+  populate(&world, true);
+  settledNames(&world);
+  WorldTestAccess::failNextStep(world, true, false);
+  const Status removed = world.step();
+  EXPECT_EQ(removed.code, StatusCode::EngineFault) << removed;
+  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"pendulum", "victim"}));
+  const std::vector<std::string> warnings = world.takeWarnings();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("'box'"), std::string::npos) << warnings[0];
+
+  ASSERT_TRUE(world.spawn("box2", kBox, ModelFormat::Urdf, at(3, 0.3)).ok());
+  for (int i = 0; i < 1500; ++i) ASSERT_TRUE(world.step().ok());  // both land; the victim too
+  const int64_t start_ns = world.timeNs();
+  Pose before, after;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("victim", "", &before, &twist).ok());
+  WorldTestAccess::failNextStep(world, true, false);
+  const Status stopped = world.step();
+  EXPECT_EQ(stopped.code, StatusCode::EngineFaultUnattributed) << stopped;
+  EXPECT_NE(stopped.subject.find("'victim', 'box2'"), std::string::npos) << stopped.subject;
+  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"pendulum", "victim", "box2"}));
+  EXPECT_EQ(world.timeNs(), start_ns);
+  ASSERT_TRUE(world.modelState("victim", "", &after, &twist).ok());
+  EXPECT_EQ(after.position.x, before.position.x);
+  EXPECT_EQ(after.position.z, before.position.z);
+  for (int i = 0; i < 100; ++i) ASSERT_TRUE(world.step().ok());
 }
 
 }  // namespace

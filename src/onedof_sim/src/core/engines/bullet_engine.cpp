@@ -642,8 +642,11 @@ class BulletEngine : public Engine {
   bool exactSolver(const PhysicsParams&) const override { return false; }
 
   // maxSubSteps 0: exactly one step of dt, no fixed-step interpolation. Bullet reports no
-  // solver trouble, so *solver_message is left alone.
-  void step(double dt, std::string*) override { world_.stepSimulation(dt, 0); }
+  // solver trouble, so *solver_message is left alone. It has one solver and throws no
+  // EngineFault (see the top of the file): a retake is a step, and no fault names bodies.
+  void step(double dt, std::string*, bool) override { world_.stepSimulation(dt, 0); }
+  bool retakesFailedSteps(const PhysicsParams&) const override { return false; }
+  std::vector<BodyRef> contactBodies() const override { return {}; }
 
  private:
   // Declared in construction order; the world goes first on destruction.

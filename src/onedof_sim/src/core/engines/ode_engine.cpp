@@ -12,7 +12,10 @@
 // (OdeTrap). ODE's state is then inconsistent: the step's threading job list keeps the jobs the
 // throw skipped, a space stays locked by an unfinished collision pass, and ODE's own teardown
 // asserts on both. So a faulted engine never calls ODE again, bar the state readers: its world,
-// spaces, bodies and threading implementation are left allocated, and World builds a new engine.
+// spaces, bodies and threading implementation are left allocated, and World builds a new engine,
+// on which it takes the step again from where it started (step's retake) with dWorldQuickStep,
+// as after a failed LCP below. The contacts of the failed step name the bodies it can involve
+// (contactBodies).
 // Each world steps on a threading implementation of its own rather than ODE's process-wide
 // default, so that the jobs a fault leaves behind cannot reach another world.
 //
@@ -181,6 +184,8 @@ class OdeModel : public EngineModel {
     space_ = dSimpleSpaceCreate(parent_space);
     for (const BodySpec& spec_body : spec.bodies) {
       dBodyID body = dBodyCreate(world);
+      body_refs_.push_back({this, static_cast<int>(bodies_.size())});
+      dBodySetData(body, &body_refs_.back());  // for the contacts to name the body
       bodies_.push_back(body);
       all_bodies_->push_back(body);
       body_geoms_.emplace_back();
@@ -375,6 +380,7 @@ class OdeModel : public EngineModel {
   std::vector<dBodyID>* all_bodies_;
   dSpaceID space_ = nullptr;
   std::vector<dBodyID> bodies_;
+  std::deque<BodyRef> body_refs_;  // per body, what its dBodyGetData points to
   std::vector<std::vector<dGeomID>> body_geoms_;  // per body, in its BodySpec's shape order
   std::vector<dGeomID> anchored_;
   std::vector<Joint> joints_;
@@ -436,24 +442,32 @@ class OdeEngine : public Engine {
 
   bool exactSolver(const PhysicsParams& params) const override { return !params.quick_step; }
 
-  void step(double dt, std::string* solver_message) override {
+  bool retakesFailedSteps(const PhysicsParams& params) const override { return !params.quick_step; }
+
+  std::vector<BodyRef> contactBodies() const override { return contact_bodies_; }
+
+  // A step the exact solver failed is taken again from where it started with the iterative one:
+  // after an LCP failure (a message), from the bodies restored here; after an internal error
+  // (EngineFault), on a new engine the world builds at the step's start (retake).
+  void step(double dt, std::string* solver_message, bool retake) override {
     OdeTrap trap(&faulted_);
     stepping_message = solver_message;
     stepping_message_set = false;
+    contact_bodies_.clear();
     try {
       dSpaceCollide(space_, this, &nearCallback);
-      if (params_.quick_step) {
-        dWorldQuickStep(world_, dt);
-      } else {
+      bool quick = params_.quick_step || retake;
+      if (!quick) {
         saveBodies();
         dWorldStep(world_, dt);
         if (stepping_message_set) {  // the exact solve failed: see the top of the file
           restoreBodies();
           solver_message->clear();
           stepping_message_set = false;
-          dWorldQuickStep(world_, dt);
+          quick = true;
         }
       }
+      if (quick) dWorldQuickStep(world_, dt);
     } catch (const EngineFault&) {
       stepping_message = nullptr;
       throw;
@@ -502,6 +516,13 @@ class OdeEngine : public Engine {
       dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
       dJointAttach(joint, body_a, body_b);
     }
+    if (count > 0)
+      for (dBodyID body : {body_a, body_b})
+        if (body) {
+          const BodyRef& ref = *static_cast<const BodyRef*>(dBodyGetData(body));
+          if (std::find(contact_bodies_.begin(), contact_bodies_.end(), ref) == contact_bodies_.end())
+            contact_bodies_.push_back(ref);
+        }
   }
 
   // The bodies' state before a dWorldStep, for taking the step again: with the forces and
@@ -559,6 +580,7 @@ class OdeEngine : public Engine {
   bool faulted_ = false;  // an ODE internal error left the objects below inconsistent (OdeTrap)
   std::vector<dBodyID> bodies_;  // every model's, in the world
   std::vector<SavedBody> saved_;
+  std::vector<BodyRef> contact_bodies_;  // in the contacts of the last step (contactBodies)
   dWorldID world_ = nullptr;
   dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;
