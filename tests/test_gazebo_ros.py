@@ -183,16 +183,17 @@ def test_books_launch_file_shape_works(ros, rospy_client, tmp_path):
     assert roslaunch.poll() is None, ros.log_text(roslaunch)
 
 
-def test_gazebo_interface_calls_the_simulator(ros, rospy_client, running_sim):
+def test_gazebo_interface_calls_the_simulator(ros, rospy_client, shared_sim):
     from gazebo_ros import gazebo_interface
     with open(TUTORIAL_URDF) as f:
         urdf = f.read()
     assert gazebo_interface.spawn_urdf_model_client(ROBOT, urdf, '/', pose(), '', '/gazebo')
     assert not gazebo_interface.spawn_urdf_model_client(ROBOT, urdf, '/', pose(), '', '/gazebo')
+    # Paused: the joint keeps the angle set however late it is read (running, the link falls
+    # from it at once, and a busy machine reads it tenths of a radian later).
     assert gazebo_interface.set_model_configuration_client(ROBOT, '', ['joint1'], [0.5],
                                                            '/gazebo')
-    assert GazeboApi(rospy_client).get_joint_properties('joint1').position[0] == \
-        pytest.approx(0.5, abs=0.05)
+    assert shared_sim.get_joint_properties('joint1').position[0] == pytest.approx(0.5, abs=1e-9)
     assert gazebo_interface.spawn_sdf_model_client(
         'cafe_table', DATABASE_REQUEST.format('cafe_table'), '/', pose(x=0.85), '', '/gazebo')
 

@@ -1,6 +1,6 @@
 """The main job end to end: `play_tutorial` on a built workspace plays the whole tutorial and
 writes every output; its figures are those of the in-process run of the same controller law to a
-micro-radian, the same again with 8 busy processes beside it, and agree with the closed-form
+micro-radian, the same again with a busy process per core beside it, and agree with the closed-form
 physics; its rviz screenshot shows the robot and the table. The same run plays the phases again
 through the in-simulator PID (the book's YAML): it settles at the commands, and on the table."""
 import fcntl
@@ -17,7 +17,10 @@ from onedof_sim.tutorial.player import job_outputs
 
 PHASE_DURATION = 5.0
 SAME = 1e-6  # rad: lock-step runs agree to this, whatever the machine is doing
-BUSY_PROCESSES = 8
+# One per core: every process of the run waits its turn behind one, all through the run (more
+# would only take more of the machine from the tests beside this one; make test-under-load runs
+# the whole suite, this test included, beside 8 and 20).
+BUSY_PROCESSES = os.cpu_count()
 OUTPUTS = ('phase1_command_1.0.png', 'phase2_command_2.0.png', 'phase3_upright_0.0.png',
            'phase4_table_2.5.png', 'tutorial.png', 'samples.csv', 'rviz_final.png', 'summary.md',
            'summary.json', 'phase1_command_1.0_pd_vs_pid.png', 'phase2_command_2.0_pd_vs_pid.png',
@@ -142,7 +145,7 @@ def test_settled_angles_are_the_in_process_runs(tutorial):
         assert phase['samples'] == round(PHASE_DURATION * 100), name
 
 
-def test_figures_are_the_same_with_8_busy_processes_beside_it(tutorial, tmp_path):
+def test_figures_are_the_same_with_a_busy_process_per_core_beside_it(tutorial, tmp_path):
     # The lock-stepped phases of the rospy controller: the in-sim PID's run takes no part in
     # lock-step (it steps a paused world, the controller inside the step) and would double this
     # run's time; the player checks in every run that each of its steps ran on the command.

@@ -151,6 +151,13 @@ def test_buffer_times_are_relative_to_the_earliest_sample_of_any_label():
     assert buffer.series() == {'a': ([0.75, 0.0], [2.0, 4.0]), 'b': ([0.25, 1.25], [1.0, 3.0])}
 
 
+def test_buffer_series_until_a_time_leaves_out_what_came_after_it():
+    buffer = SampleBuffer(['a'])
+    for t in (10.0, 10.5, 11.0, 11.5):
+        buffer.append('a', t, t * 2)
+    assert buffer.series(until=11.0) == {'a': ([0.0, 0.5, 1.0], [20.0, 21.0, 22.0])}
+
+
 def test_buffer_is_bounded_and_keeps_the_newest_samples():
     buffer = SampleBuffer(['a'], maxlen=100)
     for i in range(10000):

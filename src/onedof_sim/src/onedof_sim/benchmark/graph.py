@@ -12,6 +12,7 @@ import xmlrpc.client
 import rospkg
 
 from onedof_harness.private_ros import PrivateRos, wait_until
+from onedof_harness.rospy_shutdown import shut_down_rospy
 from onedof_sim.benchmark import profiling
 from onedof_sim.benchmark import report as bm
 from onedof_sim.engines import node_command
@@ -170,7 +171,7 @@ class Bench:
                                 ('cafe_table', self.table_sdf, 'sdf', TABLE_X)]
 
     def close(self):
-        self.rospy.signal_shutdown('benchmark finished')
+        shut_down_rospy(self.rospy, 'benchmark finished')
         shutil.rmtree(self.work, ignore_errors=True)
 
     # --- what a run records -------------------------------------------------------------------

@@ -249,12 +249,15 @@ class SampleBuffer:
         with self._lock:
             return None if self._origin is None else t - self._origin
 
-    def series(self):
-        """{label: (times, values)}, times relative to the earliest sample ever appended."""
+    def series(self, until=None):
+        """{label: (times, values)}, times relative to the earliest sample ever appended; only
+        the samples up to time `until` when it is given."""
         with self._lock:
             origin = self._origin or 0.0
-            return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
+            kept = {label: [(t, v) for t, v in samples if until is None or t <= until]
                     for label, samples in self._samples.items()}
+            return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
+                    for label, samples in kept.items()}
 
 
 def write_csv(series, path):
@@ -553,7 +556,8 @@ class TopicRecorder:
 
 def record(recorder, duration, timeout):
     """Records `duration` seconds of ROS time from the first message received; returns the ROS
-    time at which it stopped. PlotError when nothing arrives within `timeout` wall seconds, when
+    time at which the recording ends (what arrived later, while this process looked, is not
+    part of it). PlotError when nothing arrives within `timeout` wall seconds, when
     ROS time stands still that long, or when a topic sent nothing."""
     import rospy
     recorder.start()
@@ -568,6 +572,7 @@ def record(recorder, duration, timeout):
         while not rospy.is_shutdown():
             now = rospy.get_rostime().to_sec()
             if now - start >= duration:
+                now = start + duration
                 break
             if now != last_time:
                 last_time, last_progress = now, time.monotonic()
@@ -702,7 +707,7 @@ def main(argv=None, prog='rosrun onedof_sim plot'):
             show_live(recorder, args.title or prog, args.start_paused)
             return 0
         end = record(recorder, args.duration, args.timeout)
-        series = recorder.buffer.series()
+        series = recorder.buffer.series(until=end)
         if args.png:
             write_figure(series, args.png, title=args.title,
                          until=recorder.buffer.since_origin(end))

@@ -32,6 +32,7 @@ import tempfile
 import time
 
 from onedof_harness.private_ros import PrivateRos
+from onedof_harness.rospy_shutdown import shut_down_rospy
 from onedof_sim.tutorial.phases import CONTROL_PERIOD, PHASES
 from onedof_sim.tutorial.physics import pid_prediction
 from onedof_sim.tutorial.recorders import JointStatesRecorder, Recorder
@@ -102,7 +103,7 @@ def play_in_sim(log_dir, physics_engine, phase_duration=IN_SIM_PHASE_DURATION, p
         predict = pid_prediction(book_pid_gains())
         rows, series, _ = play_phases(ros, run, recorder, phases, phase_duration,
                                       IN_SIM_COMMAND, IN_SIM_SAMPLE_PERIOD, predict)
-        rospy.signal_shutdown('in-sim tutorial finished')
+        shut_down_rospy(rospy, 'in-sim tutorial finished')
     return rows, series, recorder.series()
 
 
@@ -244,7 +245,8 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
             rviz.stop()
             if why:
                 missing[SCREENSHOT] = why
-        rospy.signal_shutdown('tutorial finished')
+        # The in-sim run and the figures follow in this process.
+        shut_down_rospy(rospy, 'tutorial finished')
     in_sim_rows = []
     if in_sim_phase_duration:
         in_sim_rows = play_in_sim_beside(output, physics_engine, in_sim_phase_duration, phases,
