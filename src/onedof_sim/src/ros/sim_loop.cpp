@@ -24,6 +24,7 @@ namespace {
 // If the paced loop falls further behind than this, it drops the backlog instead of racing.
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
 constexpr std::chrono::milliseconds kPacingSlice(50);
+constexpr uint32_t kClockQueue = 1000;
 constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
 // For a controller whose process is not on this machine (lock-step cannot see it rest): a
 // client's two clock readings after a call are microseconds apart; a millisecond leaves them room
@@ -98,8 +99,12 @@ SimLoop::SimLoop(const NodeOptions& options)
   setUseSimTimeUnlessSet();
 
   // Latched: a node started while the world is paused learns the time at once, instead of
-  // running on time 0 (no valid time to roscpp and rospy) until the world moves.
-  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 100, true);
+  // running on time 0 (no valid time to roscpp and rospy) until the world moves. roscpp writes
+  // each message from its poll thread and drops the oldest beyond the queue: a loop behind its
+  // pace catches up by up to kMaxPacingLag of steps at once, and a busy machine delays the poll
+  // thread too, so the queue holds a second of clocks at the default 1 kHz, and a subscriber
+  // that keeps up hears every step's time.
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueue, true);
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
