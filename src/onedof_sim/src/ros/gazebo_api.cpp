@@ -35,6 +35,9 @@ Status detectModelFormat(const std::string& xml, ModelFormat* format) {
   return {};
 }
 
+// The threads serving the global queue: while one parses a large model, the other serves the rest.
+constexpr int kServiceThreads = 2;
+
 }  // namespace
 
 GazeboApi::GazeboApi(const NodeOptions& options,
@@ -42,7 +45,6 @@ GazeboApi::GazeboApi(const NodeOptions& options,
     : loop_(options),
       plugin_types_(std::move(plugin_types)),
       private_nh_("~"),
-      spinner_(2),
       step_spinner_(1, &step_queue_) {
   if (options.world) spawnWorldModels(*options.world);
   parameter_descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
@@ -114,7 +116,9 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       if (effort_queue_.callOne(ros::WallDuration(0.1)) == ros::CallbackQueue::Called)
         loop_.effortReplied();
   });
-  spinner_.start();
+  for (int i = 0; i < kServiceThreads; ++i) {
+    service_threads_.emplace_back([this] { serveGlobalQueue(); });
+  }
   const PhysicsSettings physics = loop_.physics();
   ROS_INFO("onedof_sim, standing in for Gazebo: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s%s)",
            private_nh_.getNamespace().c_str(), physics.params.step, physics.max_update_rate,
@@ -122,10 +126,21 @@ GazeboApi::GazeboApi(const NodeOptions& options,
 }
 
 GazeboApi::~GazeboApi() {
-  spinner_.stop();
-  step_spinner_.stop();
   stopping_ = true;
+  for (std::thread& thread : service_threads_) thread.join();
+  step_spinner_.stop();
   effort_thread_.join();
+}
+
+// As roscpp's AsyncSpinner serves a queue, but ending when the queue is disabled: ros::shutdown
+// disables the global queue first and then unregisters every service and topic with the master,
+// for tenths of a second (longer on a busy machine), and the spinner's threads would spin on the
+// disabled queue, which returns at once, all that time.
+void GazeboApi::serveGlobalQueue() {
+  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+  while (!stopping_ && ros::ok()) {
+    if (queue->callOne(ros::WallDuration(0.1)) == ros::CallbackQueue::Disabled) return;
+  }
 }
 
 // --- joints ---------------------------------------------------------------------------------

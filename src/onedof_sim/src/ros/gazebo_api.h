@@ -3,7 +3,7 @@
 //
 // Handlers only: each converts its request (conversions.h), asks the loop (a function run under
 // the world lock, a step request, a command), and words the answer (status_text.h). They run on
-// an AsyncSpinner; /gazebo/step_simulation on a spinner of its own, as it holds its caller until
+// two threads serving the global queue; /gazebo/step_simulation on a spinner of its own, as it holds its caller until
 // the steps are done while the other services go on being served; apply_joint_effort on a thread
 // of its own, which tells the loop when each reply is out (lock-step needs to know).
 #pragma once
@@ -143,6 +143,7 @@ class GazeboApi {
   void setLinkStateTopic(const gazebo_msgs::LinkState::ConstPtr& msg);
   Status applyModelState(const gazebo_msgs::ModelState& state);
   Status applyLinkState(const gazebo_msgs::LinkState& state);
+  void serveGlobalQueue();
 
   SimLoop loop_;
   std::vector<plugins::ModelPluginType> plugin_types_;
@@ -151,13 +152,13 @@ class GazeboApi {
   ros::Publisher parameter_updates_pub_;       // latched
   std::vector<ros::ServiceServer> services_;
   std::vector<ros::Subscriber> subscribers_;
-  ros::AsyncSpinner spinner_;
+  std::atomic<bool> stopping_{false};
+  std::vector<std::thread> service_threads_;  // serveGlobalQueue
   ros::CallbackQueue step_queue_;
   ros::ServiceServer step_service_;
   ros::AsyncSpinner step_spinner_;
   ros::CallbackQueue effort_queue_;
   ros::ServiceServer effort_service_;
-  std::atomic<bool> stopping_{false};
   std::thread effort_thread_;
 };
 
