@@ -11,7 +11,7 @@ import yaml
 
 from api_client import ROBOT, GazeboApi
 from conftest import TUTORIAL_URDF, WORKSPACE
-from controller_manager_cli import NS, listing
+from controller_manager_cli import NS, wait_for_listing
 from onedof_harness.private_ros import wait_until
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
@@ -58,23 +58,34 @@ def test_yaml_is_the_books():
         assert yaml.safe_load(f) == {NS.strip('/'): BOOK_PARAMS}
 
 
-def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_nodes):
+def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_nodes, update_rate):
+    """Runs `launch`; checks its nodes, the robot and controllers it starts (the world at
+    `update_rate` steps per wall second), and that the link then holds the book's command."""
     nodes = ros.run(launch[:1] + ['--nodes'] + launch[1:])
     assert sorted(nodes.stdout.split()) == sorted(expected_nodes), nodes
     ros.start(launch, name='roslaunch')
     api = GazeboApi(rospy_client)
     ros.wait_until(lambda: ros.has_service('/gazebo/get_model_state')
                    and api.get_model_state(ROBOT, '').success, 60, what=ROBOT + ' spawned')
+    assert api.get_physics_properties().max_update_rate == update_rate
     running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )',
                'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
-    ros.wait_until(lambda: listing(ros) == running, 60, what='both controllers running')
+    wait_for_listing(ros, rospy_client, running, 'both controllers running')
     assert rospy_client.get_param(NS + '/joint1_position_controller/pid') == (
         BOOK_PARAMS['joint1_position_controller']['pid'])
     with open(JNT_CTL_URDF) as f:
         assert rospy_client.get_param('/robot_description') == f.read()
     # As the student commands it; the integral term takes the droop away.
-    ros.start(['rostopic', 'pub', NS + '/joint1_position_controller/command', 'std_msgs/Float64',
-               '1.0'], name='rostopic_pub')
+    command_topic = NS + '/joint1_position_controller/command'
+    ros.start(['rostopic', 'pub', command_topic, 'std_msgs/Float64', '1.0'], name='rostopic_pub')
+
+    def published():
+        _, _, (publishers, _, _) = ros.master().getSystemState('/test')
+        return any(topic == command_topic for topic, _ in publishers)
+    ros.wait_until(published, 60, what='rostopic pub on ' + command_topic)
+    # The settling's sim time in a few wall seconds: the world runs flat out from the command on
+    # (a world flat out from its start would spend a core on every wall second the launch takes).
+    api.set_physics(max_update_rate=0)
 
     def holding():
         position, rate = api.joint()
@@ -83,17 +94,17 @@ def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_node
 
 
 def test_book_launch_runs_as_printed(ros, rospy_client):
-    """The launch file starts the simulator itself (its empty_world.launch include)."""
-    ros.set_param('/gazebo/max_update_rate', 0)  # the settling's sim time in a few wall seconds
+    """The launch file starts the simulator itself (its empty_world.launch include), at Gazebo's
+    default pace."""
     launch_spawns_robot_and_controllers(
         ros, rospy_client,
         ['roslaunch', 'minimal_robot_description', 'minimal_robot_w_jnt_ctl.launch'],
-        ['/gazebo', '/gazebo_gui', NS + '/controller_spawner', '/spawn_urdf'])
+        ['/gazebo', '/gazebo_gui', NS + '/controller_spawner', '/spawn_urdf'], 1000)
 
 
 def test_our_launch_starts_the_simulator_too(ros, rospy_client):
     launch_spawns_robot_and_controllers(
         ros, rospy_client,
         ['roslaunch', 'minimal_robot_description', 'minimal_robot_in_sim_w_jnt_ctl.launch',
-         'max_update_rate:=0'],
-        ['/gazebo', NS + '/controller_spawner', '/spawn_one_DOF_robot'])
+         'max_update_rate:=100'],
+        ['/gazebo', NS + '/controller_spawner', '/spawn_one_DOF_robot'], 100)

@@ -10,7 +10,7 @@ import pytest
 
 from api_client import pose
 from conftest import ENGINES
-from controller_manager_cli import NS, cli, listing
+from controller_manager_cli import NS, cli, listing, wait_for_listing
 from test_ros_control import book_params, controlled_urdf
 
 ONE_ENGINE = pytest.mark.parametrize('engine', ENGINES[:1], indirect=True)
@@ -27,27 +27,26 @@ def manager(shared_sim, ros):
 
 
 @ONE_ENGINE
-def test_spawner_loads_and_starts_then_takes_down_on_sigint(manager):
+def test_spawner_loads_and_starts_then_takes_down_on_sigint(manager, rospy_client):
     ros = manager
     spawner = ros.start(['rosrun', 'controller_manager', 'spawner', 'joint_state_controller',
                          'joint1_position_controller', '__ns:=' + NS], name='spawner',
                         may_exit=True)
     running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )',
                'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
-    ros.wait_until(lambda: listing(ros) == running, 60, what='both controllers running')
+    wait_for_listing(ros, rospy_client, running, 'both controllers running')
     os.killpg(spawner.pid, signal.SIGINT)
     assert spawner.wait(timeout=60) == 0, ros.log_text(spawner)
     assert listing(ros) == ['No controllers are loaded in mechanism control']
 
 
 @ONE_ENGINE
-def test_spawner_stopped_and_namespace_option(manager):
+def test_spawner_stopped_and_namespace_option(manager, rospy_client):
     ros = manager
     spawner = ros.start(['rosrun', 'controller_manager', 'spawner', '--stopped', '--namespace',
                          NS, 'joint_state_controller'], name='spawner', may_exit=True)
     loaded = ['joint_state_controller - hardware_interface::JointStateInterface ( initialized )']
-    ros.wait_until(lambda: listing(ros) == loaded, 60,
-                   what='controller loaded, not started')
+    wait_for_listing(ros, rospy_client, loaded, 'controller loaded, not started')
     ros.terminate(spawner)
     assert listing(ros) == ['No controllers are loaded in mechanism control']
 
@@ -71,7 +70,7 @@ def test_spawner_without_a_controller_manager_gives_up_after_its_timeout(ros):
 
 
 @ONE_ENGINE
-def test_spawner_waits_for_true_on_its_wait_for_topic(manager):
+def test_spawner_waits_for_true_on_its_wait_for_topic(manager, rospy_client):
     ros = manager
     ros.start(['rosrun', 'controller_manager', 'spawner', '--wait-for', '/ready',
                'joint_state_controller', '__ns:=' + NS], name='spawner', may_exit=True)
@@ -83,8 +82,7 @@ def test_spawner_waits_for_true_on_its_wait_for_topic(manager):
     assert listing(ros) == ['No controllers are loaded in mechanism control']
     ros.start(['rostopic', 'pub', '-l', '/ready', 'std_msgs/Bool', 'true'], name='ready')
     running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )']
-    ros.wait_until(lambda: listing(ros) == running, 60,
-                   what='the controller running after True on /ready')
+    wait_for_listing(ros, rospy_client, running, 'the controller running after True on /ready')
 
 
 def test_spawner_interrupted_while_waiting_for_services_ends_at_once(ros):

@@ -21,8 +21,8 @@ def api(ros, engine, rospy_client):
     return GazeboApi(rospy_client)
 
 
-def test_step_simulation_advances_exactly_n_steps_paused_or_not(ros, engine, api):
-    start_sim(ros, engine, ['_paused:=true'])
+def test_step_simulation_advances_exactly_n_steps_paused_or_not(shared_sim):
+    api = shared_sim  # paused at time 0, as a simulator started with -u
     reply = api.step_simulation(7)
     assert reply.success, reply.status_message
     assert (reply.sim_time.to_nsec(), reply.iterations) == (7 * STEP_NS, 7)
@@ -43,8 +43,8 @@ def test_step_simulation_advances_exactly_n_steps_paused_or_not(ros, engine, api
     assert api.get_world_properties().sim_time == pytest.approx((paused_at + 1025) * 1e-3, abs=1e-9)
 
 
-def test_step_simulation_from_the_command_line(ros, engine, api):
-    start_sim(ros, engine, ['_paused:=true'])
+def test_step_simulation_from_the_command_line(ros, shared_sim):
+    api = shared_sim
     result = ros.run(['rosservice', 'call', '/gazebo/step_simulation', 'steps: 250'])
     assert result.returncode == 0, result.stdout + result.stderr
     assert 'success: True' in result.stdout
@@ -53,8 +53,8 @@ def test_step_simulation_from_the_command_line(ros, engine, api):
     assert api.sim_time_ns() == 250 * STEP_NS
 
 
-def test_a_step_request_over_the_limit_is_refused_naming_it(ros, engine, api):
-    start_sim(ros, engine, ['_paused:=true'])
+def test_a_step_request_over_the_limit_is_refused_naming_it(shared_sim):
+    api = shared_sim
     # 2^63 and 2^64 - 1 (what -1 becomes) would run the world away for ever.
     for steps in (2 ** 63, 2 ** 64 - 1, MAX_STEPS + 1):
         reply = api.step_simulation(steps)
@@ -69,8 +69,8 @@ def test_a_step_request_over_the_limit_is_refused_naming_it(ros, engine, api):
 
 @pytest.mark.parametrize('ender', ['pause_physics', 'reset_simulation', 'unpause_physics'])
 def test_pause_unpause_and_reset_end_a_step_request_and_its_caller_is_told(
-        ros, engine, api, rospy_client, ender):
-    start_sim(ros, engine, ['_paused:=true'])
+        shared_sim, rospy_client, ender):
+    api = shared_sim
     stepper = GazeboApi(rospy_client)  # a client of its own, as another terminal's
     replies = []
     stepping = threading.Thread(target=lambda: replies.append(stepper.step_simulation(MAX_STEPS)))

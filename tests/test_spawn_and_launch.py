@@ -17,6 +17,10 @@ PACKAGE_MODELS = os.path.join(WORKSPACE, 'src', 'onedof_sim', 'models')
 TUTORIAL_SPAWN_ROBOT = ['-file', 'minimal_robot_description.urdf', '-urdf', '-model', ROBOT]
 TUTORIAL_SPAWN_TABLE = ['-database', 'cafe_table', '-sdf', '-model', 'cafe_table', '-x', '0.85']
 SPAWNED = 'SpawnModel: Successfully spawned entity'
+# What a launch file passes on and what spawn_model checks itself do not depend on the engine:
+# those tests run on one, the launch's on the one physics:= has to choose (not the default).
+ONE_ENGINE = pytest.mark.parametrize('engine', ENGINES[:1], indirect=True)
+CHOSEN_ENGINE = pytest.mark.parametrize('engine', ENGINES[-1:], indirect=True)
 
 
 def spawn_model(ros, *args, cwd=None, env=None, input=None, timeout=60):
@@ -57,6 +61,7 @@ def test_launch_with_sim_false_only_loads_the_urdf(ros):
     assert wait_until(description, 60, what='/robot_description') == tutorial_urdf()
 
 
+@CHOSEN_ENGINE
 def test_launch_starts_the_sim_and_spawns_the_robot(ros, rospy_client, engine):
     launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
               'physics:=' + engine]
@@ -68,6 +73,7 @@ def test_launch_starts_the_sim_and_spawns_the_robot(ros, rospy_client, engine):
     wait_until(lambda: roslaunch.poll() is not None or api.get_model_state(ROBOT, '').success, 60,
                what='%s to be spawned' % ROBOT)
     assert roslaunch.poll() is None, ros.log_text(roslaunch)
+    assert '(engine: %s)' % engine in api.get_physics_properties().status_message
     assert rospy_client.get_param('/use_sim_time') is True
     assert rospy_client.get_param('/robot_description') == tutorial_urdf()
 
@@ -77,6 +83,7 @@ def test_launch_starts_the_sim_and_spawns_the_robot(ros, rospy_client, engine):
     assert 'status_message: "GetJointProperties: got properties"' in result.stdout
 
 
+@CHOSEN_ENGINE
 def test_launch_passes_paused_to_the_sim(ros, rospy_client, engine):
     ros.start(['roslaunch', 'minimal_robot_description', 'minimal_robot_description.launch',
                'paused:=true', 'physics:=' + engine], name='roslaunch')
@@ -207,6 +214,7 @@ def test_cafe_table_stops_the_link_on_its_top(ros, running_sim, rospy_client):
 
 # --- spawn_model's errors -----------------------------------------------------------------------
 
+@ONE_ENGINE
 def test_spawn_model_errors_exit_non_zero_and_leave_the_sim_running(ros, running_sim,
                                                                    rospy_client):
     api = GazeboApi(rospy_client)
@@ -250,9 +258,8 @@ def test_model_the_simulator_refuses_is_reported(ros, running_sim, rospy_client)
 
 # --- -J, -unpause, -wait, -b ----------------------------------------------------------------------
 
-def test_joint_positions_are_set_and_physics_stays_paused(ros, rospy_client, engine):
-    start_sim(ros, engine, args=['_paused:=true'])
-    api = GazeboApi(rospy_client)
+def test_joint_positions_are_set_and_physics_stays_paused(ros, shared_sim):
+    api = shared_sim  # paused, as a simulator started with -u
     result = spawn_model(ros, *TUTORIAL_SPAWN_ROBOT, '-J', 'joint1', '0.5', cwd=DESCRIPTION_DIR)
     assert result.returncode == 0, succeeded(result)
     assert 'SetModelConfiguration: success' in result.stdout
@@ -264,9 +271,8 @@ def test_joint_positions_are_set_and_physics_stays_paused(ros, rospy_client, eng
     assert 'spawn_model: error: setting joints no_joint of table2 failed: ' in unknown.stderr
 
 
-def test_unpause_starts_physics_after_spawning(ros, rospy_client, engine):
-    start_sim(ros, engine, args=['_paused:=true'])
-    api = GazeboApi(rospy_client)
+def test_unpause_starts_physics_after_spawning(ros, shared_sim):
+    api = shared_sim  # paused, as a simulator started with -u
     result = spawn_model(ros, *TUTORIAL_SPAWN_TABLE, '-unpause')
     assert result.returncode == 0, succeeded(result)
     assert api.get_physics_properties().pause is False
@@ -337,6 +343,7 @@ def test_model_path_is_the_package_models_then_gazebo_model_path(ros):
     assert model_path_param(ros) == [PACKAGE_MODELS]
 
 
+@ONE_ENGINE
 def test_gazebo_model_path_folders_are_searched(ros, rospy_client, engine, tmp_path):
     """-database searches the model path of the simulator it spawns into: its GAZEBO_MODEL_PATH,
     not spawn_model's."""

@@ -48,7 +48,9 @@ def main(argv=None):
     if not calls:
         print(USAGE)
         return 0 if calls == [] else 1
-    rospy.init_node('controller_manager_cli', anonymous=True)
+    # No node: each command is a few service calls, which rospy makes without one (a name resolves
+    # in the namespace of __ns:= or ROS_NAMESPACE). A node would register with the master, serve
+    # XML-RPC, advertise /rosout and, on sim time, subscribe to /clock, for nothing.
     ok = True
     for call, arg in calls:
         if call == 'reload_libraries':
