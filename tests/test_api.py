@@ -965,12 +965,15 @@ def dynparam_get(ros):
     return ast.literal_eval(dynparam(ros, 'get', '/gazebo'))
 
 
-def test_dynparam_get_and_set_reach_the_physics(ros, shared_sim, api):
-    for kind, name, type_name in (('rosservice', 'set_parameters', 'Reconfigure'),
-                                  ('rostopic', 'parameter_descriptions', 'ConfigDescription'),
-                                  ('rostopic', 'parameter_updates', 'Config')):
-        out = ros.run([kind, 'type', '/gazebo/' + name])
-        assert out.stdout.strip() == 'dynamic_reconfigure/' + type_name, (name, out.stderr)
+def test_dynparam_get_and_set_reach_the_physics(ros, shared_sim, api, rospy_client):
+    # What `rosservice type` and `rostopic type` print, asked in this process.
+    import rosservice
+    import rostopic
+    from dynamic_reconfigure.msg import Config
+    assert rosservice.get_service_type('/gazebo/set_parameters') == 'dynamic_reconfigure/Reconfigure'
+    for name, type_name in (('parameter_descriptions', 'ConfigDescription'),
+                            ('parameter_updates', 'Config')):
+        assert rostopic.get_topic_type('/gazebo/' + name)[0] == 'dynamic_reconfigure/' + type_name
     config = dynparam_get(ros)
     assert {name: config[name] for name in [
         'time_step', 'max_update_rate', 'gravity_x', 'gravity_y', 'gravity_z', 'auto_disable_bodies',
@@ -983,8 +986,7 @@ def test_dynparam_get_and_set_reach_the_physics(ros, shared_sim, api):
         'erp': 0.2, 'max_contacts': 20}
 
     dynparam(ros, 'set', '/gazebo', 'time_step', '0.002')
-    dynparam(ros, 'set', '/gazebo', 'gravity_z', '-1.62')
-    dynparam(ros, 'set', '/gazebo', 'sor_pgs_iters', '80')
+    dynparam(ros, 'set', '/gazebo', '{gravity_z: -1.62, sor_pgs_iters: 80}')  # several at once
     got = api.get_physics_properties()
     assert (got.time_step, got.gravity.z, got.ode_config.sor_pgs_iters) == (0.002, -1.62, 80)
     assert got.ode_config.erp == 0.2  # untouched
@@ -1000,13 +1002,17 @@ def test_dynparam_get_and_set_reach_the_physics(ros, shared_sim, api):
     assert api.get_physics_properties().time_step == 0.002
 
     # set_physics_properties and dynparam see one configuration.
+    updates = []
+    rospy_client.Subscriber('/gazebo/parameter_updates', Config, updates.append)
     got = api.get_physics_properties()
     got.gravity.z = -3.0
     res = api.set_physics_properties(got.time_step, got.max_update_rate, got.gravity,
                                      got.ode_config)
     assert res.success, res.status_message
-    wait_until(lambda: dynparam_get(ros)['gravity_z'] == -3.0, 60, what='parameter_updates')
-    assert dynparam_get(ros)['time_step'] == 0.002
+    wait_until(lambda: updates and {p.name: p.value for p in updates[-1].doubles}['gravity_z']
+               == -3.0, 60, what='parameter_updates')
+    config = dynparam_get(ros)
+    assert (config['gravity_z'], config['time_step']) == (-3.0, 0.002)
 
 
 def test_lights_do_not_exist_as_gazebo_says(shared_sim, api):
