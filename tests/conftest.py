@@ -50,7 +50,8 @@ def pytest_configure(config):
 # The modules whose tests take tens of seconds each. They are handed to the workers first, so
 # that the suite does not end on one of them running alone while the other workers idle.
 LONG_MODULES = ('test_benchmark_cli', 'test_tutorial', 'test_tutorial_commands',
-                'test_book_cpp_client', 'test_tutorial_rviz_failure')
+                'test_book_cpp_client', 'test_tutorial_rviz_failure', 'test_book_overlay',
+                'test_book_tools', 'test_controller_manager_tools')
 
 
 def pytest_collection_modifyitems(session, config, items):
