@@ -261,7 +261,14 @@ def shared_sim(ros, rospy_client, engine):
     ros.master().setParam('/conftest', '/', ros.params_at_start)
     world = api.get_world_properties()
     assert (world.sim_time, world.model_names) == (0.0, []), world
-    return api
+    yield api
+    # Paused until the next test resets it: a world left running (some tests run it flat out)
+    # would take a core from the tests beside it meanwhile.
+    import rospy
+    try:
+        api.pause_physics()
+    except (rospy.ServiceException, rospy.ROSException):
+        pass  # a simulator the test stopped: the test says so, and the next one starts another
 
 
 @pytest.fixture
