@@ -49,6 +49,7 @@ def first_phase(bench, engine, name, *args):
     env.pop('DISPLAY', None)
     result = subprocess.run(by_path(['rosrun', 'onedof_sim', 'play_tutorial', '--output', output,
                                      '--physics', engine, '--phases', '1', '--no-screenshot',
+                                     '--no-figures',
                                      '--phase-duration', '%g' % bench.sizes.comparison_phase_s,
                                      '--in-sim-phase-duration', '0'] + list(args)),
                             capture_output=True, text=True, timeout=600, env=env)
