@@ -10,7 +10,6 @@ a fraction of one, so tests that ask for shared_sim run against one roscore and 
 module and engine, reset to a known world before each test (see SharedGraphs). A test that checks
 start-up itself still starts its own node on its own roscore (the ros and sim fixtures).
 """
-import functools
 import os
 import pickle
 import shutil
@@ -23,6 +22,7 @@ import pytest
 from onedof_harness import private_ros
 from onedof_harness.private_ros import PrivateRos, wait_until
 from onedof_sim.engines import engine_names
+from onedof_sim.tools import package_executable
 
 WORKSPACE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
@@ -199,18 +199,12 @@ def rospy_client(ros):
     return init_rospy(ros)
 
 
-@functools.lru_cache(maxsize=None)
 def simulator_executable():
     """The simulator node's executable, found as rosrun and roslaunch find it. The tests start it
     by its path: rosrun's own lookup (a catkin_find process) costs each start 0.2 CPU-s. It runs
-    through rosrun as a user types it in the session's engine listing (engine_names), the
-    benchmark's test (onedof_sim.engines.node_command) and the tutorial page's commands."""
-    import roslib.packages
-    found = roslib.packages.find_node('onedof_sim', 'onedof_sim')
-    if not found:
-        raise RuntimeError('no onedof_sim executable: is the workspace built and its '
-                           'devel/setup.bash sourced?')
-    return found[0]
+    through rosrun as a user types it in test_gazebo_ros.py's database request and the tutorial
+    page's commands."""
+    return package_executable('onedof_sim', 'onedof_sim')
 
 
 def start_sim(ros, engine=ENGINES[0], args=(), wait=True, env=None):

@@ -5,22 +5,24 @@ Python consumer reads it here.
 import functools
 import subprocess
 
-LIST_COMMAND = ('rosrun', 'onedof_sim', 'onedof_sim', '--list-physics')
+from onedof_sim.tools import package_executable
 
 
 @functools.lru_cache(maxsize=None)
 def engine_names():
     """The engine names in registry order, the default first (as ~physics takes them). Needs the
-    ROS environment of a built workspace (source devel/setup.bash)."""
+    ROS environment of a built workspace (source devel/setup.bash). Every tool asks at its start:
+    the node is run by its path, without rosrun's lookup (about 0.2 CPU-s)."""
+    command = [package_executable('onedof_sim', 'onedof_sim'), '--list-physics']
     try:
-        listed = subprocess.run(LIST_COMMAND, capture_output=True, text=True, timeout=30)
+        listed = subprocess.run(command, capture_output=True, text=True, timeout=30)
     except (OSError, subprocess.TimeoutExpired) as error:
         raise RuntimeError('`%s` failed: %s (is the workspace built and devel/setup.bash '
-                           'sourced?)' % (' '.join(LIST_COMMAND), error))
+                           'sourced?)' % (' '.join(command), error))
     names = tuple(listed.stdout.split())
     if listed.returncode != 0 or not names:
         raise RuntimeError('`%s` exited with %d and listed no engine: %s'
-                           % (' '.join(LIST_COMMAND), listed.returncode,
+                           % (' '.join(command), listed.returncode,
                               (listed.stderr or listed.stdout).strip()[-500:]))
     return names
 

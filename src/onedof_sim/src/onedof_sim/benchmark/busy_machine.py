@@ -6,7 +6,7 @@ import os
 import subprocess
 
 from onedof_harness.busy import busy_processes
-from onedof_sim.benchmark.graph import NotMeasured
+from onedof_sim.benchmark.graph import NotMeasured, by_path
 from onedof_sim.benchmark.lockstep_speed import COMMAND
 from onedof_sim.tutorial import phases
 
@@ -47,11 +47,12 @@ def first_phase(bench, engine, name, *args):
     output = os.path.join(bench.work, name)
     env = dict(os.environ)
     env.pop('DISPLAY', None)
-    result = subprocess.run(['rosrun', 'onedof_sim', 'play_tutorial', '--output', output,
-                             '--physics', engine, '--phases', '1', '--no-screenshot',
-                             '--phase-duration', '%g' % bench.sizes.comparison_phase_s,
-                             '--in-sim-phase-duration', '0']
-                            + list(args), capture_output=True, text=True, timeout=600, env=env)
+    result = subprocess.run(by_path(['rosrun', 'onedof_sim', 'play_tutorial', '--output', output,
+                                     '--physics', engine, '--phases', '1', '--no-screenshot',
+                                     '--no-figures',
+                                     '--phase-duration', '%g' % bench.sizes.comparison_phase_s,
+                                     '--in-sim-phase-duration', '0'] + list(args)),
+                            capture_output=True, text=True, timeout=600, env=env)
     if result.returncode != 0:
         raise NotMeasured('play_tutorial %s: %s' % (' '.join(args), (result.stdout
                                                                      + result.stderr)[-300:]))

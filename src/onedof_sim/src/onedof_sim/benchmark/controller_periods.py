@@ -7,7 +7,7 @@ import time
 
 from onedof_harness.private_ros import wait_until
 from onedof_sim.benchmark import report as bm
-from onedof_sim.benchmark.graph import PROFILE_S, NotMeasured, say
+from onedof_sim.benchmark.graph import PROFILE_S, NotMeasured, by_path, say
 from onedof_sim.benchmark.plots import write_period_plot
 
 
@@ -66,8 +66,8 @@ def control_run(bench, rate, duration, profile=False):
             (time.monotonic(), probe.latest)), queue_size=1000),
         rospy.Subscriber('/joint_states', JointState, lambda msg: stamps.append(
             msg.header.stamp.to_sec()), queue_size=1000)]
-    controller = bench.ros.start(['rosrun', 'minimal_joint_controller',
-                                  'minimal_joint_controller', '_rate:=%g' % rate],
+    controller = bench.ros.start(by_path(['rosrun', 'minimal_joint_controller',
+                                          'minimal_joint_controller', '_rate:=%g' % rate]),
                                  name='controller_%d' % rate)
     try:
         wait_until(lambda: controller.poll() is not None or arrivals, 60,

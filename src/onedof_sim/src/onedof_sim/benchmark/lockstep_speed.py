@@ -7,7 +7,7 @@ import time
 
 from onedof_harness import book_client
 from onedof_harness.private_ros import wait_until
-from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label
+from onedof_sim.benchmark.graph import STEP, NotMeasured, by_path, node_label
 from onedof_sim.tutorial import phases
 
 COMMAND = 1.0  # the tutorial's first command step, rad
@@ -81,7 +81,7 @@ def lockstep_run(bench, engine, controller_command, node, name, pos_cmd):
         period_steps = round(phases.CONTROL_PERIOD / STEP)
         stepped(step, period_steps)
         pos_cmd.publish(pos_cmd.data_class(COMMAND))
-        controller = bench.ros.start(controller_command, name=name)
+        controller = bench.ros.start(by_path(controller_command), name=name)
 
         def joined():
             if controller.poll() is not None:

@@ -7,7 +7,7 @@ import time
 
 from onedof_harness.private_ros import PrivateRos
 from onedof_sim.benchmark import report as bm
-from onedof_sim.benchmark.graph import PROFILE_S, NotMeasured, node_label
+from onedof_sim.benchmark.graph import PROFILE_S, NotMeasured, by_path, node_label
 from onedof_sim.benchmark.plots import write_latency_plot
 
 BARE_SERVICE = 'bare'  # node name of the bare service: /bare/get_joint_properties, ...
@@ -27,8 +27,8 @@ def measure(bench, engine):
     try:
         sim, sim_pid = bench.start_sim(engine)
         bench.spawn(bench.tutorial_models[:1])
-        bare = bench.ros.start(['rosrun', 'onedof_sim', 'bench_bare_service',
-                                '__name:=' + BARE_SERVICE], name='bare_service')
+        bare = bench.ros.start(by_path(['rosrun', 'onedof_sim', 'bench_bare_service',
+                                        '__name:=' + BARE_SERVICE]), name='bare_service')
         bench.wait_for_node(bare, '/' + BARE_SERVICE)
         for service in SERVICES:
             bench.ros.wait_for_service('/%s/%s' % (BARE_SERVICE, service))
@@ -78,8 +78,9 @@ def profile_under_load(bench, sim_pid, engine, key):
     """Profiles the simulator while a roscpp client calls the service of `key` (the pair furthest
     from the floor) back to back."""
     _, mode, service = key
-    load = subprocess.Popen(['rosrun', 'onedof_sim', 'bench_service_client',
-                             '/gazebo/' + service, service.split('_')[0], mode, '1000000'],
+    load = subprocess.Popen(by_path(['rosrun', 'onedof_sim', 'bench_service_client',
+                                     '/gazebo/' + service, service.split('_')[0], mode,
+                                     '1000000']),
                             env=bench.ros.env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, start_new_session=True)
     try:
@@ -91,8 +92,9 @@ def profile_under_load(bench, sim_pid, engine, key):
 def round_trips(bench, client, service, mode, count):
     """(round trips in microseconds, warm-up calls excluded; calls that got no answer)."""
     if client == 'roscpp':
-        result = subprocess.run(['rosrun', 'onedof_sim', 'bench_service_client', service,
-                                 'get' if 'get_' in service else 'apply', mode, str(count)],
+        result = subprocess.run(by_path(['rosrun', 'onedof_sim', 'bench_service_client',
+                                         service, 'get' if 'get_' in service else 'apply', mode,
+                                         str(count)]),
                                 env=bench.ros.env, capture_output=True, text=True, timeout=120)
         if result.returncode != 0:
             raise NotMeasured('bench_service_client %s: %s' % (service, result.stderr[-300:]))

@@ -121,10 +121,10 @@ def compared_panels(pd_series, pid_series):
 
 
 def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, pd_series,
-                       pd_phase_duration):
+                       pd_phase_duration, figures=True):
     """Plays the phases through the in-simulator PID (in a process of its own: this one's rospy
-    belongs to the first graph; see in_sim_main) and draws each phase's figure beside the rospy
-    PD controller's; writes in_sim_samples.csv; returns the in-sim rows."""
+    belongs to the first graph; see in_sim_main) and (with figures) draws each phase's figure
+    beside the rospy PD controller's; writes in_sim_samples.csv; returns the in-sim rows."""
     from onedof_sim.tools import plot
     result_path = os.path.join(output, 'logs', 'in_sim', 'result.json')
     os.makedirs(os.path.dirname(result_path), exist_ok=True)
@@ -140,7 +140,8 @@ def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, 
     if 'error' in result:
         raise RuntimeError('in-sim run: ' + result['error'])
     rows, series, whole = result['rows'], result['series'], result['whole']
-    for number, (phase, pd_row, pd, pid) in enumerate(zip(phases, pd_rows, pd_series, series), 1):
+    drawn = zip(phases, pd_rows, pd_series, series) if figures else ()
+    for number, (phase, pd_row, pd, pid) in enumerate(drawn, 1):
         plot.write_panels_figure(
             compared_panels(pd, pid),
             os.path.join(output, 'phase%d_%s_pd_vs_pid.png' % (number, phase.name)),
@@ -169,13 +170,15 @@ def in_sim_main(argv):
 
 
 def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=False,
-         real_time_factor=1.0, phases=PHASES, in_sim_phase_duration=IN_SIM_PHASE_DURATION):
+         real_time_factor=1.0, phases=PHASES, in_sim_phase_duration=IN_SIM_PHASE_DURATION,
+         figures=True):
     """Plays the tutorial's `phases` (a leading part of PHASES: each starts where the one before
     left the arm), in lock-step unless free_run (then paced at real_time_factor), then (unless
     in_sim_phase_duration is 0) the same phases through the in-simulator PID; returns the
-    rospy controller's per-phase summary rows. Starts by clearing what an earlier run wrote
-    into `output` (clear_outputs). Raises with the reason on failure; raises MissingOutputs after
-    writing every other output when the rviz screenshot could not be taken."""
+    rospy controller's per-phase summary rows; without figures it draws no plot (for a caller
+    that reads the summary alone). Starts by clearing what an earlier run wrote into `output`
+    (clear_outputs). Raises with the reason on failure; raises MissingOutputs after writing
+    every other output when the rviz screenshot could not be taken."""
     from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
     clear_outputs(output)
@@ -226,7 +229,8 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         rows, pd_series, spans = play_phases(
             ros, run, recorder, phases, phase_duration, 'pos_cmd',
             sample_period=None if free_run else CONTROL_PERIOD)
-        for number, (phase, series, (start, end)) in enumerate(zip(phases, pd_series, spans), 1):
+        drawn = zip(phases, pd_series, spans) if figures else ()
+        for number, (phase, series, (start, end)) in enumerate(drawn, 1):
             plot.write_figure(
                 series, os.path.join(output, 'phase%d_%s.png' % (number, phase.name)),
                 title='%s: pos_cmd %.1f (%s)' % (phase.name, phase.command, physics_engine),
@@ -236,9 +240,10 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         t0, end = spans[0][0], spans[-1][1]
         whole = recorder.series(start=t0, origin=t0)
         plot.write_csv(whole, os.path.join(output, 'samples.csv'))
-        plot.write_figure(whole, os.path.join(output, 'tutorial.png'),
-                          title='The whole tutorial (%s)' % physics_engine,
-                          xlabel='sim time (s)', until=end - t0)
+        if figures:
+            plot.write_figure(whole, os.path.join(output, 'tutorial.png'),
+                              title='The whole tutorial (%s)' % physics_engine,
+                              xlabel='sim time (s)', until=end - t0)
         if rviz:
             say('rviz screenshot of the final pose (the table from the collision markers)')
             why = rviz.screenshot(os.path.join(output, SCREENSHOT), refresh=run.refresh)
@@ -250,7 +255,7 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
     in_sim_rows = []
     if in_sim_phase_duration:
         in_sim_rows = play_in_sim_beside(output, physics_engine, in_sim_phase_duration, phases,
-                                         rows, pd_series, phase_duration)
+                                         rows, pd_series, phase_duration, figures)
     summary = summary_markdown(rows, physics_engine, free_run, in_sim_rows)
     with open(os.path.join(output, 'summary.md'), 'w') as f:
         f.write(summary)
