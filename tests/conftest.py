@@ -199,6 +199,16 @@ def rospy_client(ros):
     return init_rospy(ros)
 
 
+def session_folder(tmp_path_factory, name):
+    """A folder shared by this pytest session's workers (what one test builds or plays, the
+    others read): under xdist each worker's temporary root is a folder of the session's own; run
+    without xdist, the root is the session's, and its parent is every earlier session's."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get('PYTEST_XDIST_WORKER'):
+        base = base.parent
+    return base / name
+
+
 def simulator_executable():
     """The simulator node's executable, found as rosrun and roslaunch find it. The tests start it
     by its path: rosrun's own lookup (a catkin_find process) costs each start 0.2 CPU-s. It runs

@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from conftest import ENGINES
+from conftest import ENGINES, session_folder
 
 PNG_MAGIC = b'\x89PNG\r\n\x1a\n'
 
@@ -42,7 +42,7 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_
                              '--engines', ','.join(ENGINES),
                              # The book-shaped client's build of test_book_cpp_client.py.
                              '--book-client-overlay',
-                             str(tmp_path_factory.getbasetemp().parent / 'book_cpp_client')],
+                             str(session_folder(tmp_path_factory, 'book_cpp_client'))],
                             capture_output=True, text=True, timeout=RUN_TIMEOUT)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     items = rows.split(',')

@@ -14,7 +14,7 @@ simulator, and that of the in-process run of the tutorial's controller law.
 import pytest
 
 from api_client import GazeboApi
-from conftest import start_sim
+from conftest import session_folder, start_sim
 from onedof_harness import book_client
 from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
@@ -31,7 +31,7 @@ SAME = 1e-6  # rad
 def book_client_setup(tmp_path_factory):
     """The overlay's setup.bash, built by the first test that asks (pytest-forked: no fixture
     outlives its test, so the folder is what is shared)."""
-    return book_client.shared_overlay(tmp_path_factory.getbasetemp().parent / 'book_cpp_client')
+    return book_client.shared_overlay(session_folder(tmp_path_factory, 'book_cpp_client'))
 
 
 @pytest.fixture

@@ -13,7 +13,7 @@ import os
 import pytest
 
 from api_client import ROBOT, GazeboApi, ros_duration, ros_time
-from conftest import start_sim
+from conftest import session_folder, start_sim
 from controller_manager_cli import NS, listing
 from onedof_harness import book_client
 
@@ -23,7 +23,7 @@ BOOK_PACKAGE = os.path.join('book_shaped', 'minimal_robot_description')
 @pytest.fixture
 def overlay(tmp_path_factory):
     """The overlay's setup.bash."""
-    folder = tmp_path_factory.getbasetemp().parent / 'book_minimal_robot_description'
+    folder = session_folder(tmp_path_factory, 'book_minimal_robot_description')
     return book_client.shared_overlay(folder, packages=(BOOK_PACKAGE,))
 
 

@@ -15,6 +15,8 @@ from onedof_harness.busy import busy_processes
 from onedof_sim.tutorial import physics
 from onedof_sim.tutorial.player import job_outputs
 
+from conftest import session_folder
+
 PHASE_DURATION = 5.0
 SAME = 1e-6  # rad: lock-step runs agree to this, whatever the machine is doing
 # One per core: every process of the run waits its turn behind one, all through the run (more
@@ -44,7 +46,7 @@ def tutorial(tmp_path_factory):
     """The tutorial, played once per test session: every test here runs in its own forked process
     (and maybe another xdist worker), so the first one plays it under a lock and the others read
     what it wrote."""
-    shared = tmp_path_factory.getbasetemp().parent / 'tutorial_once'
+    shared = session_folder(tmp_path_factory, 'tutorial_once')
     shared.mkdir(exist_ok=True)
     output = shared / 'output'
     with open(shared / 'lock', 'w') as lock:
