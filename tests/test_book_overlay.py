@@ -9,6 +9,7 @@ spawn the robot and run its controllers.
 The overlay is built once for the session's tests: a folder beside the workers' own, under a
 lock (book_client.shared_overlay)."""
 import os
+import subprocess
 
 import pytest
 
@@ -43,8 +44,10 @@ def in_overlay(setup, *command):
     return ['bash', '-c', 'source %s && exec "$@"' % setup, 'overlay'] + list(command)
 
 
-def test_the_overlays_package_shadows_ours(ros, overlay):
-    found = ros.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'))
+def test_the_overlays_package_shadows_ours(overlay):
+    # rospack reads the package path, no roscore.
+    found = subprocess.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'),
+                           capture_output=True, text=True, timeout=120)
     assert found.returncode == 0, found.stderr
     overlay_root = os.path.dirname(os.path.dirname(overlay))  # <overlay>/devel/setup.bash
     assert found.stdout.strip() == os.path.join(overlay_root, 'src', 'minimal_robot_description')
