@@ -77,7 +77,7 @@ int drive(const std::string& engine, const Scene& scene, const Pose& pen, const 
 }
 
 // The mobot driven into the base plate of the cafe table, both on the starting pen's floor (the
-// pen placed as the book's play_pen.world places it, its floor under the drive), the beer nearby:
+// pen at 0 -5, its floor under the drive and its walls clear of it), the beer nearby:
 // at several speeds, head-on and askew. It starts 0.5 m short of the plate and is driven 2 s: it
 // meets the plate within 1.3 s at the lowest speed and then climbs it, stalls against the
 // table's pole or glances off. Whatever the engine does inside a step, no model is lost and the
