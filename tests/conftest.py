@@ -96,7 +96,9 @@ class SharedGraphs:
         graph = PrivateRos(log_dir=tempfile.mkdtemp(prefix='onedof_shared_%s_' % key[1]))
         try:
             graph.start_master()
-            proc = start_sim(graph, key[1], ['-u'])
+            # A module may give its simulator more environment: shared_sim_env(graph env).
+            env_of = getattr(item.module, 'shared_sim_env', None)
+            proc = start_sim(graph, key[1], ['-u'], env=env_of(graph.env) if env_of else None)
             graph.params_at_start = graph.master().getParam('/conftest', '/')[2]
             self._graphs[key] = graph, proc
         except Exception as failure:  # reported by the test that needs it, not the worker

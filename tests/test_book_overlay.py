@@ -9,6 +9,7 @@ spawn the robot and run its controllers.
 The overlay is built once for the session's tests: a folder beside the workers' own, under a
 lock (book_client.shared_overlay)."""
 import os
+import subprocess
 
 import pytest
 
@@ -27,12 +28,26 @@ def overlay(tmp_path_factory):
     return book_client.shared_overlay(folder, packages=(BOOK_PACKAGE,))
 
 
+def controller_states(ros, rospy):
+    """{name: state} of the controllers the book's namespace lists, by its controller manager's
+    service (polling it through `rosrun controller_manager` would start a Python process a poll),
+    or None while it does not serve."""
+    from controller_manager_msgs.srv import ListControllers
+    service = NS + '/controller_manager/list_controllers'
+    if not ros.has_service(service):
+        return None
+    listed = rospy.ServiceProxy(service, ListControllers)().controller
+    return {c.name: c.state for c in listed}
+
+
 def in_overlay(setup, *command):
     return ['bash', '-c', 'source %s && exec "$@"' % setup, 'overlay'] + list(command)
 
 
-def test_the_overlays_package_shadows_ours(ros, overlay):
-    found = ros.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'))
+def test_the_overlays_package_shadows_ours(overlay):
+    # rospack reads the package path, no roscore.
+    found = subprocess.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'),
+                           capture_output=True, text=True, timeout=120)
     assert found.returncode == 0, found.stderr
     overlay_root = os.path.dirname(os.path.dirname(overlay))  # <overlay>/devel/setup.bash
     assert found.stdout.strip() == os.path.join(overlay_root, 'src', 'minimal_robot_description')
@@ -60,15 +75,19 @@ def test_minimal_robot_description_launch_starts_the_simulator_and_spawns(
 
 
 def test_minimal_robot_w_jnt_ctl_launch_runs_the_books_controllers(ros, rospy_client, overlay):
-    ros.set_param('/gazebo/max_update_rate', 0)  # the settling's sim time in a few wall seconds
     ros.start(in_overlay(overlay, 'roslaunch', 'minimal_robot_description',
                          'minimal_robot_w_jnt_ctl.launch'), name='roslaunch')
-    ros.wait_until(lambda: ros.has_service(NS + '/controller_manager/list_controllers')
-                   and len(listing(ros)) == 2 and all('running' in c for c in listing(ros)),
-                   180, what='the book launch file\'s two controllers running')
+    ros.wait_until(lambda: controller_states(ros, rospy_client) == {
+        'joint_state_controller': 'running', 'joint1_position_controller': 'running'},
+        180, what='the book launch file\'s two controllers running')
+    listed = listing(ros)
+    assert len(listed) == 2 and all('running' in c for c in listed), listed
     api = GazeboApi(rospy_client)
     ros.start(['rostopic', 'pub', NS + '/joint1_position_controller/command',
                'std_msgs/Float64', '1.0'], name='rostopic_pub')
+    # The world runs in real time while the launch file starts its nodes and as fast as it can
+    # from the command on: the settling's sim time (about 100 s) in a few wall seconds.
+    api.set_physics(max_update_rate=0)
     ros.wait_until(lambda: abs(api.get_joint_properties('joint1').position[0] - 1.0) < 0.05,
                    180, what='joint1 to come to the commanded 1.0 rad')
 
@@ -84,7 +103,6 @@ def test_prismatic_robot_from_xacro_spawns_with_its_velocity_controller(
     ros.wait_until(lambda: ROBOT in api.get_world_properties().model_names, 120,
                    what='the prismatic robot spawned')
     assert api.get_joint_properties('joint1').success
-    ros.wait_until(lambda: ros.has_service(NS + '/controller_manager/list_controllers')
-                   and any('joint1_velocity_controller' in c and 'running' in c
-                           for c in listing(ros)), 180,
-                   what='the velocity controller running')
+    ros.wait_until(lambda: (controller_states(ros, rospy_client) or {}).get(
+        'joint1_velocity_controller') == 'running', 180, what='the velocity controller running')
+    assert any('joint1_velocity_controller' in c and 'running' in c for c in listing(ros))

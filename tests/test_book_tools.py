@@ -27,11 +27,14 @@ def tutorial_robot_frames(ros, rospy_client):
     return 0.5
 
 
-def test_tf_echo_reaches_the_robot_state_publishers_frames(ros, tutorial_robot_frames):
+def test_tf_echo_and_tf_monitor_reach_the_robot_state_publishers_frames(ros,
+                                                                       tutorial_robot_frames):
     """`rosrun tf tf_echo world link2`: link2 sits 1 m above the world, turned by joint1 about y,
-    in transforms that keep coming (tf_echo prints the latest once a second, each later)."""
+    in transforms that keep coming (tf_echo prints the latest once a second, each later);
+    `rosrun tf tf_monitor` lists the robot's frames. Both on the one robot_state_publisher."""
     q = tutorial_robot_frames
     echo = ros.start(['rosrun', 'tf', 'tf_echo', 'world', 'link2'], name='tf_echo')
+    monitor = ros.start(['rosrun', 'tf', 'tf_monitor'], name='tf_monitor')
     number = r'([-\d.]+)'
     pattern = re.compile(r'At time ([\d.]+)\s*- Translation: \[%s, %s, %s\]\s*'
                          r'- Rotation: in Quaternion \[%s, %s, %s, %s\]' % ((number,) * 7))
@@ -43,9 +46,6 @@ def test_tf_echo_reaches_the_robot_state_publishers_frames(ros, tutorial_robot_f
     assert values[:3] == pytest.approx([0, 0, 1], abs=1e-3)
     assert values[3:] == pytest.approx([0, math.sin(q / 2), 0, math.cos(q / 2)], abs=1e-3)
 
-
-def test_tf_monitor_lists_the_robots_frames(ros, tutorial_robot_frames):
-    monitor = ros.start(['rosrun', 'tf', 'tf_monitor'], name='tf_monitor')
     # robot_state_publisher broadcasts through tf2, which does not tell tf_monitor its name.
     ros.wait_until(lambda: 'Frame: link2 published by' in ros.log_text(monitor)
                    and 'Frame: link1 published by' in ros.log_text(monitor), 90,

@@ -9,8 +9,8 @@ import struct
 
 import pytest
 
-from api_client import GazeboApi, pose
-from conftest import WORKSPACE, start_sim
+from api_client import pose
+from conftest import WORKSPACE
 
 MODELS = os.path.join(WORKSPACE, 'tests', 'mesh_models')
 MODEL = os.path.join(MODELS, 'onedof_mesh_block')
@@ -24,13 +24,16 @@ SDF = os.path.join(MODEL, 'model.sdf')
 SINK, FLOAT, MAX_TILT = 0.005, 0.001, math.radians(1)
 
 
+def shared_sim_env(env):
+    """The module's simulators' model path and package path hold our test model (conftest)."""
+    return {'GAZEBO_MODEL_PATH': MODELS,
+            'ROS_PACKAGE_PATH': MODELS + os.pathsep + env.get('ROS_PACKAGE_PATH', '')}
+
+
 @pytest.fixture
-def api(ros, rospy_client, engine):
-    """A paused simulator of each engine whose model path and package path hold our test model."""
-    start_sim(ros, engine, ['-u'], env={
-        'GAZEBO_MODEL_PATH': MODELS,
-        'ROS_PACKAGE_PATH': MODELS + os.pathsep + ros.env.get('ROS_PACKAGE_PATH', '')})
-    return GazeboApi(rospy_client)
+def api(shared_sim):
+    """The module's paused simulator of each engine, with no model (conftest's shared_sim)."""
+    return shared_sim
 
 
 def read(path):

@@ -241,15 +241,32 @@ REFUSED = {
 }
 
 
-@pytest.mark.parametrize('engine', ENGINES)
-@pytest.mark.parametrize('case', sorted(REFUSED))
-def test_world_that_cannot_be_loaded_ends_gzserver_naming_why(ros, case, engine, tmp_path):
-    world = tmp_path / (case + '.world')
+# Refused while the file is read, before the simulator makes its world and engine.
+READ_REFUSED = ('bad_xml', 'missing_include', 'negative_count', 'no_world')
+# Refused by the world of the engine asked for: its physics, a model's spawn.
+WORLD_REFUSED = ('model_refused', 'step_out_of_range')
+
+
+def assert_gzserver_ends_naming_why(ros, folder, case, engine_args):
+    world = folder / (case + '.world')
     world.write_text(REFUSED[case][0])
-    result = run(ros, 'rosrun', 'gazebo_ros', 'gzserver', '-e', engine, str(world))
-    assert result.returncode == 1, output(result)
+    result = run(ros, 'rosrun', 'gazebo_ros', 'gzserver', *engine_args, str(world))
+    assert result.returncode == 1, (case, output(result))
     models = WORKSPACE + '/src/onedof_sim/models'
-    assert REFUSED[case][1].format(models=models) in result.stdout + result.stderr, output(result)
+    assert REFUSED[case][1].format(models=models) in result.stdout + result.stderr, \
+        (case, output(result))
+
+
+def test_world_that_cannot_be_read_ends_gzserver_naming_why(ros, tmp_path):
+    assert sorted(READ_REFUSED + WORLD_REFUSED) == sorted(REFUSED)
+    for case in READ_REFUSED:
+        assert_gzserver_ends_naming_why(ros, tmp_path, case, [])
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_world_that_cannot_be_loaded_ends_gzserver_naming_why(ros, engine, tmp_path):
+    for case in WORLD_REFUSED:
+        assert_gzserver_ends_naming_why(ros, tmp_path, case, ['-e', engine])
 
 
 def test_missing_world_file_ends_gzserver_naming_the_folders_looked_in(ros):

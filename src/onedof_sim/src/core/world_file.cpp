@@ -110,10 +110,21 @@ std::string modelDocument(const sdf::Model& model) {
          element->ToString("") + "</sdf>\n";
 }
 
+// The models the file's first <world> places, its <model>s and <include>s, counted on the XML so
+// that a world of too many is refused before libsdformat builds each of them.
+size_t placedModels(const tinyxml2::XMLDocument& xml) {
+  const tinyxml2::XMLElement* root = xml.RootElement();
+  const tinyxml2::XMLElement* world = root ? root->FirstChildElement("world") : nullptr;
+  size_t count = 0;
+  for (const tinyxml2::XMLElement* child = world ? world->FirstChildElement() : nullptr; child;
+       child = child->NextSiblingElement()) {
+    const std::string name = child->Name();
+    if (name == "model" || name == "include") ++count;
+  }
+  return count;
+}
+
 WorldFileStatus readModels(const sdf::World& world, WorldFile* out) {
-  if (world.ModelCount() > kMaxWorldModels)
-    return {WorldFileCode::TooManyModels, std::to_string(world.ModelCount()),
-            double(kMaxWorldModels)};
   for (uint64_t i = 0; i < world.ModelCount(); ++i) {
     const sdf::Model& model = *world.ModelByIndex(i);
     ignition::math::Pose3d pose;
@@ -155,6 +166,9 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
     const char* reason = xml.ErrorStr();
     return {WorldFileCode::InvalidXml, reason ? reason : "parse error"};
   }
+  const size_t placed = placedModels(xml);
+  if (placed > kMaxWorldModels)
+    return {WorldFileCode::TooManyModels, std::to_string(placed), double(kMaxWorldModels)};
   sdf::Root root;
   std::vector<std::string> missing;
   sdf::Errors errors;

@@ -176,15 +176,20 @@ TEST_F(WorldFileTest, AWorldThatCannotBeReadSaysWhy) {
   EXPECT_EQ(status.code, WorldFileCode::InvalidSdf) << status.subject;
 }
 
+// Models and includes count alike.
 TEST_F(WorldFileTest, AWorldOfMoreModelsThanTheLimitIsRefused) {
   std::string models;
-  for (int i = 0; i < 1001; ++i)
+  for (int i = 0; i < 1000; ++i)
     models += "<model name=\"m" + std::to_string(i) + "\"><link name=\"l\"/></model>";
-  WorldFile world;
-  const WorldFileStatus status = read(models, &world);
-  EXPECT_EQ(status.code, WorldFileCode::TooManyModels);
-  EXPECT_EQ(status.subject, "1001");
-  EXPECT_EQ(status.max, 1000);
+  for (const std::string& last :
+       {std::string("<model name=\"m1000\"><link name=\"l\"/></model>"),
+        std::string("<include><uri>model://toy_block</uri></include>")}) {
+    WorldFile world;
+    const WorldFileStatus status = read(models + last, &world);
+    EXPECT_EQ(status.code, WorldFileCode::TooManyModels) << last;
+    EXPECT_EQ(status.subject, "1001");
+    EXPECT_EQ(status.max, 1000);
+  }
 }
 
 }  // namespace
