@@ -1,6 +1,12 @@
 """`rosrun controller_manager controller_manager ...` in the book's namespace, for the tests."""
 
 NS = '/one_DOF_robot'
+# What `list` prints for the book's two controllers (one_dof_ctl_params.yaml), both running.
+STATE_CONTROLLER_RUNNING = (
+    'joint_state_controller - hardware_interface::JointStateInterface ( running )')
+BOOK_CONTROLLERS_RUNNING = [
+    STATE_CONTROLLER_RUNNING,
+    'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
 
 
 def cli(ros, *args):

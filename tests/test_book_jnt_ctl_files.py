@@ -11,7 +11,7 @@ import yaml
 
 from api_client import ROBOT, GazeboApi
 from conftest import TUTORIAL_URDF, WORKSPACE
-from controller_manager_cli import NS, wait_for_listing
+from controller_manager_cli import BOOK_CONTROLLERS_RUNNING, NS, wait_for_listing
 from onedof_harness.private_ros import wait_until
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
@@ -68,9 +68,7 @@ def launch_spawns_robot_and_controllers(ros, rospy_client, launch, expected_node
     ros.wait_until(lambda: ros.has_service('/gazebo/get_model_state')
                    and api.get_model_state(ROBOT, '').success, 60, what=ROBOT + ' spawned')
     assert api.get_physics_properties().max_update_rate == update_rate
-    running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )',
-               'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
-    wait_for_listing(ros, rospy_client, running, 'both controllers running')
+    wait_for_listing(ros, rospy_client, BOOK_CONTROLLERS_RUNNING, 'both controllers running')
     assert rospy_client.get_param(NS + '/joint1_position_controller/pid') == (
         BOOK_PARAMS['joint1_position_controller']['pid'])
     with open(JNT_CTL_URDF) as f:

@@ -15,7 +15,8 @@ import pytest
 
 from api_client import ROBOT, GazeboApi, ros_duration, ros_time
 from conftest import session_folder, start_sim
-from controller_manager_cli import NS, listing
+from controller_manager_cli import (BOOK_CONTROLLERS_RUNNING, NS, STATE_CONTROLLER_RUNNING,
+                                     wait_for_listing)
 from onedof_harness import book_client
 
 BOOK_PACKAGE = os.path.join('book_shaped', 'minimal_robot_description')
@@ -28,16 +29,10 @@ def overlay(tmp_path_factory):
     return book_client.shared_overlay(folder, packages=(BOOK_PACKAGE,))
 
 
-def controller_states(ros, rospy):
-    """{name: state} of the controllers the book's namespace lists, by its controller manager's
-    service (polling it through `rosrun controller_manager` would start a Python process a poll),
-    or None while it does not serve."""
-    from controller_manager_msgs.srv import ListControllers
-    service = NS + '/controller_manager/list_controllers'
-    if not ros.has_service(service):
-        return None
-    listed = rospy.ServiceProxy(service, ListControllers)().controller
-    return {c.name: c.state for c in listed}
+# What `controller_manager list` prints for the velocity launch file's controllers, running.
+VELOCITY_CONTROLLERS_RUNNING = [
+    STATE_CONTROLLER_RUNNING,
+    'joint1_velocity_controller - hardware_interface::EffortJointInterface ( running )']
 
 
 def in_overlay(setup, *command):
@@ -77,11 +72,8 @@ def test_minimal_robot_description_launch_starts_the_simulator_and_spawns(
 def test_minimal_robot_w_jnt_ctl_launch_runs_the_books_controllers(ros, rospy_client, overlay):
     ros.start(in_overlay(overlay, 'roslaunch', 'minimal_robot_description',
                          'minimal_robot_w_jnt_ctl.launch'), name='roslaunch')
-    ros.wait_until(lambda: controller_states(ros, rospy_client) == {
-        'joint_state_controller': 'running', 'joint1_position_controller': 'running'},
-        180, what='the book launch file\'s two controllers running')
-    listed = listing(ros)
-    assert len(listed) == 2 and all('running' in c for c in listed), listed
+    wait_for_listing(ros, rospy_client, BOOK_CONTROLLERS_RUNNING, timeout=180,
+                     what='the book launch file\'s two controllers running')
     api = GazeboApi(rospy_client)
     ros.start(['rostopic', 'pub', NS + '/joint1_position_controller/command',
                'std_msgs/Float64', '1.0'], name='rostopic_pub')
@@ -103,6 +95,5 @@ def test_prismatic_robot_from_xacro_spawns_with_its_velocity_controller(
     ros.wait_until(lambda: ROBOT in api.get_world_properties().model_names, 120,
                    what='the prismatic robot spawned')
     assert api.get_joint_properties('joint1').success
-    ros.wait_until(lambda: (controller_states(ros, rospy_client) or {}).get(
-        'joint1_velocity_controller') == 'running', 180, what='the velocity controller running')
-    assert any('joint1_velocity_controller' in c and 'running' in c for c in listing(ros))
+    wait_for_listing(ros, rospy_client, VELOCITY_CONTROLLERS_RUNNING, timeout=180,
+                     what='the velocity controller running')

@@ -10,7 +10,8 @@ import pytest
 
 from api_client import pose
 from conftest import ENGINES
-from controller_manager_cli import NS, cli, listing, wait_for_listing
+from controller_manager_cli import (BOOK_CONTROLLERS_RUNNING, NS, STATE_CONTROLLER_RUNNING, cli,
+                                     listing, wait_for_listing)
 from test_ros_control import book_params, controlled_urdf
 
 ONE_ENGINE = pytest.mark.parametrize('engine', ENGINES[:1], indirect=True)
@@ -32,9 +33,7 @@ def test_spawner_loads_and_starts_then_takes_down_on_sigint(manager, rospy_clien
     spawner = ros.start(['rosrun', 'controller_manager', 'spawner', 'joint_state_controller',
                          'joint1_position_controller', '__ns:=' + NS], name='spawner',
                         may_exit=True)
-    running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )',
-               'joint1_position_controller - hardware_interface::EffortJointInterface ( running )']
-    wait_for_listing(ros, rospy_client, running, 'both controllers running')
+    wait_for_listing(ros, rospy_client, BOOK_CONTROLLERS_RUNNING, 'both controllers running')
     os.killpg(spawner.pid, signal.SIGINT)
     assert spawner.wait(timeout=60) == 0, ros.log_text(spawner)
     assert listing(ros) == ['No controllers are loaded in mechanism control']
@@ -81,8 +80,8 @@ def test_spawner_waits_for_true_on_its_wait_for_topic(manager, rospy_client):
     ros.wait_until(subscribed, 60, what='the spawner to subscribe to /ready')
     assert listing(ros) == ['No controllers are loaded in mechanism control']
     ros.start(['rostopic', 'pub', '-l', '/ready', 'std_msgs/Bool', 'true'], name='ready')
-    running = ['joint_state_controller - hardware_interface::JointStateInterface ( running )']
-    wait_for_listing(ros, rospy_client, running, 'the controller running after True on /ready')
+    wait_for_listing(ros, rospy_client, [STATE_CONTROLLER_RUNNING],
+                     'the controller running after True on /ready')
 
 
 def test_spawner_interrupted_while_waiting_for_services_ends_at_once(ros):
