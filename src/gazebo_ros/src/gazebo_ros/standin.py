@@ -30,11 +30,14 @@ serving Gazebo's ROS API under /gazebo/ (rosrun onedof_sim onedof_sim with these
 
 
 def _server_command(argv):
-    """SERVER with argv, the executable found here as rosrun finds it: through rosrun each start
-    would cost another shell and catkin_find process (0.15 CPU-s) before the node runs."""
-    import roslib.packages
-    found = roslib.packages.find_node(SERVER[1], SERVER[2])
-    return (found[:1] if found else SERVER) + argv
+    """SERVER with argv, its executable started by path: through rosrun each start would cost
+    another shell and catkin_find process (0.15 CPU-s) before the node runs. Not found, rosrun
+    runs and says so."""
+    from onedof_sim.tools import package_executable
+    try:
+        return [package_executable(SERVER[1], SERVER[2])] + argv
+    except RuntimeError:
+        return SERVER + argv
 
 
 def _rviz_command():
