@@ -33,9 +33,9 @@ def _server_command(argv):
     """SERVER with argv, its executable started by path: through rosrun each start would cost
     another shell and catkin_find process (0.15 CPU-s) before the node runs. Not found, rosrun
     runs and says so."""
-    from onedof_sim.tools import package_executable
+    from onedof_sim.tools import rosrun_by_path
     try:
-        return [package_executable(SERVER[1], SERVER[2])] + argv
+        return rosrun_by_path(SERVER) + argv
     except RuntimeError:
         return SERVER + argv
 

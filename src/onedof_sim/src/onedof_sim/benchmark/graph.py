@@ -16,7 +16,7 @@ from onedof_harness.rospy_shutdown import shut_down_rospy
 from onedof_sim.benchmark import profiling
 from onedof_sim.benchmark import report as bm
 from onedof_sim.engines import node_command
-from onedof_sim.tools import package_executable, workspace_venv_bin
+from onedof_sim.tools import rosrun_by_path, workspace_venv_bin
 from onedof_sim.tutorial import player
 
 STEP = 0.001  # the nodes' default step, s
@@ -62,11 +62,8 @@ def by_path(command):
     executable's path and ARGS, the same process without rosrun's lookup, which would cost each
     of the benchmark's many starts about 0.2 CPU-s (tools.package_executable); any other command
     as it is. The rows show the rosrun form, for a reader to repeat."""
-    if command[0] != 'rosrun':
-        return list(command)
-    _, package, name, *args = command
     try:
-        return [package_executable(package, name)] + list(args)
+        return rosrun_by_path(command)
     except RuntimeError as error:
         raise NotMeasured(str(error)) from None
 

@@ -33,3 +33,13 @@ def package_executable(package, name):
         raise RuntimeError('no executable %s in package %s: is the workspace built and its '
                            'devel/setup.bash sourced?' % (name, package))
     return found[0]
+
+
+def rosrun_by_path(command):
+    """`rosrun PACKAGE EXECUTABLE ARGS...` as the executable's path and ARGS (package_executable):
+    the same process without rosrun's lookup; any other command as it is. Raises RuntimeError
+    when the executable is not found."""
+    if command[0] != 'rosrun':
+        return list(command)
+    _, package, name, *args = command
+    return [package_executable(package, name)] + list(args)
