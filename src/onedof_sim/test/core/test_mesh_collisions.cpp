@@ -244,8 +244,11 @@ TEST_P(MeshCollisions, RaysMeetMeshes) {
   status = world.castRays(rays, &distances);
   ASSERT_TRUE(status.ok()) << status;
   ASSERT_EQ(distances.size(), rays.size());
-  EXPECT_NEAR(distances[0], 1.7, 1e-6);
-  EXPECT_NEAR(distances[1], 2, 1e-6);
+  // Bullet casts a ray at a convex hull (the floor) iteratively and stops 0.11 mm short of its
+  // side; on triangles and on its primitives it is exact, as ODE is throughout.
+  constexpr double kHullTolerance = 2e-4;
+  EXPECT_NEAR(distances[0], 1.7, kHullTolerance);
+  EXPECT_NEAR(distances[1], 2, kHullTolerance);
   EXPECT_NEAR(distances[2], 1.5, 1e-6);
   EXPECT_NEAR(distances[3], 1.5, 1e-6);
   EXPECT_TRUE(std::isinf(distances[4])) << distances[4];
