@@ -168,6 +168,14 @@ struct CollisionShape {
 
 enum class ModelFormat { Urdf, Sdf };
 
+// A ray segment in world coordinates: from `from` along `direction` (any length but zero) for
+// `length` metres.
+struct Ray {
+  Vec3 from;
+  Vec3 direction;
+  double length = 0;
+};
+
 // A model read from its XML and checked against every limit that does not depend on a world
 // (World::prepare), for World::spawn to add to one. Self-contained: made without a world, it can
 // be parsed on one thread while another steps the world.
@@ -341,6 +349,15 @@ class World {
 
   // --- introspection -------------------------------------------------------------------------
   std::vector<CollisionShape> collisionShapes() const;
+
+  // For each ray, the distance from its start to the first collision shape it meets within its
+  // length (every model's, the sensor's own included, meshes and the ground plane), found by
+  // the engine's own collision detection; +infinity where it meets none. A ray that starts
+  // inside a shape meets what the engine says it meets there (ODE: the shape's far side).
+  // Refuses, with *distances empty: a non-finite number (NotFinite "ray"), a zero direction or a
+  // negative length (InvalidParameter "ray"), and (EngineFault) a query the engine failed inside
+  // (the world builds its engine again, every model where it was).
+  Status castRays(const std::vector<Ray>& rays, std::vector<double>* distances);
 
   // What step() had to do on its own since the last call, for the owner to log: a model's speed
   // capped, a non-finite state undone. Drains the list (at most 100 kept between calls).

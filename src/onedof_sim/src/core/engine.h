@@ -147,6 +147,11 @@ class Engine {
   // each once: the bodies an EngineFault inside that step can involve. Readable after a fault.
   // Empty when the engine cannot tell.
   virtual std::vector<BodyRef> contactBodies() const = 0;
+  // For each ray (a unit direction, a length >= 0), the distance along it to the first
+  // collision shape it meets, the ground plane included, through the engine's own collision
+  // detection, as the bodies stand now; +infinity where it meets none. Every shape counts: a
+  // model's own bodies are not left out.
+  virtual void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) = 0;
 };
 
 struct EngineEntry {

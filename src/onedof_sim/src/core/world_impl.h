@@ -8,6 +8,7 @@
 //   world_inertia.cpp     lumping the links welded into one body
 //   world_validation.cpp  the checks of parameters, poses and states; Status formatting
 //   world_engine_fault.cpp  an engine that fails inside a call: a new engine, the world going on
+//   world_rays.cpp        ray queries through the engine's collision detection
 //
 // Frames. Every link has a link frame (URDF/SDF) and, if it moves, an engine body. Bodies sit at
 // the centre of mass of their links with the axes of their reference link, and each link keeps

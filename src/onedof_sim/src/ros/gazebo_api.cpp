@@ -8,6 +8,7 @@
 #include "conversions.h"
 #include "package_uris.h"
 #include "plugins/model_plugins.h"
+#include "plugins/registry.h"
 #include "status_text.h"
 
 namespace onedof_sim {
@@ -375,9 +376,10 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
   if (spawned.ok()) {
     ROS_INFO_STREAM("spawned model '" << name << "' ("
                     << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via " << via);
-    loop_.attachPlugins(name, plugins::createModelPlugins(plugin_types_, name, xml, format,
-                                                          robot_namespace, loop_.world(),
-                                                          loop_.lockWorld()));
+    loop_.attachPlugins(
+        name, plugins::createModelPlugins(plugin_types_, plugins::sensorPluginRegistry(), name,
+                                          xml, format, robot_namespace, loop_.world(),
+                                          loop_.lockWorld()));
   }
   return spawned;
 }

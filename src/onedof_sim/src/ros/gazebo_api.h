@@ -65,8 +65,9 @@ class WorldModelRefused : public std::runtime_error {
 class GazeboApi {
  public:
   // plugin_types: the model plugins a spawned model may name (plugins::modelPluginRegistry(),
-  // and any a caller adds). The models of options.world are spawned first, before any service
-  // is up; throws WorldModelRefused for one the world refuses.
+  // and any a caller adds); its sensors' plugins are plugins::sensorPluginRegistry()'s. The
+  // models of options.world are spawned first, before any service is up; throws
+  // WorldModelRefused for one the world refuses.
   GazeboApi(const NodeOptions& options, std::vector<plugins::ModelPluginType> plugin_types);
   ~GazeboApi();
 

@@ -19,8 +19,8 @@
 
 namespace onedof_sim {
 
-// An engine whose next plain step fails (EngineFault), around the world's own engine: the
-// world's containment of a fault, on any engine. after_step: the step is taken first, so that
+// An engine whose next plain step or ray query fails (EngineFault), around the world's own
+// engine: the world's containment of a fault, on any engine. after_step: the step is taken first, so that
 // the engine's contacts are the step's; retakes: whether it claims a second solver.
 class FailingEngine : public core::Engine {
  public:
@@ -42,6 +42,9 @@ class FailingEngine : public core::Engine {
     return retakes_ && engine_->retakesFailedSteps(params);
   }
   std::vector<core::BodyRef> contactBodies() const override { return engine_->contactBodies(); }
+  void castRays(const std::vector<Ray>&, std::vector<double>*) override {
+    throw core::EngineFault("injected failure");
+  }
 
  private:
   std::unique_ptr<core::Engine> engine_;
@@ -53,8 +56,8 @@ struct WorldTestAccess {
   static core::EngineModel& engineModel(World& world, const std::string& model) {
     return *world.impl_->findModel(model)->engine_model;
   }
-  // The world's next step fails inside its engine (FailingEngine); the world replaces the
-  // engine as it contains the failure.
+  // The world's next step or ray query fails inside its engine (FailingEngine); the world
+  // replaces the engine as it contains the failure.
   static void failNextStep(World& world, bool after_step, bool retakes) {
     world.impl_->engine =
         std::make_unique<FailingEngine>(std::move(world.impl_->engine), after_step, retakes);
@@ -308,6 +311,29 @@ TEST(EngineFault, OdeFailureIsPinnedOnTheOneModelInItsContactsElseTheWorldStops)
   EXPECT_EQ(after.position.x, before.position.x);
   EXPECT_EQ(after.position.z, before.position.z);
   for (int i = 0; i < 100; ++i) ASSERT_TRUE(world.step().ok());
+}
+
+// A ray query the engine fails inside: refused (EngineFault), the engine rebuilt with every model
+// where it was, and the next query answered.
+TEST_P(EngineFaultOn, AFailedRayQueryRebuildsTheEngineWithEveryModelInPlace) {
+  World world(GetParam());
+  ASSERT_TRUE(world.spawn("box", kBox, ModelFormat::Urdf, at(2, 0.5)).ok());
+  Pose before, after;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("box", "", &before, &twist).ok());
+  WorldTestAccess::failNextStep(world, false, false);
+  std::vector<double> distances{1};
+  const std::vector<Ray> ray{{{0, before.position.y, before.position.z}, {1, 0, 0}, 10}};
+  const Status failed = world.castRays(ray, &distances);
+  EXPECT_EQ(failed.code, StatusCode::EngineFault) << failed;
+  EXPECT_TRUE(distances.empty());
+  EXPECT_EQ(world.takeWarnings().size(), 1u);
+  ASSERT_TRUE(world.modelState("box", "", &after, &twist).ok());
+  EXPECT_EQ(after.position.x, before.position.x);
+  EXPECT_EQ(after.position.z, before.position.z);
+  ASSERT_TRUE(world.castRays(ray, &distances).ok());
+  ASSERT_EQ(distances.size(), 1u);
+  EXPECT_NEAR(distances[0], before.position.x - 0.05, 1e-6);  // the 0.1 m box's near face
 }
 
 }  // namespace

@@ -217,6 +217,44 @@ TEST_P(MeshCollisions, BoxRestsOnAStaticStlFloor) {
   EXPECT_NEAR(pose.position.y, -0.2, kSink);
 }
 
+// Rays meet meshes where their triangles are: the unit block as a static floor (2 x 2 x 0.3 m,
+// its top at z 0.3) from above and from the side, and on a free body two blocks side by side with
+// a gap between them (a concave mesh), met on each block and passing through the gap.
+TEST_P(MeshCollisions, RaysMeetMeshes) {
+  MeshFolder folder;
+  const std::string block = folder.write("block.stl", boxStl(kBlockLo, kBlockHi));
+  const std::string pair = folder.write(
+      "pair.stl", boxStl({-0.5, -0.5, 0}, {-0.1, 0.5, 1}) + boxStl({0.1, -0.5, 0}, {0.5, 0.5, 1}));
+  World world(GetParam());
+  Status status =
+      world.spawn("floor", staticMeshUrdf(block, {2, 2, 0.3}), ModelFormat::Urdf, Pose());
+  ASSERT_TRUE(status.ok()) << status;
+  status = world.spawn("pair", movingMeshUrdf(pair, {1, 1, 1}, {1, 1, 1}, 0.5), ModelFormat::Urdf,
+                       at(0, 5, 2));
+  ASSERT_TRUE(status.ok()) << status;
+  const std::vector<Ray> rays{
+      {{0.2, 0.1, 2}, {0, 0, -1}, 5},    // onto the floor's top
+      {{-3, 0.5, 0.1}, {1, 0, 0}, 5},    // into the floor's side
+      {{-0.3, 3, 2.5}, {0, 1, 0}, 5},    // into the pair's left block
+      {{0.3, 3, 2.5}, {0, 1, 0}, 5},     // into its right block
+      {{0, 5, 4}, {0, 0, -1}, 1.9},      // down the gap, short of the floor of nothing
+      {{0, 3, 2.5}, {0, 1, 0}, 5},       // through the gap, out the other side
+  };
+  std::vector<double> distances;
+  status = world.castRays(rays, &distances);
+  ASSERT_TRUE(status.ok()) << status;
+  ASSERT_EQ(distances.size(), rays.size());
+  // Bullet casts a ray at a convex hull (the floor) iteratively and stops 0.11 mm short of its
+  // side; on triangles and on its primitives it is exact, as ODE is throughout.
+  constexpr double kHullTolerance = 2e-4;
+  EXPECT_NEAR(distances[0], 1.7, kHullTolerance);
+  EXPECT_NEAR(distances[1], 2, kHullTolerance);
+  EXPECT_NEAR(distances[2], 1.5, 1e-6);
+  EXPECT_NEAR(distances[3], 1.5, 1e-6);
+  EXPECT_TRUE(std::isinf(distances[4])) << distances[4];
+  EXPECT_TRUE(std::isinf(distances[5])) << distances[5];
+}
+
 // The unit block as `data` in the file `name` (named as `uri_prefix` and its path), scaled to
 // `sides` on a free body, its link origin at the middle of its bottom, dropped from `drop`: it
 // rests on the ground with the origin at z 0, whatever height it fell from.

@@ -41,6 +41,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <stdexcept>
 
 #include "engine.h"
@@ -647,6 +648,23 @@ class BulletEngine : public Engine {
   void step(double dt, std::string*, bool) override { world_.stepSimulation(dt, 0); }
   bool retakesFailedSteps(const PhysicsParams&) const override { return false; }
   std::vector<BodyRef> contactBodies() const override { return {}; }
+
+  // btCollisionWorld::rayTest with the closest hit, as Gazebo's Bullet ray shape casts. Bodies
+  // set to a state since the last step have stale bounding boxes in the broadphase: they are
+  // brought up to date first.
+  void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) override {
+    distances->assign(rays.size(), std::numeric_limits<double>::infinity());
+    world_.updateAabbs();
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Ray& ray = rays[i];
+      if (!(ray.length > 0)) continue;
+      const btVector3 from = toBt(ray.from);
+      const btVector3 to = from + toBt(ray.direction) * ray.length;
+      btCollisionWorld::ClosestRayResultCallback closest(from, to);
+      world_.rayTest(from, to, closest);
+      if (closest.hasHit()) (*distances)[i] = closest.m_closestHitFraction * ray.length;
+    }
+  }
 
  private:
   // Declared in construction order; the world goes first on destruction.

@@ -42,6 +42,7 @@
 #include <cstdio>
 #include <deque>
 #include <exception>
+#include <limits>
 
 #include "engine.h"
 #include "pose_math.h"
@@ -406,6 +407,7 @@ class OdeEngine : public Engine {
 
   ~OdeEngine() override {
     if (!faulted_) {
+      if (ray_) dGeomDestroy(ray_);  // in no space
       dJointGroupDestroy(contact_group_);
       dSpaceDestroy(space_);  // destroys the ground plane with it
       dWorldDestroy(world_);
@@ -446,6 +448,29 @@ class OdeEngine : public Engine {
 
   std::vector<BodyRef> contactBodies() const override { return contact_bodies_; }
 
+  // One dGeomRay, in no space, collided with the world's space as Gazebo's ODE ray sensor does
+  // (dSpaceCollide2, then dCollide with the closest hit of each geom).
+  void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) override {
+    OdeTrap trap(&faulted_);
+    distances->assign(rays.size(), std::numeric_limits<double>::infinity());
+    if (!ray_) {
+      ray_ = dCreateRay(nullptr, 1);
+      dGeomRaySetFirstContact(ray_, 0);  // every hit, back faces too
+      dGeomRaySetBackfaceCull(ray_, 0);
+      dGeomRaySetClosestHit(ray_, 1);
+    }
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Ray& ray = rays[i];
+      if (!(ray.length > 0)) continue;
+      dGeomRaySet(ray_, ray.from.x, ray.from.y, ray.from.z, ray.direction.x, ray.direction.y,
+                  ray.direction.z);
+      dGeomRaySetLength(ray_, ray.length);
+      ray_hit_ = std::numeric_limits<double>::infinity();
+      dSpaceCollide2(ray_, reinterpret_cast<dGeomID>(space_), this, &rayCallback);
+      (*distances)[i] = ray_hit_;
+    }
+  }
+
   // A step the exact solver failed is taken again from where it started with the iterative one:
   // after an LCP failure (a message), from the bodies restored here; after an internal error
   // (EngineFault), on a new engine the world builds at the step's start (retake).
@@ -485,6 +510,18 @@ class OdeEngine : public Engine {
       return;
     }
     static_cast<OdeEngine*>(data)->addContacts(a, b);
+  }
+
+  static void rayCallback(void* data, dGeomID a, dGeomID b) {
+    if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
+      dSpaceCollide2(a, b, data, &rayCallback);
+      return;
+    }
+    dContactGeom contact;
+    if (dCollide(a, b, 1, &contact, sizeof contact) > 0) {
+      double& hit = static_cast<OdeEngine*>(data)->ray_hit_;
+      hit = std::min(hit, static_cast<double>(contact.depth));
+    }
   }
 
   void addContacts(dGeomID a, dGeomID b) {
@@ -588,6 +625,8 @@ class OdeEngine : public Engine {
   Surface ground_surface_;
   std::vector<dContact> contact_buffer_;
   std::vector<dContactGeom> mesh_candidates_;
+  dGeomID ray_ = nullptr;  // castRays' ray, made at its first call
+  double ray_hit_ = 0;     // the nearest hit of the ray being cast
 };
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
+#include "pose_ops.h"
 #include "update_gate.h"
 
 namespace onedof_sim::plugins {
@@ -38,21 +39,6 @@ bool readVector(const PluginParams& params, const char* tag, Vec3* out, std::str
     return false;
   }
   return true;
-}
-
-// The core's pose arithmetic is private to it; the offsets need these two.
-Quat product(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
-}
-
-// Fixed-axis roll, pitch, yaw: Rz(yaw) Ry(pitch) Rx(roll).
-Quat fromRpy(const Vec3& rpy) {
-  const double cr = std::cos(rpy.x / 2), sr = std::sin(rpy.x / 2);
-  const double cp = std::cos(rpy.y / 2), sp = std::sin(rpy.y / 2);
-  const double cy = std::cos(rpy.z / 2), sy = std::sin(rpy.z / 2);
-  return {cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
-          cr * cp * sy - sr * sp * cy};
 }
 
 class GazeboRosP3d : public ModelPlugin {

@@ -1,9 +1,17 @@
 #include "model_plugins.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <set>
+#include <sstream>
 #include <utility>
 
+#include <ros/console.h>
 #include <tinyxml2.h>
+
+#include "pose_ops.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -48,6 +56,64 @@ void addPlugins(const tinyxml2::XMLElement* parent, std::vector<PluginElement>* 
     out->push_back(toPluginElement(plugin));
 }
 
+std::string trimmed(std::string text) {
+  const auto space = [](unsigned char c) { return std::isspace(c); };
+  text.erase(text.begin(), std::find_if_not(text.begin(), text.end(), space));
+  text.erase(std::find_if_not(text.rbegin(), text.rend(), space).base(), text.end());
+  return text;
+}
+
+// An SDF boolean as sdformat reads it: true/false/1/0.
+bool readFlag(const std::string& text, bool* value) {
+  const bool is_true = text == "true" || text == "1";
+  if (!is_true && text != "false" && text != "0") return false;
+  *value = is_true;
+  return true;
+}
+
+// A <sensor> element and what it says, or why it is malformed (SensorElement::error).
+SensorElement toSensorElement(const tinyxml2::XMLElement* sensor, const std::string& link) {
+  SensorElement element;
+  element.name = attribute(sensor, "name");
+  element.type = attribute(sensor, "type");
+  element.link = link;
+  tinyxml2::XMLPrinter printer;
+  sensor->Accept(&printer);
+  element.xml = printer.CStr();
+  addPlugins(sensor, &element.plugins);
+  auto fail = [&](const std::string& why) {
+    if (element.error.empty()) element.error = why;
+  };
+  if (element.name.empty()) fail("it has no name");
+  if (element.type.empty()) fail("it has no type");
+  if (link.empty()) fail("it is on no link (a <gazebo> without reference)");
+  if (sensor->FirstChildElement("pose")) {
+    const std::string text = trimmed(childText(sensor, "pose"));
+    std::istringstream in(text);
+    Vec3 xyz, rpy;
+    std::string rest;
+    if (!(in >> xyz.x >> xyz.y >> xyz.z >> rpy.x >> rpy.y >> rpy.z) || (in >> rest) ||
+        !std::isfinite(xyz.x + xyz.y + xyz.z + rpy.x + rpy.y + rpy.z))
+      fail("<pose> is '" + text + "', not six numbers");
+    else
+      element.pose = {xyz, fromRpy(rpy)};
+  }
+  if (sensor->FirstChildElement("update_rate")) {
+    const std::string text = trimmed(childText(sensor, "update_rate"));
+    char* end = nullptr;
+    element.update_rate = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(element.update_rate) ||
+        element.update_rate < 0)
+      fail("<update_rate> is '" + text + "', not a number of Hz >= 0");
+  }
+  for (const auto& [tag, value] : {std::pair{"always_on", &element.always_on},
+                                   std::pair{"visualize", &element.visualize}})
+    if (sensor->FirstChildElement(tag) && !readFlag(trimmed(childText(sensor, tag)), value))
+      fail("<" + std::string(tag) + "> is '" + trimmed(childText(sensor, tag)) +
+           "', not true or false");
+  return element;
+}
+
 }  // namespace
 
 std::string withRobotNamespace(const std::string& model_xml, const std::string& robot_namespace) {
@@ -87,7 +153,7 @@ std::vector<SensorElement> findSensors(const std::string& model_xml, ModelFormat
   auto add = [&](const tinyxml2::XMLElement* parent, const std::string& link) {
     for (auto* sensor = parent->FirstChildElement("sensor"); sensor;
          sensor = sensor->NextSiblingElement("sensor"))
-      found.push_back({attribute(sensor, "name"), attribute(sensor, "type"), link});
+      found.push_back(toSensorElement(sensor, link));
   };
   if (format == ModelFormat::Urdf) {
     const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
@@ -105,47 +171,118 @@ std::vector<SensorElement> findSensors(const std::string& model_xml, ModelFormat
   return found;
 }
 
+namespace {
+
+ModelPluginContext pluginContext(const std::string& model, const PluginElement& element,
+                                 const std::string& model_xml, ModelFormat format,
+                                 const World& world, const LockWorld& lock_world) {
+  ModelPluginContext context;
+  context.model = model;
+  context.name = element.name;
+  context.filename = element.filename;
+  context.plugin_xml = element.xml;
+  context.model_xml = model_xml;
+  context.format = format;
+  context.robot_namespace = element.robot_namespace;
+  context.node = ros::NodeHandle(element.robot_namespace.empty() ? "/" : element.robot_namespace);
+  context.world = &world;
+  context.lock_world = lock_world;
+  return context;
+}
+
+// Each unknown plugin filename and sensor type of one model, logged once.
+struct Unknowns {
+  std::set<std::string> plugins, sensor_types;
+  void plugin(const std::string& model, const PluginElement& element, const std::string& where) {
+    if (plugins.insert(element.filename).second)
+      ROS_WARN_STREAM("model '" << model << "': plugin '" << element.name << "' ("
+                      << element.filename << ")" << where << " is not simulated here and is "
+                      << "ignored; the model works without it");
+  }
+};
+
+void createSensorPlugins(const std::vector<SensorPluginType>& types, const std::string& model,
+                         const SensorElement& sensor, const std::string& model_xml,
+                         ModelFormat format, const World& world, const LockWorld& lock_world,
+                         Unknowns* unknowns, std::vector<std::unique_ptr<ModelPlugin>>* created) {
+  const std::string label = "model '" + model + "': sensor '" + sensor.name + "'";
+  if (!sensor.error.empty()) {
+    ROS_ERROR_STREAM(label << " is ignored, with its plugins: " << sensor.error);
+    return;
+  }
+  bool known_type = false;
+  for (const SensorPluginType& type : types)
+    for (const std::string& sensor_type : type.sensor_types)
+      known_type = known_type || sensor_type == sensor.type;
+  if (!known_type) {
+    if (unknowns->sensor_types.insert(sensor.type).second)
+      ROS_WARN_STREAM(label << " (type " << sensor.type << ") on link '" << sensor.link
+                      << "': sensors of type " << sensor.type << " are not simulated here and "
+                      << "are ignored, with their plugins; the model works without them");
+    return;
+  }
+  {
+    std::unique_lock<std::mutex> lock = lock_world();
+    LinkInfo info;
+    if (!world.linkProperties(model + "::" + sensor.link, &info).ok()) {
+      ROS_ERROR_STREAM(label << " is ignored, with its plugins: its link '" << sensor.link
+                       << "' is not a link of the model");
+      return;
+    }
+  }
+  for (const PluginElement& element : sensor.plugins) {
+    const SensorPluginType* type = nullptr;
+    for (const SensorPluginType& candidate : types)
+      if (candidate.filename == element.filename) type = &candidate;
+    if (!type) {
+      unknowns->plugin(model, element, " of sensor '" + sensor.name + "'");
+      continue;
+    }
+    if (std::find(type->sensor_types.begin(), type->sensor_types.end(), sensor.type) ==
+        type->sensor_types.end()) {
+      std::string wanted;
+      for (const std::string& t : type->sensor_types) wanted += (wanted.empty() ? "" : " or ") + t;
+      ROS_ERROR_STREAM(element.filename << " for " << label << " not started: it publishes a "
+                       << wanted << " sensor, and this one is " << sensor.type);
+      continue;
+    }
+    SensorPluginContext context{
+        pluginContext(model, element, model_xml, format, world, lock_world), sensor};
+    std::string error;
+    std::unique_ptr<ModelPlugin> plugin = type->create(context, &error);
+    if (plugin) created->push_back(std::move(plugin));
+    else if (!error.empty())
+      ROS_ERROR_STREAM(element.filename << " for " << label << " not started: " << error);
+  }
+}
+
+}  // namespace
+
 std::vector<std::unique_ptr<ModelPlugin>> createModelPlugins(
-    const std::vector<ModelPluginType>& types, const std::string& model,
-    const std::string& spawned_xml, ModelFormat format, const std::string& robot_namespace,
-    const World& world, LockWorld lock_world) {
+    const std::vector<ModelPluginType>& types, const std::vector<SensorPluginType>& sensor_types,
+    const std::string& model, const std::string& spawned_xml, ModelFormat format,
+    const std::string& robot_namespace, const World& world, LockWorld lock_world) {
   const std::string model_xml = withRobotNamespace(spawned_xml, robot_namespace);
-  std::set<std::pair<std::string, std::string>> sensors;  // (name, type) logged
-  for (const SensorElement& sensor : findSensors(model_xml, format))
-    if (sensors.insert({sensor.name, sensor.type}).second)
-      ROS_WARN_STREAM("model '" << model << "': sensor '" << sensor.name << "' (type "
-                      << sensor.type << ") on link '" << sensor.link << "' is not simulated "
-                      << "here and is ignored, with its plugins; the model works without it");
   std::vector<std::unique_ptr<ModelPlugin>> created;
-  std::set<std::string> unknown;
+  Unknowns unknowns;
   for (const PluginElement& element : findModelPlugins(model_xml, format)) {
     const ModelPluginType* type = nullptr;
     for (const ModelPluginType& candidate : types)
       if (candidate.filename == element.filename) type = &candidate;
     if (!type) {
-      if (unknown.insert(element.filename).second)
-        ROS_WARN_STREAM("model '" << model << "': plugin '" << element.name << "' ("
-                        << element.filename << ") is not simulated here and is ignored; the "
-                        << "model works without it");
+      unknowns.plugin(model, element, "");
       continue;
     }
-    ModelPluginContext context;
-    context.model = model;
-    context.name = element.name;
-    context.filename = element.filename;
-    context.plugin_xml = element.xml;
-    context.model_xml = model_xml;
-    context.format = format;
-    context.robot_namespace = element.robot_namespace;
-    context.node = ros::NodeHandle(element.robot_namespace.empty() ? "/" : element.robot_namespace);
-    context.world = &world;
-    context.lock_world = lock_world;
     std::string error;
-    std::unique_ptr<ModelPlugin> plugin = type->create(context, &error);
+    std::unique_ptr<ModelPlugin> plugin = type->create(
+        pluginContext(model, element, model_xml, format, world, lock_world), &error);
     if (plugin) created.push_back(std::move(plugin));
     else if (!error.empty())
       ROS_ERROR_STREAM(element.filename << " for model '" << model << "' not started: " << error);
   }
+  for (const SensorElement& sensor : findSensors(model_xml, format))
+    createSensorPlugins(sensor_types, model, sensor, model_xml, format, world, lock_world,
+                        &unknowns, &created);
   return created;
 }
 

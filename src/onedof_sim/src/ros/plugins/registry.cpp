@@ -1,5 +1,6 @@
-// The one list of model plugins: each is one file in this folder and one entry here, keyed by
-// the filename a URDF's <gazebo><plugin> or an SDF's <plugin> names, as Gazebo loads it.
+// The one list of model plugins and the one list of sensor plugins: each is one file in this
+// folder and one entry here, keyed by the filename a URDF's <gazebo><plugin> or an SDF's
+// <plugin> names, as Gazebo loads it (a sensor plugin: inside a <sensor> of the types it takes).
 #include "registry.h"
 
 namespace onedof_sim::plugins {
@@ -9,6 +10,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosDiffDrive(const ModelPluginContext&, s
 std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosJointStatePublisher(const ModelPluginContext&,
                                                               std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosLaser(const SensorPluginContext&, std::string*);
 
 const std::vector<ModelPluginType>& modelPluginRegistry() {
   static const std::vector<ModelPluginType> entries{
@@ -16,6 +18,14 @@ const std::vector<ModelPluginType>& modelPluginRegistry() {
       {"libgazebo_ros_diff_drive.so", makeGazeboRosDiffDrive},
       {"libgazebo_ros_joint_state_publisher.so", makeGazeboRosJointStatePublisher},
       {"libgazebo_ros_p3d.so", makeGazeboRosP3d},
+  };
+  return entries;
+}
+
+const std::vector<SensorPluginType>& sensorPluginRegistry() {
+  static const std::vector<SensorPluginType> entries{
+      {"libgazebo_ros_gpu_laser.so", {"gpu_ray"}, makeGazeboRosLaser},
+      {"libgazebo_ros_laser.so", {"ray"}, makeGazeboRosLaser},
   };
   return entries;
 }

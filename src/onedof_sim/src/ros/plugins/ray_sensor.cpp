@@ -1,0 +1,232 @@
+#include "ray_sensor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+#include <tinyxml2.h>
+
+#include "pose_ops.h"
+
+namespace onedof_sim::plugins {
+namespace {
+
+// More rays than any laser has (a 3D lidar: 128 x 2048), for a scan that stays a fraction of a
+// step's time.
+constexpr long kMaxRays = 262144;
+
+const tinyxml2::XMLElement* path(const tinyxml2::XMLElement* element,
+                                 std::initializer_list<const char*> names) {
+  for (const char* name : names) element = element ? element->FirstChildElement(name) : nullptr;
+  return element;
+}
+
+// The number in `parent`'s <tag>, left as it is when there is none.
+bool readNumber(const tinyxml2::XMLElement* parent, const char* tag, const std::string& where,
+                double* value, std::string* error) {
+  const tinyxml2::XMLElement* child = parent ? parent->FirstChildElement(tag) : nullptr;
+  if (!child) return true;
+  const char* raw = child->GetText();
+  std::string text = raw ? raw : "";
+  text.erase(0, text.find_first_not_of(" \t\r\n"));
+  text.erase(text.find_last_not_of(" \t\r\n") + 1);
+  char* end = nullptr;
+  const double parsed = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(parsed)) {
+    *error = "<" + where + "><" + tag + "> is '" + text + "', not a number";
+    return false;
+  }
+  *value = parsed;
+  return true;
+}
+
+bool readCount(const tinyxml2::XMLElement* parent, const std::string& where, int* value,
+               std::string* error) {
+  double number = *value;
+  if (!readNumber(parent, "samples", where, &number, error)) return false;
+  if (number < 1 || number != std::floor(number) || number > kMaxRays) {
+    *error = "<" + where + "><samples> is " + std::to_string(number) + ", not a count of rays";
+    return false;
+  }
+  *value = static_cast<int>(number);
+  return true;
+}
+
+std::string describe(const Status& status) {
+  std::ostringstream text;
+  text << status;
+  return text.str();
+}
+
+}  // namespace
+
+int RayConfig::rangeCount() const { return static_cast<int>(samples * resolution); }
+int RayConfig::verticalRangeCount() const {
+  return static_cast<int>(vertical_samples * vertical_resolution);
+}
+double RayConfig::angleIncrement() const { return (max_angle - min_angle) / (rangeCount() - 1); }
+
+bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string* error) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(sensor_xml.c_str(), sensor_xml.size()) != tinyxml2::XML_SUCCESS) {
+    *error = "the <sensor> is not XML";
+    return false;
+  }
+  const tinyxml2::XMLElement* ray = path(doc.RootElement(), {"ray"});
+  if (!ray) {
+    *error = "it has no <ray>";
+    return false;
+  }
+  RayConfig c;
+  const auto* horizontal = path(ray, {"scan", "horizontal"});
+  const auto* vertical = path(ray, {"scan", "vertical"});
+  const auto* range = path(ray, {"range"});
+  if (!readCount(horizontal, "horizontal", &c.samples, error) ||
+      !readNumber(horizontal, "resolution", "horizontal", &c.resolution, error) ||
+      !readNumber(horizontal, "min_angle", "horizontal", &c.min_angle, error) ||
+      !readNumber(horizontal, "max_angle", "horizontal", &c.max_angle, error) ||
+      !readCount(vertical, "vertical", &c.vertical_samples, error) ||
+      !readNumber(vertical, "resolution", "vertical", &c.vertical_resolution, error) ||
+      !readNumber(vertical, "min_angle", "vertical", &c.vertical_min_angle, error) ||
+      !readNumber(vertical, "max_angle", "vertical", &c.vertical_max_angle, error) ||
+      !readNumber(range, "min", "range", &c.range_min, error) ||
+      !readNumber(range, "max", "range", &c.range_max, error) ||
+      !readNumber(range, "resolution", "range", &c.range_resolution, error))
+    return false;
+  if (!(c.resolution > 0) || !(c.vertical_resolution > 0) || c.rangeCount() < 1 ||
+      c.verticalRangeCount() < 1 ||
+      static_cast<long>(c.rangeCount()) * c.verticalRangeCount() > kMaxRays) {
+    *error = "<scan> <resolution> makes " + std::to_string(c.rangeCount()) + " x " +
+             std::to_string(c.verticalRangeCount()) + " ranges, not 1 to " +
+             std::to_string(kMaxRays);
+    return false;
+  }
+  if (c.range_min < 0 || !(c.range_max > c.range_min)) {
+    *error = "<range> is min " + std::to_string(c.range_min) + " max " +
+             std::to_string(c.range_max) + ": it needs 0 <= min < max";
+    return false;
+  }
+  if (const auto* noise = ray->FirstChildElement("noise")) {
+    const char* type_text = noise->Attribute("type");
+    std::string type = type_text ? type_text : "";
+    if (type.empty()) {  // SDF 1.4 and earlier: <type> inside
+      const auto* type_element = noise->FirstChildElement("type");
+      if (type_element && type_element->GetText()) type = type_element->GetText();
+    }
+    if (type == "gaussian" || type == "gaussian_quantized") {
+      c.noise.on = true;
+      if (!readNumber(noise, "mean", "noise", &c.noise.mean, error) ||
+          !readNumber(noise, "stddev", "noise", &c.noise.stddev, error) ||
+          !readNumber(noise, "bias_mean", "noise", &c.noise.bias_mean, error) ||
+          !readNumber(noise, "bias_stddev", "noise", &c.noise.bias_stddev, error) ||
+          !readNumber(noise, "precision", "noise", &c.noise.precision, error))
+        return false;
+      if (c.noise.stddev < 0 || c.noise.bias_stddev < 0 || c.noise.precision < 0) {
+        *error = "<noise> has a negative stddev, bias_stddev or precision";
+        return false;
+      }
+    } else if (type != "none") {
+      *error = "<noise type=\"" + type + "\">: only gaussian (and none) is simulated";
+      return false;
+    }
+  }
+  *config = c;
+  return true;
+}
+
+RayScanner::RayScanner(const RayConfig& config, std::string link, const Pose& pose,
+                       uint64_t seed)
+    : config_(config), link_(std::move(link)), pose_(pose), random_(seed) {
+  // Gazebo's MultiRayShape: a lone ray (or row) points along x (has no pitch).
+  const RayConfig& c = config_;
+  for (int j = 0; j < c.vertical_samples; ++j) {
+    const double pitch =
+        c.vertical_samples == 1
+            ? 0
+            : j * (c.vertical_max_angle - c.vertical_min_angle) / (c.vertical_samples - 1) +
+                  c.vertical_min_angle;
+    for (int i = 0; i < c.samples; ++i) {
+      const double yaw =
+          c.samples == 1 ? 0 : i * (c.max_angle - c.min_angle) / (c.samples - 1) + c.min_angle;
+      directions_.push_back({std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                             std::sin(pitch)});
+    }
+  }
+  rays_.resize(directions_.size());
+  if (c.noise.on && (c.noise.bias_mean != 0 || c.noise.bias_stddev > 0)) {
+    std::normal_distribution<double> bias(c.noise.bias_mean, c.noise.bias_stddev);
+    bias_ = bias(random_);
+    if (std::uniform_real_distribution<double>(0, 1)(random_) < 0.5) bias_ = -bias_;
+  }
+}
+
+bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why) {
+  const RayConfig& c = config_;
+  Pose link_pose;
+  Twist unused;
+  Status status = world.linkState(link_, "", &link_pose, &unused);
+  if (!status.ok()) {
+    *why = "its link's pose: " + describe(status);
+    return false;
+  }
+  const Pose sensor = compose(link_pose, pose_);
+  const double span = c.range_max - c.range_min;
+  for (size_t k = 0; k < directions_.size(); ++k) {
+    const Vec3 d = rotate(sensor.orientation, directions_[k]);
+    rays_[k] = {{sensor.position.x + d.x * c.range_min, sensor.position.y + d.y * c.range_min,
+                 sensor.position.z + d.z * c.range_min},
+                d, span};
+  }
+  status = world.castRays(rays_, &hits_);
+  if (!status.ok()) {
+    *why = "the ray query: " + describe(status);
+    return false;
+  }
+  // A ray's range: from the sensor, range_max where it meets nothing.
+  auto rayRange = [&](int row, int column) {
+    const double hit = hits_[static_cast<size_t>(row) * c.samples + column];
+    return c.range_min + (std::isfinite(hit) ? hit : span);
+  };
+  const int columns = c.rangeCount(), rows = c.verticalRangeCount();
+  const bool interpolate = columns != c.samples || rows != c.vertical_samples;
+  std::normal_distribution<double> white(c.noise.mean, c.noise.stddev);
+  ranges->resize(static_cast<size_t>(columns) * rows);
+  for (int j = 0; j < rows; ++j) {
+    // Gazebo's bilinear interpolation between the four rays around each range.
+    double vb = rows == 1 ? 0 : static_cast<double>(j * (c.vertical_samples - 1)) / (rows - 1);
+    const int vja = interpolate ? static_cast<int>(std::floor(vb)) : j;
+    const int vjb = std::min(vja + 1, c.vertical_samples - 1);
+    vb -= std::floor(vb);
+    for (int i = 0; i < columns; ++i) {
+      double range;
+      if (interpolate) {
+        double hb = columns == 1 ? 0 : static_cast<double>(i * (c.samples - 1)) / (columns - 1);
+        const int hja = static_cast<int>(std::floor(hb));
+        const int hjb = std::min(hja + 1, c.samples - 1);
+        hb -= std::floor(hb);
+        range = (1 - vb) * ((1 - hb) * rayRange(vja, hja) + hb * rayRange(vja, hjb)) +
+                vb * ((1 - hb) * rayRange(vjb, hja) + hb * rayRange(vjb, hjb));
+      } else {
+        range = rayRange(j, i);
+      }
+      // REP 117, as Gazebo masks them.
+      if (range >= c.range_max) {
+        range = std::numeric_limits<double>::infinity();
+      } else if (range <= c.range_min) {
+        range = -std::numeric_limits<double>::infinity();
+      } else if (c.noise.on) {
+        range += bias_ + (c.noise.stddev > 0 ? white(random_) : c.noise.mean);
+        if (c.noise.precision > 0)
+          range = std::round(range / c.noise.precision) * c.noise.precision;
+        range = std::clamp(range, c.range_min, c.range_max);
+      }
+      (*ranges)[static_cast<size_t>(j) * columns + i] = static_cast<float>(range);
+    }
+  }
+  return true;
+}
+
+}  // namespace onedof_sim::plugins

@@ -1,0 +1,72 @@
+// Gazebo's ray sensor (`ray` and `gpu_ray`): its <ray> element, and its scans measured through
+// World::castRays against every model's collision shapes, as Gazebo's RaySensor and
+// GpuRaySensor report them.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <onedof_sim/world.h>
+
+namespace onedof_sim::plugins {
+
+// <ray><noise>: Gaussian noise as Gazebo's GaussianNoiseModel adds it.
+struct RayNoise {
+  bool on = false;  // <noise type="gaussian">
+  double mean = 0, stddev = 0;          // drawn for each range
+  double bias_mean = 0, bias_stddev = 0;  // one bias, drawn once, of either sign
+  double precision = 0;                   // > 0: ranges rounded to multiples of it
+};
+
+// <ray>: the scan's rays and their range, with SDF's defaults.
+struct RayConfig {
+  int samples = 640;  // <scan><horizontal>: rays
+  double resolution = 1;  // ranges per ray (Gazebo interpolates between rays)
+  double min_angle = 0, max_angle = 0;  // rad, about the sensor's z axis
+  int vertical_samples = 1;  // <scan><vertical>
+  double vertical_resolution = 1;
+  double vertical_min_angle = 0, vertical_max_angle = 0;  // rad, up from the x-y plane
+  double range_min = 0, range_max = 0;  // <range><min>, <max>, m
+  double range_resolution = 0;  // <range><resolution>: read, not applied, as in Gazebo
+  RayNoise noise;
+
+  int rangeCount() const;          // ranges per row: samples * resolution
+  int verticalRangeCount() const;  // rows
+  // The angle between neighbouring ranges, as Gazebo's AngleResolution gives it.
+  double angleIncrement() const;
+};
+
+// Reads the <ray> of a <sensor> element (its XML text); false, with *error naming what is wrong,
+// when it is malformed or past what a scan can be.
+bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string* error);
+
+// Measures the scans of one ray sensor: its rays start at range_min along their directions from
+// the sensor's pose on its link, as Gazebo's do, and meet every collision shape, the sensor's own
+// link's included. Ranges are in Gazebo's order (row after row, each from min_angle to max_angle)
+// and as it reports them: +inf where a ray meets nothing before range_max, -inf where it meets
+// something at range_min, else the distance with the noise added, held within the range.
+class RayScanner {
+ public:
+  // link: scoped "model::link"; pose: the sensor on it; seed: the noise's generator's.
+  RayScanner(const RayConfig& config, std::string link, const Pose& pose, uint64_t seed);
+
+  // One scan, at the world's present state; false (and *ranges untouched) when the world
+  // cannot give the link's pose or refuses the query, with *why.
+  bool scan(World& world, std::vector<float>* ranges, std::string* why);
+
+  const RayConfig& config() const { return config_; }
+
+ private:
+  RayConfig config_;
+  std::string link_;
+  Pose pose_;
+  std::vector<Vec3> directions_;  // each ray's, in the sensor frame
+  std::vector<Ray> rays_;
+  std::vector<double> hits_;
+  std::mt19937_64 random_;
+  double bias_ = 0;
+};
+
+}  // namespace onedof_sim::plugins
