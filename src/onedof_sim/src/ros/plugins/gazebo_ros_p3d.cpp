@@ -4,9 +4,7 @@
 // Gaussian noise of <gaussianNoise> (standard deviation), at <updateRate> of sim time (0: every
 // step), stamped in sim time, while anyone subscribes. Relative to a link, pose and twist are as
 // get_link_state gives them in that link's frame.
-#include <cmath>
 #include <random>
-#include <sstream>
 
 #include <nav_msgs/Odometry.h>
 #include <ros/console.h>
@@ -14,6 +12,7 @@
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
+#include "rotations.h"
 #include "update_gate.h"
 
 namespace onedof_sim::plugins {
@@ -29,31 +28,6 @@ struct P3dParams {
   double gaussian_noise = 0;
   double update_rate = 0;
 };
-
-bool readVector(const PluginParams& params, const char* tag, Vec3* out, std::string* error) {
-  if (!params.has(tag)) return true;
-  std::istringstream in(params.text(tag, ""));
-  if (!(in >> out->x >> out->y >> out->z)) {
-    *error = "<" + std::string(tag) + "> is not three numbers";
-    return false;
-  }
-  return true;
-}
-
-// The core's pose arithmetic is private to it; the offsets need these two.
-Quat product(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
-}
-
-// Fixed-axis roll, pitch, yaw: Rz(yaw) Ry(pitch) Rx(roll).
-Quat fromRpy(const Vec3& rpy) {
-  const double cr = std::cos(rpy.x / 2), sr = std::sin(rpy.x / 2);
-  const double cp = std::cos(rpy.y / 2), sp = std::sin(rpy.y / 2);
-  const double cy = std::cos(rpy.z / 2), sy = std::sin(rpy.z / 2);
-  return {cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
-          cr * cp * sy - sr * sp * cy};
-}
 
 class GazeboRosP3d : public ModelPlugin {
  public:
@@ -126,8 +100,8 @@ std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext& context,
   p.topic = params.text("topicName", "");
   p.frame = params.text("frameName", p.frame);
   Vec3 rpy;
-  if (!readVector(params, "xyzOffset", &p.xyz_offset, error) ||
-      !readVector(params, "rpyOffset", &rpy, error) ||
+  if (!params.vector("xyzOffset", &p.xyz_offset, error) ||
+      !params.vector("rpyOffset", &rpy, error) ||
       !params.number("gaussianNoise", 0, &p.gaussian_noise, error) ||
       !params.number("updateRate", 0, &p.update_rate, error))
     return nullptr;
