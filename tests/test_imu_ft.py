@@ -130,8 +130,8 @@ def record(ros, rospy, engine, noise):
     wait_until(lambda: imu and imu[-1].header.stamp.to_nsec() >= 590000000, 30,
                what='the last IMU message')
     ros.terminate(sim)
-    wait_until(lambda: not ros.has_service('/gazebo/unpause_physics'), 30,
-               what='the simulator to be gone')
+    wait_until(lambda: not ros.has_service('/gazebo/unpause_physics'), 60,
+               what='the stopped simulator to leave the graph')
     keep = lambda msgs: [m for m in msgs if m.header.stamp.to_nsec() >= 100000000]
     return ([(m.header.stamp.to_nsec(), m.linear_acceleration, m.angular_velocity, m.orientation)
              for m in keep(imu)],
