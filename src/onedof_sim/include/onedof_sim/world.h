@@ -36,6 +36,12 @@ struct Twist {
   Vec3 angular;
 };
 
+// A force and a torque, the torque about a point the call that gives it names.
+struct Wrench {
+  Vec3 force;
+  Vec3 torque;
+};
+
 // What a call that can fail on bad input found: a code and the fact that goes with it, never a
 // text (the ROS layer words them as Gazebo does). On failure the world is unchanged.
 enum class StatusCode {
@@ -326,6 +332,15 @@ class World {
   // each step. Refuses: JointNotFound, JointIsFixed, NotFinite ("velocity", "max_effort"),
   // InvalidParameter "max_effort" (negative), and OutOfRange "velocity" past the speed cap.
   Status setJointVelocityCommand(const std::string& joint, double velocity, double max_effort);
+  // What the joint's constraint put on its child link in the last step, in world axes: the
+  // force, and the torque about the joint's anchor (its origin; for URDF the child link's frame
+  // origin). It is what holds the child to the parent side along the directions the joint does
+  // not move in, and the joint's stops and its friction or velocity motor along the one it does;
+  // efforts (jobs, commands, damping) are not in it. Zero before the model's first step and after
+  // the engine is built again (see step). Refuses JointNotFound, and JointIsFixed for a joint
+  // that holds nothing apart: a fixed joint welds its links into one body, and a static model's
+  // joints are not simulated.
+  Status jointConstraintWrench(const std::string& joint, Wrench* out) const;
   // Drops every pending job on joints of that bare name (any model).
   void clearJointForces(const std::string& joint);
   // Whether an effort job acts on the joint in the step that starts at t_ns; false for a joint

@@ -99,6 +99,10 @@ class EngineModel {
   // sliders: the child's displacement along the axis. World unwraps hinges.
   virtual double jointPosition(int joint) const = 0;
   virtual double jointRate(int joint) const = 0;
+  // What the joint's constraint (its rows, stops and motor included) put on the child body in
+  // the last step, world axes, the torque about the child body's centre of mass; zero before the
+  // first step. Efforts added with addJointEffort are not in it.
+  virtual Wrench jointConstraintWrench(int joint) const = 0;
 
   // Forces for the coming step only: the engine clears them when it has stepped.
   virtual void addJointEffort(int joint, double effort) = 0;  // + on the child, - on the parent

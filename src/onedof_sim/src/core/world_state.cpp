@@ -313,6 +313,23 @@ Status World::jointInfo(const std::string& joint_name, JointInfo* out) const {
   return {};
 }
 
+Status World::jointConstraintWrench(const std::string& joint_name, Wrench* out) const {
+  ModelRecord* model;
+  size_t index;
+  if (!impl_->findJoint(joint_name, &model, &index))
+    return {StatusCode::JointNotFound, joint_name};
+  const JointRecord& joint = model->joints[index];
+  if (joint.engine_joint < 0) return {StatusCode::JointIsFixed, joint_name};
+  const Wrench at_com = model->engine_model->jointConstraintWrench(joint.engine_joint);
+  const int body = model->links[joint.child].body;
+  const Vec3 com = model->engine_model->bodyPose(body).position;
+  const Vec3 anchor = impl_->jointFrame(*model, joint).anchor;
+  // The same force through the centre of mass, moved to the anchor: r x f with r from the
+  // anchor to the centre of mass.
+  *out = {at_com.force, at_com.torque + cross(com - anchor, at_com.force)};
+  return {};
+}
+
 Status World::setJointDamping(const std::string& joint_name, double damping) {
   ModelRecord* model;
   size_t index;

@@ -419,6 +419,11 @@ class BulletModel : public EngineModel {
         }
         joint.constraint = std::move(hinge);
       }
+      const btVector3 zero(0, 0, 0);
+      joint.feedback.m_appliedForceBodyA = joint.feedback.m_appliedForceBodyB = zero;
+      joint.feedback.m_appliedTorqueBodyA = joint.feedback.m_appliedTorqueBodyB = zero;
+      joint.constraint->setJointFeedback(&joint.feedback);
+      joint.constraint->enableFeedback(true);
       world_->addConstraint(joint.constraint.get());  // the model filter keeps them apart
     }
   }
@@ -504,6 +509,15 @@ class BulletModel : public EngineModel {
     return dot(axis, relative_velocity) + dot(cross(parent_twist.angular, axis), offset);
   }
 
+  // The solver sums each row's impulse over the step into the feedback, as forces and torques
+  // about the bodies' centres of mass. The child is the hinge's body A and the slider's B.
+  Wrench jointConstraintWrench(int joint) const override {
+    const Joint& j = joints_[joint];
+    const btJointFeedback& f = j.feedback;
+    if (j.spec.prismatic) return {fromBt(f.m_appliedForceBodyB), fromBt(f.m_appliedTorqueBodyB)};
+    return {fromBt(f.m_appliedForceBodyA), fromBt(f.m_appliedTorqueBodyA)};
+  }
+
   void addJointEffort(int joint, double effort) override {
     const Joint& j = joints_[joint];
     btRigidBody& child = *bodies_[j.spec.child].rigid;
@@ -570,6 +584,7 @@ class BulletModel : public EngineModel {
     Vec3 axis_in_parent, anchor_in_parent, anchor_in_child;
     Quat zero_relative;
     std::unique_ptr<btTypedConstraint> constraint;
+    btJointFeedback feedback;  // the constraint points at it
   };
 
   Pose parentPose(const Joint& joint) const {

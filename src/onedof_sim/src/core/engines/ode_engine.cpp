@@ -215,6 +215,8 @@ class OdeModel : public EngineModel {
         set(dParamVel, 0);
         set(dParamFMax, spec_joint.friction);
       }
+      feedback_.push_back(dJointFeedback{});  // ODE fills it in every step from now on
+      dJointSetFeedback(joint, &feedback_.back());
       joints_.push_back({joint, spec_joint.parent, spec_joint.child, hinge, spec_joint.friction});
     }
   }
@@ -286,6 +288,12 @@ class OdeModel : public EngineModel {
   double jointRate(int joint) const override {
     const Joint& j = joints_[joint];
     return j.hinge ? dJointGetHingeAngleRate(j.id) : dJointGetSliderPositionRate(j.id);
+  }
+
+  // The child is the joint's first body (attachJoints): f1 and t1, the torque about its centre.
+  Wrench jointConstraintWrench(int joint) const override {
+    const dJointFeedback& f = feedback_[joint];
+    return {{f.f1[0], f.f1[1], f.f1[2]}, {f.t1[0], f.t1[1], f.t1[2]}};
   }
 
   void addJointEffort(int joint, double effort) override {
@@ -385,6 +393,7 @@ class OdeModel : public EngineModel {
   std::vector<std::vector<dGeomID>> body_geoms_;  // per body, in its BodySpec's shape order
   std::vector<dGeomID> anchored_;
   std::vector<Joint> joints_;
+  std::deque<dJointFeedback> feedback_;  // per joint; a deque: ODE keeps pointers into it
   std::deque<Surface> surfaces_;
   std::vector<dTriMeshDataID> mesh_data_;
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;  // what mesh_data_ points into

@@ -4,9 +4,7 @@
 // Gaussian noise of <gaussianNoise> (standard deviation), at <updateRate> of sim time (0: every
 // step), stamped in sim time, while anyone subscribes. Relative to a link, pose and twist are as
 // get_link_state gives them in that link's frame.
-#include <cmath>
 #include <random>
-#include <sstream>
 
 #include <nav_msgs/Odometry.h>
 #include <ros/console.h>
@@ -30,16 +28,6 @@ struct P3dParams {
   double gaussian_noise = 0;
   double update_rate = 0;
 };
-
-bool readVector(const PluginParams& params, const char* tag, Vec3* out, std::string* error) {
-  if (!params.has(tag)) return true;
-  std::istringstream in(params.text(tag, ""));
-  if (!(in >> out->x >> out->y >> out->z)) {
-    *error = "<" + std::string(tag) + "> is not three numbers";
-    return false;
-  }
-  return true;
-}
 
 class GazeboRosP3d : public ModelPlugin {
  public:
@@ -112,8 +100,8 @@ std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext& context,
   p.topic = params.text("topicName", "");
   p.frame = params.text("frameName", p.frame);
   Vec3 rpy;
-  if (!readVector(params, "xyzOffset", &p.xyz_offset, error) ||
-      !readVector(params, "rpyOffset", &rpy, error) ||
+  if (!params.vector("xyzOffset", &p.xyz_offset, error) ||
+      !params.vector("rpyOffset", &rpy, error) ||
       !params.number("gaussianNoise", 0, &p.gaussian_noise, error) ||
       !params.number("updateRate", 0, &p.update_rate, error))
     return nullptr;

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include <ros/console.h>
 
@@ -50,6 +51,21 @@ bool PluginParams::number(const char* tag, double fallback, double* value,
   const double parsed = std::strtod(raw.c_str(), &end);
   if (raw.empty() || *end != '\0' || !std::isfinite(parsed)) {
     *error = "<" + std::string(tag) + "> is '" + raw + "', not a number";
+    return false;
+  }
+  *value = parsed;
+  return true;
+}
+
+bool PluginParams::vector(const char* tag, Vec3* value, std::string* error) const {
+  if (!has(tag)) return true;
+  const std::string raw = text(tag, "");
+  std::istringstream in(raw);
+  Vec3 parsed;
+  std::string rest;
+  if (!(in >> parsed.x >> parsed.y >> parsed.z) || (in >> rest) || !std::isfinite(parsed.x) ||
+      !std::isfinite(parsed.y) || !std::isfinite(parsed.z)) {
+    *error = "<" + std::string(tag) + "> is '" + raw + "', not three numbers";
     return false;
   }
   *value = parsed;

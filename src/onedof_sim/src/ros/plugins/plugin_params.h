@@ -20,6 +20,9 @@ class PluginParams {
   std::string text(const char* tag, const std::string& fallback) const;
   // A number; `fallback` when absent. False, with *error naming the tag, when the text is not one.
   bool number(const char* tag, double fallback, double* value, std::string* error) const;
+  // Three numbers ("x y z"); *value untouched when absent. False, with *error naming the tag,
+  // when the text is not three numbers.
+  bool vector(const char* tag, Vec3* value, std::string* error) const;
   // true/false/1/0 in any case, as GazeboRos takes them; anything else is logged and the
   // fallback kept.
   bool flag(const char* tag, bool fallback) const;

@@ -1,5 +1,6 @@
 // The pose arithmetic the plugins need (the core's is private to it): quaternion products,
-// fixed-axis roll-pitch-yaw, rotating a vector and composing poses.
+// fixed-axis roll-pitch-yaw, rotating a vector into and out of a frame and composing poses.
+// Quaternions are unit, w first.
 #pragma once
 
 #include <cmath>
@@ -31,6 +32,14 @@ inline Vec3 rotate(const Quat& q, const Vec3& v) {
                tz = 2 * (q.x * v.y - q.y * v.x);
   return {v.x + q.w * tx + (q.y * tz - q.z * ty), v.y + q.w * ty + (q.z * tx - q.x * tz),
           v.z + q.w * tz + (q.x * ty - q.y * tx)};
+}
+
+// v, given in the world, in the axes of a frame turned by the unit quaternion q.
+inline Vec3 inFrame(const Quat& q, const Vec3& v) { return rotate({q.w, -q.x, -q.y, -q.z}, v); }
+
+inline Quat normalized(const Quat& q) {
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return {q.w / n, q.x / n, q.y / n, q.z / n};
 }
 
 // The pose `b`, given in the frame `a`, in a's parent frame.

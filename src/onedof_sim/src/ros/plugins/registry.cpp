@@ -7,6 +7,8 @@ namespace onedof_sim::plugins {
 
 std::unique_ptr<ModelPlugin> makeGazeboRosControl(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosDiffDrive(const ModelPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosFtSensor(const ModelPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosImu(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosJointStatePublisher(const ModelPluginContext&,
                                                               std::string*);
@@ -16,6 +18,8 @@ const std::vector<ModelPluginType>& modelPluginRegistry() {
   static const std::vector<ModelPluginType> entries{
       {"libgazebo_ros_control.so", makeGazeboRosControl},
       {"libgazebo_ros_diff_drive.so", makeGazeboRosDiffDrive},
+      {"libgazebo_ros_ft_sensor.so", makeGazeboRosFtSensor},
+      {"libgazebo_ros_imu.so", makeGazeboRosImu},
       {"libgazebo_ros_joint_state_publisher.so", makeGazeboRosJointStatePublisher},
       {"libgazebo_ros_p3d.so", makeGazeboRosP3d},
   };

@@ -1,0 +1,198 @@
+// libgazebo_ros_imu.so (gazebo_plugins' GazeboRosIMU): an IMU on a link as sensor_msgs/Imu on
+// <topicName> (default /default_imu; empty: none), at <updateRate> of sim time (0: every step),
+// stamped in sim time, frame <frameName> (default <bodyName>, taken as written, as that plugin
+// does), while anyone subscribes; <serviceName> (default /default_imu) is its calibrate service
+// (std_srvs/Empty), which succeeds at once: a simulated IMU has no bias to learn.
+//
+// What it reads, as GazeboRosIMU computes it: the orientation is the link's in the world turned
+// by <rpyOffset> (offset * link), with no noise; the angular velocity is the link's; the linear
+// acceleration is the change of the link frame origin's velocity since the last update over the
+// sim time between them (the first update differences from the plugin's start). <gaussianNoise>
+// (standard deviation) is added to each rate and acceleration component and makes the diagonal
+// of all three covariances (its square). <xyzOffset> is read and, as in GazeboRosIMU, used for
+// nothing published.
+//
+// Where it differs from GazeboRosIMU (said once in the log): the linear acceleration is what an
+// accelerometer feels, the acceleration minus gravity (at rest it reads |g| up, where
+// GazeboRosIMU reads 0); the rates and the acceleration are in the sensor's axes (the world's
+// vectors turned back by the published orientation; GazeboRosIMU turns them forward by it,
+// which is the same only while the link is not turned); the velocity is sampled at every update
+// whether or not anyone subscribes (GazeboRosIMU samples only while publishing), so that what
+// is published does not depend on when a subscriber came; and the noise comes from a generator
+// with a fixed seed per plugin, so that two runs publish the same numbers.
+#include <random>
+
+#include <ros/console.h>
+#include <sensor_msgs/Imu.h>
+#include <std_srvs/Empty.h>
+
+#include "model_plugin.h"
+#include "plugin_params.h"
+#include "pose_ops.h"
+#include "update_gate.h"
+
+namespace onedof_sim::plugins {
+namespace {
+
+struct ImuParams {
+  std::string link;     // scoped "model::link"
+  std::string topic = "/default_imu";
+  std::string service = "/default_imu";
+  std::string frame;
+  Vec3 xyz_offset;
+  Quat rpy_offset;
+  double gaussian_noise = 0;
+  double update_rate = 0;
+};
+
+// The velocity of the link frame's origin at one update.
+struct Sample {
+  int64_t time_ns = 0;
+  Vec3 velocity;
+};
+
+class GazeboRosImu : public ModelPlugin {
+ public:
+  GazeboRosImu(const ModelPluginContext& context, const ImuParams& params)
+      : params_(params), node_(context.node), noise_(0.0, 1.0) {
+    {
+      std::unique_lock<std::mutex> lock = context.lock_world();
+      update_gate_ = UpdateGate(params_.update_rate, context.world->timeNs());
+      last_ = sample(*context.world, context.world->timeNs());
+    }
+    if (params_.topic.empty()) return;
+    // A queue of a second's worth at 100 Hz: stepped flat out (step_simulation), a queue of 1
+    // (Gazebo's) drops most messages before they are written out.
+    publisher_ = node_.advertise<sensor_msgs::Imu>(params_.topic, 100);
+    calibrate_ = node_.advertiseService(params_.service, &GazeboRosImu::calibrate, this);
+  }
+
+  void afterStep(World& world, const StepTime& at) override {
+    if (!update_gate_.due(at.time_ns)) return;
+    Pose pose;
+    Twist twist;
+    if (!world.linkState(params_.link, "", &pose, &twist).ok()) return;
+    const Sample now{at.time_ns, twist.linear};
+    const double dt = 1e-9 * static_cast<double>(now.time_ns - last_.time_ns);
+    if (dt > 0) {
+      const Vec3 dv{now.velocity.x - last_.velocity.x, now.velocity.y - last_.velocity.y,
+                    now.velocity.z - last_.velocity.z};
+      acceleration_ = {dv.x / dt, dv.y / dt, dv.z / dt};
+    }
+    last_ = now;
+    if (params_.topic.empty() || publisher_.getNumSubscribers() == 0) return;
+
+    const Vec3& g = world.params().gravity;
+    const Vec3 specific_force{acceleration_.x - g.x, acceleration_.y - g.y, acceleration_.z - g.z};
+    const Quat orientation = normalized(product(params_.rpy_offset, pose.orientation));
+    const Vec3 rate = inFrame(orientation, twist.angular);
+    const Vec3 felt = inFrame(orientation, specific_force);
+
+    sensor_msgs::Imu msg;
+    msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
+    msg.header.frame_id = params_.frame;
+    msg.orientation.w = orientation.w;
+    msg.orientation.x = orientation.x;
+    msg.orientation.y = orientation.y;
+    msg.orientation.z = orientation.z;
+    msg.angular_velocity.x = noisy(rate.x);
+    msg.angular_velocity.y = noisy(rate.y);
+    msg.angular_velocity.z = noisy(rate.z);
+    msg.linear_acceleration.x = noisy(felt.x);
+    msg.linear_acceleration.y = noisy(felt.y);
+    msg.linear_acceleration.z = noisy(felt.z);
+    const double variance = params_.gaussian_noise * params_.gaussian_noise;
+    for (int i : {0, 4, 8})
+      msg.orientation_covariance[i] = msg.angular_velocity_covariance[i] =
+          msg.linear_acceleration_covariance[i] = variance;
+    publications_.add(publisher_, msg);
+  }
+
+  // The world jumped (reset_world, reset_simulation): differences start again from there.
+  void reset(World& world) override {
+    update_gate_.restart(world.timeNs());
+    last_ = sample(world, world.timeNs());
+    acceleration_ = {};
+  }
+
+  std::vector<Publication> takePublications() override { return publications_.take(); }
+
+ private:
+  Sample sample(const World& world, int64_t time_ns) const {
+    Pose pose;
+    Twist twist;
+    world.linkState(params_.link, "", &pose, &twist);
+    return {time_ns, twist.linear};
+  }
+
+  double noisy(double value) {
+    const double sigma = params_.gaussian_noise;
+    return sigma > 0 ? value + sigma * noise_(random_) : value;
+  }
+
+  bool calibrate(std_srvs::Empty::Request&, std_srvs::Empty::Response&) { return true; }
+
+  ImuParams params_;
+  ros::NodeHandle node_;
+  ros::Publisher publisher_;
+  ros::ServiceServer calibrate_;
+  UpdateGate update_gate_;
+  Sample last_;
+  Vec3 acceleration_;
+  std::mt19937 random_;  // default seed: the same numbers every run
+  std::normal_distribution<double> noise_;
+  PublicationQueue publications_;
+};
+
+}  // namespace
+
+std::unique_ptr<ModelPlugin> makeGazeboRosImu(const ModelPluginContext& context,
+                                              std::string* error) {
+  const PluginParams params(context.plugin_xml, "gazebo_ros_imu (" + context.model + ")");
+  ImuParams p;
+  if (!params.has("bodyName")) {
+    *error = "missing <bodyName>";
+    return nullptr;
+  }
+  const std::string body = params.text("bodyName", "");
+  p.topic = params.text("topicName", p.topic);
+  p.service = params.text("serviceName", p.service);
+  p.frame = params.text("frameName", body);
+  Vec3 rpy;
+  if (!params.vector("xyzOffset", &p.xyz_offset, error) ||
+      !params.vector("rpyOffset", &rpy, error) ||
+      !params.number("gaussianNoise", 0, &p.gaussian_noise, error) ||
+      !params.number("updateRate", 0, &p.update_rate, error))
+    return nullptr;
+  if (p.gaussian_noise < 0) {
+    *error = "<gaussianNoise> is negative";
+    return nullptr;
+  }
+  p.rpy_offset = fromRpy(rpy);
+  {
+    // GazeboRosIMU finds <bodyName> among the world's entities: a scoped name as given, else a
+    // link of this model.
+    std::unique_lock<std::mutex> lock = context.lock_world();
+    LinkInfo info;
+    if (body.find("::") != std::string::npos && context.world->linkProperties(body, &info).ok())
+      p.link = body;
+    else if (context.world->linkProperties(context.model + "::" + body, &info).ok())
+      p.link = context.model + "::" + body;
+    else {
+      *error = "bodyName: " + body + " does not exist";
+      return nullptr;
+    }
+  }
+  static bool told = false;
+  if (!told) {
+    told = true;
+    ROS_INFO_STREAM(
+        "gazebo_ros_imu: linear_acceleration is the link's acceleration minus gravity, as a real "
+        "IMU reads it (|g| up at rest; Gazebo's plugin leaves gravity out and reads 0), and "
+        "angular_velocity and linear_acceleration are in the sensor's axes (Gazebo's plugin "
+        "turns the world's vectors the other way, which differs once the link is turned)");
+  }
+  return std::make_unique<GazeboRosImu>(context, p);
+}
+
+}  // namespace onedof_sim::plugins
