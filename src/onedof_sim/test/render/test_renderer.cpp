@@ -223,3 +223,8 @@ TEST(Renderer, RefusesABadCameraAndReportsWhatItCannotDraw) {
 }  // namespace
 }  // namespace render
 }  // namespace onedof_sim
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

@@ -148,9 +148,10 @@ TEST(Visuals, MeshVisualIsReadAndDrawn) {
   const std::string sdf = R"(<sdf version="1.6"><model name="m"><static>true</static><link name="l">
     <visual name="v"><geometry><mesh><uri>)" + file.string() +
                           R"(</uri><scale>0.5 0.5 0.5</scale></mesh></geometry>
-      <material><script><name>Gazebo/Green</name></script></material></visual></link></model></sdf>)";
+      <material><script><uri>file://media/materials/scripts/gazebo.material</uri><name>Gazebo/Green</name></script></material></visual></link></model></sdf>)";
   World world;
-  ASSERT_TRUE(world.spawn("m", sdf, ModelFormat::Sdf, at(3, 0, 0)).ok());
+  const Status spawned = world.spawn("m", sdf, ModelFormat::Sdf, at(3, 0, 0));
+  ASSERT_TRUE(spawned.ok()) << spawned;
   ASSERT_EQ(world.visualShapes().at(0).mesh_file, file.string());
   std::string error;
   auto renderer = render::Renderer::create(&error);
