@@ -3,10 +3,13 @@
 // plugins.
 //
 // Why OpenGL through Mesa's EGL and not OGRE 1.12 (Gazebo's renderer): both are Debian's and
-// both rasterise on the CPU with Mesa's llvmpipe where there is no GPU, so they draw the same
-// pixels; but Debian bookworm's OGRE 1.12 render systems (RenderSystem_GL, _GL3Plus, _GLES2) are
-// built against GLX and link libX11: a window or a pbuffer needs an X server (Xvfb on CI and on a
-// user's headless machine), which the simulator otherwise never needs. Mesa's EGL has the
+// both rasterise on the CPU with Mesa's llvmpipe where there is no GPU, at the same cost (a bare
+// 640x480 frame drawn and read back in about half a millisecond either way); but Debian
+// bookworm's OGRE 1.12 render systems (RenderSystem_GL, _GL3Plus, _GLES2) are built against GLX
+// and link libX11: without an X display OGRE stops at "Couldn't open X display", so it would
+// need Xvfb on CI and on a user's headless machine, which the simulator otherwise never needs.
+// OSMesa (libosmesa6-dev) is headless too, but Mesa's legacy off-screen interface, with its own
+// context API beside EGL's; EGL is the one Mesa keeps for this. Mesa's EGL has the
 // surfaceless platform (EGL_MESA_platform_surfaceless, EGL_KHR_surfaceless_context): an OpenGL
 // 4.5 core context with no display and no window, rendering into a framebuffer object. What the
 // camera needs (flat-shaded boxes, cylinders, spheres, planes and meshes with Gazebo's colours,
