@@ -1,5 +1,5 @@
-"""The layering and size rules the code keeps (README, How it works): the physics core and the
-control library are free of ROS and never include the ROS layer; gazebo_api.cpp holds the
+"""The layering and size rules the code keeps (README, How it works): the physics core, the
+control library and the camera renderer are free of ROS and never include the ROS layer; gazebo_api.cpp holds the
 handlers only; no product source file grows past a screenful of screens."""
 import os
 import re
@@ -11,7 +11,7 @@ from conftest import WORKSPACE
 
 PACKAGE = os.path.join('src', 'onedof_sim')
 ROS_FREE = [os.path.join(PACKAGE, 'src', 'core'), os.path.join(PACKAGE, 'src', 'control'),
-            os.path.join(PACKAGE, 'include')]
+            os.path.join(PACKAGE, 'src', 'render'), os.path.join(PACKAGE, 'include')]
 # ROS headers and message packages a ROS-free file must not include.
 ROS_INCLUDE = re.compile(r'#include\s*[<"](ros/|roscpp|std_msgs/|sensor_msgs/|geometry_msgs/|'
                          r'gazebo_msgs/|control_msgs/|controller_manager_msgs/|rosgraph_msgs/|'

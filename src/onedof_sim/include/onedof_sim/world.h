@@ -8,6 +8,7 @@
 // are exact and never depend on floating-point rounding of step sums.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
@@ -171,6 +172,56 @@ struct CollisionShape {
   Pose pose;  // world pose of the shape's centre (a mesh's: of its file's origin)
   std::string mesh_file;  // mesh: the file it was read from (absolute)
 };
+
+// A colour as Gazebo's materials give it: red, green, blue, alpha in [0, 1].
+struct Color {
+  float r = 0, g = 0, b = 0, a = 1;
+};
+
+// A visual's material as its model states it, unresolved: Gazebo's named material (an SDF
+// <material><script><name>, or a URDF link's <gazebo reference="LINK"><material>) and the
+// colours given explicitly (SDF <ambient>, <diffuse>, <emissive>; a URDF <material><color> is
+// the ambient and the diffuse colour, as Gazebo's URDF conversion makes it). The renderer
+// resolves the name (src/render/materials.h).
+struct VisualMaterial {
+  std::string script;  // "Gazebo/Red"; empty: none
+  std::optional<Color> ambient, diffuse, emissive;
+};
+
+// A triangle mesh read from a file, scaled: vertices in the frame of the shape that uses it,
+// triangles wound counter-clockwise seen from outside.
+struct TriangleMesh {
+  std::string file;  // the file it was read from
+  std::vector<Vec3> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  Vec3 min, max;  // the vertices' bounds
+};
+
+// One visual of a link (<visual>) in world coordinates, for rendering: what the model gave at
+// spawn, placed where its link is. The world's built-in ground has no visual: a world shows a
+// ground where a model gives one (Gazebo's ground_plane model).
+struct VisualShape {
+  std::string model;
+  std::string link;  // bare
+  std::string name;  // the <visual>'s name (URDF: LINK_visual, LINK_visual_1, ... unnamed)
+  GeometryShape shape = GeometryShape::Box;
+  // box: x y z; cylinder: radius, -, length; sphere: radius; plane: x, y extent, -; mesh: its
+  // scale
+  Vec3 size;
+  // World pose of the shape's centre (a mesh's: of its file's origin); a plane's normal is the
+  // pose's z axis.
+  Pose pose;
+  std::string mesh_uri;   // mesh: the URI as the model gives it
+  std::string mesh_file;  // mesh: the file it names (absolute); empty when none was found
+  VisualMaterial material;
+};
+
+// Reads a visual's mesh file (VisualShape::mesh_file) with the loader the collision meshes use
+// (assimp), scaled by `scale` (each component finite and non-zero). Refuses (ModelRejected, the
+// reason) a file it cannot read, one without triangles, and one past kMaxVisualMeshTriangles.
+constexpr size_t kMaxVisualMeshTriangles = 1000000;
+Status readVisualMesh(const std::string& file, const Vec3& scale,
+                      std::shared_ptr<const TriangleMesh>* out);
 
 enum class ModelFormat { Urdf, Sdf };
 
@@ -364,6 +415,8 @@ class World {
 
   // --- introspection -------------------------------------------------------------------------
   std::vector<CollisionShape> collisionShapes() const;
+  // Every spawned model's visuals, in spawn order, each link's in the order its model gives them.
+  std::vector<VisualShape> visualShapes() const;
 
   // For each ray, the distance from its start to the first collision shape it meets within its
   // length (every model's, the sensor's own included, meshes and the ground plane), found by

@@ -46,6 +46,9 @@ std::string count(size_t n) { return std::to_string(n); }
 
 }  // namespace
 
+MeshReader::MeshReader()
+    : limits_{kMaxMeshFileBytes, kMaxMeshTriangles, kMaxModelMeshTriangles} {}
+
 Status MeshReader::readRaw(const std::string& file, std::shared_ptr<const Raw>* out) {
   auto cached = files_.find(file);
   if (cached != files_.end()) {
@@ -55,9 +58,9 @@ Status MeshReader::readRaw(const std::string& file, std::shared_ptr<const Raw>* 
   std::error_code error;
   const uintmax_t bytes = fs::file_size(file, error);
   if (error) return rejected("cannot read the mesh file " + file + ": " + error.message());
-  if (bytes > kMaxMeshFileBytes)
+  if (bytes > limits_.file_bytes)
     return rejected("the mesh file " + file + " has " + count(bytes) + " bytes; at most " +
-                    count(kMaxMeshFileBytes) + " are accepted");
+                    count(limits_.file_bytes) + " are accepted");
   Assimp::Importer importer;
   // A COLLADA file's coordinates as written: ROS meshes are z-up whatever up_axis says, and
   // assimp would otherwise turn a Z_UP file to y-up. Its <unit> still scales it to metres.
@@ -72,9 +75,9 @@ Status MeshReader::readRaw(const std::string& file, std::shared_ptr<const Raw>* 
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) faces += scene->mMeshes[m]->mNumFaces;
   const auto too_many = [&](size_t triangles) {
     return rejected("the mesh file " + file + " has " + count(triangles) + " triangles; at most " +
-                    count(kMaxMeshTriangles) + " are accepted per mesh");
+                    count(limits_.mesh_triangles) + " are accepted per mesh");
   };
-  if (faces > kMaxMeshTriangles) return too_many(faces);
+  if (faces > limits_.mesh_triangles) return too_many(faces);
   auto raw = std::make_shared<Raw>();
   // Every node places its meshes by the product of the transforms down to it; a mesh placed by
   // several nodes is there several times.
@@ -97,7 +100,7 @@ Status MeshReader::readRaw(const std::string& file, std::shared_ptr<const Raw>* 
             {first + face.mIndices[0], first + face.mIndices[1], first + face.mIndices[2]});
       }
       // A mesh its nodes place several times counts each time.
-      if (raw->triangles.size() > kMaxMeshTriangles) return too_many(raw->triangles.size());
+      if (raw->triangles.size() > limits_.mesh_triangles) return too_many(raw->triangles.size());
     }
     for (unsigned c = 0; c < node.mNumChildren; ++c) {
       Status status = add(*node.mChildren[c], transform);
@@ -119,9 +122,9 @@ Status MeshReader::read(const std::string& file, const Vec3& scale,
   Status status = readRaw(file, &raw);
   if (!status.ok()) return status;
   model_triangles_ += raw->triangles.size();
-  if (model_triangles_ > kMaxModelMeshTriangles)
-    return rejected("the model's collision meshes have " + count(model_triangles_) +
-                    " triangles with " + file + "; at most " + count(kMaxModelMeshTriangles) +
+  if (model_triangles_ > limits_.model_triangles)
+    return rejected("the model's meshes have " + count(model_triangles_) +
+                    " triangles with " + file + "; at most " + count(limits_.model_triangles) +
                     " are accepted per model");
   auto mesh = std::make_shared<TriangleMesh>();
   mesh->file = file;
@@ -143,4 +146,17 @@ Status MeshReader::read(const std::string& file, const Vec3& scale,
 }
 
 }  // namespace core
+
+Status readVisualMesh(const std::string& file, const Vec3& scale,
+                      std::shared_ptr<const TriangleMesh>* out) {
+  if (!std::isfinite(scale.x) || !std::isfinite(scale.y) || !std::isfinite(scale.z) ||
+      scale.x == 0 || scale.y == 0 || scale.z == 0)
+    return core::rejected("the mesh " + file + " has a zero or non-finite scale");
+  // A visual mesh is drawn, never collided: far denser than a collision mesh may be.
+  core::MeshReader::Limits limits;
+  limits.file_bytes = 10 * core::kMaxMeshFileBytes;
+  limits.mesh_triangles = limits.model_triangles = kMaxVisualMeshTriangles;
+  return core::MeshReader(limits).read(file, scale, out);
+}
+
 }  // namespace onedof_sim

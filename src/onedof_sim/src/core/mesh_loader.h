@@ -14,15 +14,9 @@
 namespace onedof_sim {
 namespace core {
 
-// A mesh ready for the engines: vertices already scaled into the collision frame, triangles
-// wound counter-clockwise seen from outside (a mirroring scale turns them back). Immutable and
-// shared: the engines keep pointers into it for as long as a model lives.
-struct TriangleMesh {
-  std::string file;  // the file it was read from
-  std::vector<Vec3> vertices;
-  std::vector<std::array<uint32_t, 3>> triangles;
-  Vec3 min, max;  // the vertices' bounds
-};
+// TriangleMesh (onedof_sim/world.h) is a mesh ready for the engines: vertices already scaled
+// into the collision frame. Immutable and shared: the engines keep pointers into it for as long
+// as a model lives.
 
 // The file a mesh URI names, as Gazebo finds it: model://NAME/... in the first folder of the
 // model path that has NAME/...; package://PKG/... the same way (Gazebo's URDF conversion turns
@@ -36,11 +30,19 @@ std::string resolveMeshUri(const std::string& uri, const std::vector<std::string
 // Reads the mesh files of one model, each file once however many collisions use it.
 class MeshReader {
  public:
+  struct Limits {
+    size_t file_bytes = 0;
+    size_t mesh_triangles = 0;
+    size_t model_triangles = 0;
+  };
+  // Collision meshes: the Limits of model_description.h.
+  MeshReader();
+  explicit MeshReader(const Limits& limits) : limits_(limits) {}
   // The mesh of `file` scaled by `scale` (each component finite and non-zero), or a
-  // ModelRejected status with the reason: a file past kMaxMeshFileBytes (checked before it is
-  // read), one assimp cannot read (assimp's reason), one without triangles, one with more than
-  // kMaxMeshTriangles, or one that takes the model's meshes past kMaxModelMeshTriangles (checked
-  // before the next file is read).
+  // ModelRejected status with the reason: a file past the limit's file_bytes (checked before it
+  // is read), one assimp cannot read (assimp's reason), one without triangles, one with more than
+  // mesh_triangles, or one that takes the model's meshes past model_triangles (checked before
+  // the next file is read).
   Status read(const std::string& file, const Vec3& scale, std::shared_ptr<const TriangleMesh>* out);
 
  private:
@@ -49,6 +51,7 @@ class MeshReader {
     std::vector<std::array<uint32_t, 3>> triangles;
   };
   Status readRaw(const std::string& file, std::shared_ptr<const Raw>* out);
+  Limits limits_;
   std::map<std::string, std::shared_ptr<const Raw>> files_;
   size_t model_triangles_ = 0;  // of every mesh read, each time it is read
 };

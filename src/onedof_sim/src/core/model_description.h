@@ -92,6 +92,17 @@ struct CollisionDescription {
   double mu = 1, mu2 = 1;
 };
 
+// A link's <visual>, as World::visualShapes gives it, its pose in the link frame. Never a reason
+// to refuse a model: a visual only shows it.
+struct VisualDescription {
+  std::string name;
+  GeometryShape shape = GeometryShape::Box;
+  Vec3 size;  // as VisualShape::size
+  Pose pose;  // in the link frame
+  std::string mesh_uri, mesh_file;
+  VisualMaterial material;
+};
+
 struct LinkDescription {
   std::string name;
   Pose pose;  // link frame in the model frame, all joints at zero
@@ -102,6 +113,7 @@ struct LinkDescription {
   double ixx = 0, ixy = 0, ixz = 0, iyy = 0, iyz = 0, izz = 0;  // in the inertial frame
   bool gravity = true;
   std::vector<CollisionDescription> collisions;
+  std::vector<VisualDescription> visuals;
 };
 
 struct JointDescription {

@@ -17,6 +17,7 @@
 #include "model_description.h"
 #include "pose_math.h"
 #include "sdf_parsing.h"
+#include "visual_loader.h"
 
 namespace onedof_sim {
 namespace core {
@@ -250,8 +251,9 @@ Pose childPose(const Pose& parent_pose, const urdf::Joint& joint) {
 
 // Adds one URDF link (at its model-frame pose) and the joints to its children.
 Status addUrdfLink(const urdf::Link& link, const Pose& pose,
-                   const std::vector<std::string>& model_path, MeshReader* meshes,
-                   ModelDescription* out) {
+                   const std::vector<std::string>& model_path,
+                   const std::map<std::string, std::string>& gazebo_materials,
+                   MeshReader* meshes, ModelDescription* out) {
   if (link.name != kWorldLink) {
     LinkDescription desc;
     desc.name = link.name;
@@ -273,6 +275,9 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose,
       status = checkShape(desc.collisions.back(), desc.name);
       if (!status.ok()) return status;
     }
+    const auto material = gazebo_materials.find(link.name);
+    addUrdfVisuals(link, material == gazebo_materials.end() ? "" : material->second, model_path,
+                   &desc);
     out->links.push_back(desc);
   }
   for (const urdf::JointSharedPtr& joint : link.child_joints) {
@@ -348,9 +353,10 @@ Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_p
                       "' as both its parent and its child");
   ModelDescription model;
   MeshReader meshes;
+  const std::map<std::string, std::string> gazebo_materials = urdfGazeboMaterials(xml);
   std::function<Status(const urdf::Link&, const Pose&)> visit = [&](const urdf::Link& link,
                                                                      const Pose& pose) {
-    Status status = addUrdfLink(link, pose, model_path, &meshes, &model);
+    Status status = addUrdfLink(link, pose, model_path, gazebo_materials, &meshes, &model);
     if (!status.ok()) return status;
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
@@ -457,6 +463,8 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
     if (!status.ok()) return status;
     desc.collisions.push_back(c);
   }
+  std::string visual_error;
+  if (!addSdfVisuals(link, model_path, &desc, &visual_error)) return rejected(visual_error);
   out->links.push_back(desc);
   return {};
 }
