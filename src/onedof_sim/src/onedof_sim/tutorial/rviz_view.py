@@ -187,6 +187,14 @@ class RvizView:
             if shown_again:
                 self._wait(lambda: all(self._connected(topic) for topic in SHOWN_TOPICS),
                            timeout, what='rviz to connect to %s' % ' and '.join(SHOWN_TOPICS))
+                # A connection is no message: the world shows its pose until rviz has received
+                # the markers and a transform (the markers come at 10 Hz of sim time, a control
+                # period is 10 ms). Two frames of an rviz that has drawn nothing since it started
+                # would agree too.
+                self._wait(lambda: refresh() or all(self._received(topic)
+                                                    for topic in SHOWN_TOPICS),
+                           timeout, interval=0.2,
+                           what='rviz to receive %s' % ' and '.join(SHOWN_TOPICS))
             for stale in (frame, previous):
                 if os.path.exists(stale):
                     os.remove(stale)
@@ -223,20 +231,34 @@ class RvizView:
         return next((node for name, nodes in subscribers if name == topic for node in nodes
                      if 'rviz' in node and node not in self._stale_nodes), None)
 
-    def _connected(self, topic):
-        """Whether the current rviz has a publisher's connection on topic (its bus info)."""
+    def _rviz_api(self):
+        """The current rviz's XML-RPC server, or None before it has registered."""
         node = self._subscriber_node(MARKERS)
         if not node:
-            return False
+            return None
         code, _, uri = self.ros.master().lookupNode('/tutorial', node)
-        if code != 1:
-            return False
+        return xmlrpc.client.ServerProxy(uri) if code == 1 else None
+
+    def _connected(self, topic):
+        """Whether the current rviz has a publisher's connection on topic (its bus info)."""
         try:
-            _, _, connections = xmlrpc.client.ServerProxy(uri).getBusInfo('/tutorial')
-        except (OSError, xmlrpc.client.Error):
+            _, _, connections = self._rviz_api().getBusInfo('/tutorial')
+        except (AttributeError, OSError, xmlrpc.client.Error):
             return False
         # roscpp: [id, publisher, direction, transport, topic, connected, ...] per connection.
         return any(len(c) > 5 and c[2] == 'i' and c[4] == topic and c[5] for c in connections)
+
+    def _received(self, topic):
+        """Messages the current rviz has received on topic (its bus statistics)."""
+        try:
+            # roscpp answers [publications, subscriptions] (no status code, unlike getBusInfo);
+            # a subscription is [topic, [[connection id, bytes, messages, drops, ...], ...]].
+            _, subscriptions = self._rviz_api().getBusStats('/tutorial')[:2]
+            return sum(link[2] for name, links in subscriptions if name == topic
+                       for link in links)
+        except (AttributeError, OSError, xmlrpc.client.Error, ValueError, TypeError,
+                IndexError):
+            return 0
 
 
 def differing_pixels(png_a, png_b):
