@@ -350,7 +350,7 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
   glViewport(0, 0, camera.width, camera.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);  // planes and open meshes show both sides
+  glCullFace(GL_BACK);  // faces wound counter-clockwise seen from outside are the front
   const float background[4] = {kBackground, kBackground, kBackground, 1};
   const float far_clip[4] = {static_cast<float>(camera.far_clip), 0, 0, 0};
   const float farthest = 1;
@@ -383,6 +383,13 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
     if (visual.shape == GeometryShape::Cylinder) scale = {visual.size.x, visual.size.x, visual.size.z};
     if (visual.shape == GeometryShape::Sphere) scale = {visual.size.x, visual.size.x, visual.size.x};
     if (visual.shape == GeometryShape::Plane) scale = {visual.size.x, visual.size.y, 1};
+    // Closed solids show their outside only, as OGRE's default culling draws them in Gazebo: a
+    // camera inside its own case (a box around the lens) sees out of it. Planes and meshes (which
+    // may be open) show both sides.
+    if (visual.shape == GeometryShape::Plane || visual.shape == GeometryShape::Mesh)
+      glDisable(GL_CULL_FACE);
+    else
+      glEnable(GL_CULL_FACE);
     const Mat4 model = poseMatrix(visual.pose, scale);
     glUniformMatrix4fv(gl.model_view, 1, GL_FALSE, toFloat(multiply(view, model)).data());
     // Normals to the world: the rotation times the inverse scale (the inverse transpose of R S).
