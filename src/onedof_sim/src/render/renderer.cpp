@@ -166,6 +166,9 @@ struct Renderer::Impl {
   int width = 0, height = 0;
   std::set<std::string> reported;
   std::vector<std::string> problems;
+  // The pixels as read back (bottom row first), kept from frame to frame.
+  std::vector<uint8_t> rgb_rows;
+  std::vector<float> depth_rows;
 
   GpuShape upload(const std::vector<float>& vertices) {
     GpuShape shape;
@@ -409,8 +412,10 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
 
   // OpenGL's rows run bottom-up; the image's top-down.
   const int w = camera.width, h = camera.height;
-  std::vector<uint8_t> rgb(static_cast<size_t>(w) * h * 3);
-  std::vector<float> depth(static_cast<size_t>(w) * h);
+  std::vector<uint8_t>& rgb = gl.rgb_rows;
+  std::vector<float>& depth = gl.depth_rows;
+  rgb.resize(static_cast<size_t>(w) * h * 3);
+  depth.resize(static_cast<size_t>(w) * h);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
