@@ -274,3 +274,31 @@ def test_two_lockstep_runs_publish_identical_images(ros, rospy_client, engine):
     # The frames are not all alike: the green ball falls through the view.
     frames = runs[0]['/example_camera/image_raw']
     assert len({data for _, data in frames}) >= 4
+
+
+def test_without_a_renderer_the_cameras_say_so_once_and_everything_else_runs(ros, rospy_client):
+    """libglvnd pointed at no EGL vendor: no renderer can be made. The simulator says so once,
+    the cameras publish their CameraInfo and no image, and the world steps on."""
+    from sensor_msgs.msg import CameraInfo, Image
+    sim = start_sim(ros, ENGINES[0], args=['_paused:=true'],
+                    env={'__EGL_VENDOR_LIBRARY_FILENAMES': '/nonexistent/egl_vendor.json'})
+    api = GazeboApi(rospy_client)
+    spawned = api.spawn_urdf_model('kinect_bot', kinect_bot_urdf(), '', pose(), '')
+    assert spawned.success, spawned.status_message
+    listener = Listener(rospy_client, {'/example_camera/image_raw': Image,
+                                       '/example_camera/camera_info': CameraInfo,
+                                       '/kinect/depth/image_raw': Image,
+                                       '/kinect/depth/camera_info': CameraInfo})
+    for count in (1, 2):
+        done = api.step_simulation(PERIOD_STEPS)
+        assert done.success and done.iterations == count * PERIOD_STEPS
+        wait_until(lambda: len(listener.heard['/example_camera/camera_info']) >= count and
+                   len(listener.heard['/kinect/depth/camera_info']) >= count, 30,
+                   what='the CameraInfos of period %d' % count)
+    listener.stop()
+    assert listener.heard['/example_camera/image_raw'] == []
+    assert listener.heard['/kinect/depth/image_raw'] == []
+    log = ros.log_text(sim)
+    assert log.count('cameras: no renderer can be made here (EGL has no surfaceless platform') \
+        == 1, log
+    assert 'publish no images, and everything else runs as before' in log

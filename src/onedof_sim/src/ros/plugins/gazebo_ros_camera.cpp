@@ -30,10 +30,8 @@ class GazeboRosCamera : public ModelPlugin {
   void afterStep(World& world, const StepTime& at) override {
     const bool image = utils_->imageWanted(), info = utils_->infoWanted();
     if ((!image && !info) || !gate_.due(at.time_ns) || !throttle_.due(at.time_ns)) return;
-    if (image) {
-      if (!view_.render(world)) return;
-      utils_->addImage(view_.frame(), at.time_ns, &publications_);
-    }
+    // No frame (no renderer, logged once): the CameraInfo still goes out.
+    if (image && view_.render(world)) utils_->addImage(view_.frame(), at.time_ns, &publications_);
     if (info) utils_->addInfo(utils_->infoPublisher(), at.time_ns, &publications_);
   }
 

@@ -64,8 +64,8 @@ class GazeboRosDepthCamera : public ModelPlugin {
     const bool cloud = cloud_publisher_.getNumSubscribers() > 0;
     if (!(image || info || depth || depth_info || cloud) || !gate_.due(at.time_ns)) return;
     const int64_t t = at.time_ns;
-    if (image || depth || cloud) {
-      if (!view_.render(world)) return;
+    // No frame (no renderer, logged once): the CameraInfos still go out.
+    if ((image || depth || cloud) && view_.render(world)) {
       const render::Frame& frame = view_.frame();
       if (image) utils_->addImage(frame, t, &publications_);
       if (depth)
