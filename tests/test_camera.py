@@ -49,7 +49,8 @@ MALFORMED_URDF = """<robot name="bad_cameras">
   <link name="world"/>
   <joint name="weld" type="fixed"><parent link="world"/><child link="body"/></joint>
   <link name="body">
-    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <inertial><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
   </link>
   <gazebo reference="body">
     <sensor type="camera" name="fisheye">

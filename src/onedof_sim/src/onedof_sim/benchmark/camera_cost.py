@@ -24,7 +24,8 @@ CAMERA_URDF = """<robot name="bench_camera">
   <joint name="weld" type="fixed"><parent link="world"/><child link="post"/>
     <origin xyz="-1.5 0 0"/></joint>
   <link name="post">
-    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <inertial><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
     <visual><origin xyz="0 0 0.4"/><geometry><box size="0.05 0.05 0.8"/></geometry></visual>
   </link>
   <gazebo reference="post">
