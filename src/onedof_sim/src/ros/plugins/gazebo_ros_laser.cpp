@@ -20,17 +20,11 @@
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "ray_sensor.h"
+#include "sensor_noise.h"
 #include "sensor_plugin.h"
 
 namespace onedof_sim::plugins {
 namespace {
-
-// FNV-1a: a seed that is the same on every run and machine.
-uint64_t seedOf(const std::string& text) {
-  uint64_t hash = 14695981039346656037ull;
-  for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
-  return hash;
-}
 
 class GazeboRosLaser : public ModelPlugin {
  public:
