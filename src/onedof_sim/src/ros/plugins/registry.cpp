@@ -12,6 +12,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosImu(const ModelPluginContext&, std::st
 std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosJointStatePublisher(const ModelPluginContext&,
                                                               std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosImuSensor(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosLaser(const SensorPluginContext&, std::string*);
 
 const std::vector<ModelPluginType>& modelPluginRegistry() {
@@ -29,6 +30,7 @@ const std::vector<ModelPluginType>& modelPluginRegistry() {
 const std::vector<SensorPluginType>& sensorPluginRegistry() {
   static const std::vector<SensorPluginType> entries{
       {"libgazebo_ros_gpu_laser.so", {"gpu_ray"}, makeGazeboRosLaser},
+      {"libgazebo_ros_imu_sensor.so", {"imu"}, makeGazeboRosImuSensor},
       {"libgazebo_ros_laser.so", {"ray"}, makeGazeboRosLaser},
   };
   return entries;
