@@ -6,8 +6,9 @@ The items, by their row of the table, short ones first so that a failure shows e
   6 start-up, 1 loop speed + 7 memory, 2 scaling, 3 service round trips, 4 controller periods +
   5 real-time factor, 8 the real-time factor of the lock-stepped tutorial with each controller,
   9 the tutorial's settled angle on a busy machine, lock-step against free-running, 10 a
-  camera's cost; each in a module of its own (startup, loop_speed, memory, scaling, round_trips,
-  controller_periods, real_time_factor, lockstep_speed, busy_machine, camera_cost).
+  camera's cost, 11 the laser's cost on the book's mobot in its pen; each in a module of its
+  own (startup, loop_speed, memory, scaling, round_trips, controller_periods, real_time_factor,
+  lockstep_speed, busy_machine, camera_cost, laser_cost).
 What is compared runs alternately in short windows (never at the same time: two cores), and the
 ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
 built, crashed) gets its rows marked as not measured and the run goes on, and a missing profiler
@@ -24,8 +25,8 @@ import time
 import traceback
 
 from onedof_harness.private_ros import PrivateRos
-from onedof_sim.benchmark import (busy_machine, camera_cost, lockstep_speed, loop_speed,
-                                  real_time_factor, round_trips, scaling, startup)
+from onedof_sim.benchmark import (busy_machine, camera_cost, laser_cost, lockstep_speed,
+                                  loop_speed, real_time_factor, round_trips, scaling, startup)
 from onedof_sim.benchmark import report as bm
 from onedof_sim.benchmark.graph import Bench, read_file, say
 from onedof_sim.engines import default_engine, engine_names
@@ -60,10 +61,15 @@ class Sizes:
     camera_windows: int = 5
     camera_window_s: float = 1.0
     render_frames: int = 200
+    # The laser's cost (item 11): alternating windows with and without /scan subscribed, and the
+    # sim seconds paced at real-time factor 1 with it.
+    laser_windows: int = 5
+    laser_window_s: float = 1.0
+    laser_real_time_s: float = 10.0
 
 
 # The rows of the table, one per kind of measurement.
-ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10)
+ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11)
 FULL = Sizes()
 # The smallest run that still measures every row against its reference: it shows that the
 # benchmark works, and its figures are no claim. It starts no busy process beside item 9, whose
@@ -74,7 +80,7 @@ QUICK = Sizes(startup_repeats=1, throughput_windows=1, throughput_window_s=0.1, 
               latency_batches=1, persistent_calls=20, fresh_calls=5, control_s=2.0,
               sweep_rates=(200,), sweep_s=0.5, pacing_s=2.0, lockstep_s=0.2,
               comparison_phase_s=0.5, busy_processes=0, camera_windows=1, camera_window_s=0.3,
-              render_frames=20)
+              render_frames=20, laser_windows=1, laser_window_s=0.2, laser_real_time_s=1.0)
 
 
 def load_average():
@@ -147,6 +153,8 @@ def items(bench, engines, sizes):
               ({9}, '9 busy machine, ' + engines[0],
                lambda: busy_machine.measure(bench, engines[0])),
               ({10}, '10 camera, ' + engines[0], lambda: camera_cost.measure(bench, engines[0]))]
+    found += [({11}, '11 laser cost, ' + e, lambda e=e: laser_cost.measure(bench, e))
+              for e in engines]
     return found
 
 

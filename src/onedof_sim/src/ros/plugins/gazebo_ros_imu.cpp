@@ -7,7 +7,8 @@
 // What it reads, as GazeboRosIMU computes it: the orientation is the link's in the world turned
 // by <rpyOffset> (offset * link), with no noise; the angular velocity is the link's; the linear
 // acceleration is the change of the link frame origin's velocity since the last update over the
-// sim time between them (the first update differences from the plugin's start). <gaussianNoise>
+// sim time between them (the first update differences from the plugin's start); the
+// measurement is the one the `imu` sensor makes too (imu_measurement.h). <gaussianNoise>
 // (standard deviation) is added to each rate and acceleration component and makes the diagonal
 // of all three covariances (its square). <xyzOffset> is read and, as in GazeboRosIMU, used for
 // nothing published.
@@ -26,6 +27,7 @@
 #include <sensor_msgs/Imu.h>
 #include <std_srvs/Empty.h>
 
+#include "imu_measurement.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "pose_ops.h"
@@ -45,20 +47,17 @@ struct ImuParams {
   double update_rate = 0;
 };
 
-// The velocity of the link frame's origin at one update.
-struct Sample {
-  int64_t time_ns = 0;
-  Vec3 velocity;
-};
-
 class GazeboRosImu : public ModelPlugin {
  public:
   GazeboRosImu(const ModelPluginContext& context, const ImuParams& params)
-      : params_(params), node_(context.node), noise_(0.0, 1.0) {
+      : params_(params),
+        node_(context.node),
+        imu_(params.link, Pose{}, params.rpy_offset),
+        noise_(0.0, 1.0) {
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
       update_gate_ = UpdateGate(params_.update_rate, context.world->timeNs());
-      last_ = sample(*context.world, context.world->timeNs());
+      imu_.restart(*context.world, context.world->timeNs());
     }
     if (params_.topic.empty()) return;
     // A queue of a second's worth at 100 Hz: stepped flat out (step_simulation), a queue of 1
@@ -69,24 +68,12 @@ class GazeboRosImu : public ModelPlugin {
 
   void afterStep(World& world, const StepTime& at) override {
     if (!update_gate_.due(at.time_ns)) return;
-    Pose pose;
-    Twist twist;
-    if (!world.linkState(params_.link, "", &pose, &twist).ok()) return;
-    const Sample now{at.time_ns, twist.linear};
-    const double dt = 1e-9 * static_cast<double>(now.time_ns - last_.time_ns);
-    if (dt > 0) {
-      const Vec3 dv{now.velocity.x - last_.velocity.x, now.velocity.y - last_.velocity.y,
-                    now.velocity.z - last_.velocity.z};
-      acceleration_ = {dv.x / dt, dv.y / dt, dv.z / dt};
-    }
-    last_ = now;
+    ImuReading reading;
+    if (!imu_.measure(world, at.time_ns, &reading)) return;
     if (params_.topic.empty() || publisher_.getNumSubscribers() == 0) return;
-
-    const Vec3& g = world.params().gravity;
-    const Vec3 specific_force{acceleration_.x - g.x, acceleration_.y - g.y, acceleration_.z - g.z};
-    const Quat orientation = normalized(product(params_.rpy_offset, pose.orientation));
-    const Vec3 rate = inFrame(orientation, twist.angular);
-    const Vec3 felt = inFrame(orientation, specific_force);
+    const Quat& orientation = reading.orientation;
+    const Vec3& rate = reading.angular_velocity;
+    const Vec3& felt = reading.linear_acceleration;
 
     sensor_msgs::Imu msg;
     msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
@@ -111,20 +98,12 @@ class GazeboRosImu : public ModelPlugin {
   // The world jumped (reset_world, reset_simulation): differences start again from there.
   void reset(World& world) override {
     update_gate_.restart(world.timeNs());
-    last_ = sample(world, world.timeNs());
-    acceleration_ = {};
+    imu_.restart(world, world.timeNs());
   }
 
   std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
-  Sample sample(const World& world, int64_t time_ns) const {
-    Pose pose;
-    Twist twist;
-    world.linkState(params_.link, "", &pose, &twist);
-    return {time_ns, twist.linear};
-  }
-
   double noisy(double value) {
     const double sigma = params_.gaussian_noise;
     return sigma > 0 ? value + sigma * noise_(random_) : value;
@@ -137,8 +116,7 @@ class GazeboRosImu : public ModelPlugin {
   ros::Publisher publisher_;
   ros::ServiceServer calibrate_;
   UpdateGate update_gate_;
-  Sample last_;
-  Vec3 acceleration_;
+  ImuMeasurement imu_;
   std::mt19937 random_;  // default seed: the same numbers every run
   std::normal_distribution<double> noise_;
   PublicationQueue publications_;

@@ -20,6 +20,7 @@
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "ray_sensor.h"
+#include "sensor_noise.h"
 #include "sensor_plugin.h"
 
 namespace onedof_sim::plugins {

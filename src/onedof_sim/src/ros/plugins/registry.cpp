@@ -14,6 +14,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosJointStatePublisher(const ModelPluginC
                                                               std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosCamera(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosDepthCamera(const SensorPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosImuSensor(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosLaser(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosOpenniKinect(const SensorPluginContext&,
                                                        std::string*);
@@ -35,6 +36,7 @@ const std::vector<SensorPluginType>& sensorPluginRegistry() {
       {"libgazebo_ros_camera.so", {"camera"}, makeGazeboRosCamera},
       {"libgazebo_ros_depth_camera.so", {"depth"}, makeGazeboRosDepthCamera},
       {"libgazebo_ros_gpu_laser.so", {"gpu_ray"}, makeGazeboRosLaser},
+      {"libgazebo_ros_imu_sensor.so", {"imu"}, makeGazeboRosImuSensor},
       {"libgazebo_ros_laser.so", {"ray"}, makeGazeboRosLaser},
       {"libgazebo_ros_openni_kinect.so", {"depth"}, makeGazeboRosOpenniKinect},
   };
