@@ -420,8 +420,9 @@ class World {
 
   // For each ray, the distance from its start to the first collision shape it meets within its
   // length (every model's, the sensor's own included, meshes and the ground plane), found by
-  // the engine's own collision detection; +infinity where it meets none. A ray that starts
-  // inside a shape meets what the engine says it meets there (ODE: the shape's far side).
+  // the engine's own collision detection; +infinity where it meets none. A ray does not meet a
+  // box, sphere, cylinder or capsule that holds its start (inside or on its surface), as a GPU
+  // laser does not see its own case: a lidar on a box link starts its rays on that box's face.
   // Refuses, with *distances empty: a non-finite number (NotFinite "ray"), a zero direction or a
   // negative length (InvalidParameter "ray"), and (EngineFault) a query the engine failed inside
   // (the world builds its engine again, every model where it was).

@@ -105,6 +105,29 @@ TEST_P(RayQuery, RaysFollowMovedBodies) {
   EXPECT_NEAR(cast({{{0, 0, 1}, {1, 0, 0}, 10}})[0], 2.8, 1e-6);
 }
 
+// A lidar inside its own 0.2 m box (the book's mobot's), a wall 3 m ahead: rays starting on the
+// box's face (the laser's minimum range, 0.1 m from the centre) and inside it, and likewise in a
+// sphere and a cylinder, meet the wall, not the shape that holds their start. A ray starting
+// just outside the box, pointing at it, still meets it.
+TEST_P(RayQuery, AShapeHoldingTheStartIsNotMet) {
+  spawn("case", "<box size=\"0.2 0.2 0.2\"/>", at(0, 0, 1), true);
+  spawn("ball", "<sphere radius=\"0.1\"/>", at(0, 1, 1), true);
+  spawn("can", "<cylinder radius=\"0.1\" length=\"0.2\"/>", at(0, 2, 1), true);
+  spawn("wall", "<box size=\"0.2 6 2\"/>", at(3.1, 1, 1), true);
+  const std::vector<double> d = cast({{{0.1, 0, 1}, {1, 0, 0}, 10},     // on the box's face
+                                      {{0.05, 0, 1}, {1, 0, 0}, 10},    // inside the box
+                                      {{0, 0.1, 1}, {1, 0, 0}, 10},     // on its side face
+                                      {{0.1, 1, 1}, {1, 0, 0}, 10},     // on the sphere
+                                      {{0.1, 2, 1}, {1, 0, 0}, 10},     // on the cylinder
+                                      {{0.3, 0, 1}, {-1, 0, 0}, 10}});  // outside, facing it
+  EXPECT_NEAR(d[0], 2.9, 1e-6);
+  EXPECT_NEAR(d[1], 2.95, 1e-6);
+  EXPECT_NEAR(d[2], 3, 1e-6);
+  EXPECT_NEAR(d[3], 2.9, 1e-6);
+  EXPECT_NEAR(d[4], 2.9, 1e-6);
+  EXPECT_NEAR(d[5], 0.2, 1e-6);
+}
+
 TEST_P(RayQuery, RefusesBadRays) {
   std::vector<double> d{1};
   const double nan = std::numeric_limits<double>::quiet_NaN();

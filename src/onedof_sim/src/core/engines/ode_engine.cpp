@@ -521,11 +521,41 @@ class OdeEngine : public Engine {
     static_cast<OdeEngine*>(data)->addContacts(a, b);
   }
 
+  // Whether a closed primitive holds the point, inside or on its surface. A ray that starts there
+  // does not meet that shape, as Bullet's ray test does not and a GPU laser does not see the
+  // inside of a shape's faces: a lidar on a box link (the book's mobot's) starts every ray on its
+  // box's face, where ODE's ray-box test would give the face it leaves by, at distance 0.
+  static bool holdsPoint(dGeomID geom, const dVector3 point) {
+    constexpr double kOnSurface = 1e-9;  // m: a start computed onto a face lands within this
+    switch (dGeomGetClass(geom)) {
+      case dBoxClass:
+        return dGeomBoxPointDepth(geom, point[0], point[1], point[2]) >= -kOnSurface;
+      case dSphereClass:
+        return dGeomSpherePointDepth(geom, point[0], point[1], point[2]) >= -kOnSurface;
+      case dCapsuleClass:
+        return dGeomCapsulePointDepth(geom, point[0], point[1], point[2]) >= -kOnSurface;
+      case dCylinderClass: {
+        dReal radius, length;
+        dGeomCylinderGetParams(geom, &radius, &length);
+        dVector3 local;  // the cylinder's axis is its z
+        dGeomGetPosRelPoint(geom, point[0], point[1], point[2], local);
+        return std::abs(local[2]) <= length / 2 + kOnSurface &&
+               std::hypot(local[0], local[1]) <= radius + kOnSurface;
+      }
+      default:
+        return false;
+    }
+  }
+
   static void rayCallback(void* data, dGeomID a, dGeomID b) {
     if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
       dSpaceCollide2(a, b, data, &rayCallback);
       return;
     }
+    const dGeomID ray = dGeomGetClass(a) == dRayClass ? a : b;
+    dVector3 start, direction;
+    dGeomRayGet(ray, start, direction);
+    if (holdsPoint(ray == a ? b : a, start)) return;
     dContactGeom contact;
     if (dCollide(a, b, 1, &contact, sizeof contact) > 0) {
       double& hit = static_cast<OdeEngine*>(data)->ray_hit_;
