@@ -1,4 +1,4 @@
-"""Item 10, the laser's cost, on the book's mobot-in-a-pen scene (learning_ros's
+"""Item 11, the laser's cost, on the book's mobot-in-a-pen scene (learning_ros's
 mobot_in_pen.launch: the starting pen 5 m to the side, the mobot at the origin) with a mobot of
 our own making that carries the book's lidar with 720 rays at 40 Hz of sim time
 (bench/mobot_w_lidar.urdf). The laser measures and publishes only while /scan has a subscriber,
