@@ -166,6 +166,9 @@ struct Renderer::Impl {
   int width = 0, height = 0;
   std::set<std::string> reported;
   std::vector<std::string> problems;
+  // The pixels as read back (bottom row first), kept from frame to frame.
+  std::vector<uint8_t> rgb_rows;
+  std::vector<float> depth_rows;
 
   GpuShape upload(const std::vector<float>& vertices) {
     GpuShape shape;
@@ -350,7 +353,7 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
   glViewport(0, 0, camera.width, camera.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);  // planes and open meshes show both sides
+  glCullFace(GL_BACK);  // faces wound counter-clockwise seen from outside are the front
   const float background[4] = {kBackground, kBackground, kBackground, 1};
   const float far_clip[4] = {static_cast<float>(camera.far_clip), 0, 0, 0};
   const float farthest = 1;
@@ -383,6 +386,13 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
     if (visual.shape == GeometryShape::Cylinder) scale = {visual.size.x, visual.size.x, visual.size.z};
     if (visual.shape == GeometryShape::Sphere) scale = {visual.size.x, visual.size.x, visual.size.x};
     if (visual.shape == GeometryShape::Plane) scale = {visual.size.x, visual.size.y, 1};
+    // Closed solids show their outside only, as OGRE's default culling draws them in Gazebo: a
+    // camera inside its own case (a box around the lens) sees out of it. Planes and meshes (which
+    // may be open) show both sides.
+    if (visual.shape == GeometryShape::Plane || visual.shape == GeometryShape::Mesh)
+      glDisable(GL_CULL_FACE);
+    else
+      glEnable(GL_CULL_FACE);
     const Mat4 model = poseMatrix(visual.pose, scale);
     glUniformMatrix4fv(gl.model_view, 1, GL_FALSE, toFloat(multiply(view, model)).data());
     // Normals to the world: the rotation times the inverse scale (the inverse transpose of R S).
@@ -402,8 +412,10 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
 
   // OpenGL's rows run bottom-up; the image's top-down.
   const int w = camera.width, h = camera.height;
-  std::vector<uint8_t> rgb(static_cast<size_t>(w) * h * 3);
-  std::vector<float> depth(static_cast<size_t>(w) * h);
+  std::vector<uint8_t>& rgb = gl.rgb_rows;
+  std::vector<float>& depth = gl.depth_rows;
+  rgb.resize(static_cast<size_t>(w) * h * 3);
+  depth.resize(static_cast<size_t>(w) * h);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());

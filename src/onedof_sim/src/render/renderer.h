@@ -33,6 +33,8 @@
 //   material's ambient colour, and the sun (diffuse 0.8, direction (-0.5, 0.1, -0.9)) on its
 //   diffuse colour, plus its emissive colour; specular highlights and shadows are not drawn.
 //   The background is Gazebo's default scene background, 0.7 grey.
+// - Boxes, cylinders and spheres show their outside only (OGRE's default back-face culling, as in
+//   Gazebo: a camera inside its own case sees out of it); planes and meshes show both sides.
 //
 // Not thread-safe: one thread at a time renders (each call makes its context current on the
 // calling thread). Deterministic: the same scene and camera give the same bytes.

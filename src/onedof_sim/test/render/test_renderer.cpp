@@ -84,6 +84,27 @@ TEST(Renderer, BoxLandsInTheColumnsItsAngularExtentPredicts) {
   EXPECT_GT(kWidth / 2 - span.first, 2 * (span.last - kWidth / 2));
 }
 
+TEST(Renderer, ACameraInsideItsOwnCaseSeesOutOfIt) {
+  auto renderer = makeRenderer();
+  ASSERT_TRUE(renderer);
+  // The book's camera: its lens at the centre of a 0.1 x 0.02 x 0.02 m case, near clip 0.01 m.
+  VisualShape case_box;
+  case_box.model = "camera";
+  case_box.link = "camera_link";
+  case_box.name = "case";
+  case_box.shape = GeometryShape::Box;
+  case_box.size = {0.1, 0.02, 0.02};
+  case_box.material.script = "Gazebo/Blue";
+  CameraSpec spec = camera();
+  spec.near_clip = 0.01;
+  Frame frame, without_case;
+  std::string error;
+  ASSERT_TRUE(renderer->render({case_box, redBox()}, spec, &frame, &error)) << error;
+  ASSERT_TRUE(renderer->render({redBox()}, spec, &without_case, &error)) << error;
+  EXPECT_EQ(frame.rgb, without_case.rgb);
+  EXPECT_EQ(frame.depth, without_case.depth);
+}
+
 TEST(Renderer, BoxIsRedAndTheBackgroundGrey) {
   auto renderer = makeRenderer();
   ASSERT_TRUE(renderer);

@@ -5,9 +5,9 @@ results.json.
 The items, by their row of the table, short ones first so that a failure shows early:
   6 start-up, 1 loop speed + 7 memory, 2 scaling, 3 service round trips, 4 controller periods +
   5 real-time factor, 8 the real-time factor of the lock-stepped tutorial with each controller,
-  9 the tutorial's settled angle on a busy machine, lock-step against free-running; each in a
-  module of its own (startup, loop_speed, memory, scaling, round_trips, controller_periods,
-  real_time_factor, lockstep_speed, busy_machine).
+  9 the tutorial's settled angle on a busy machine, lock-step against free-running, 10 a
+  camera's cost; each in a module of its own (startup, loop_speed, memory, scaling, round_trips,
+  controller_periods, real_time_factor, lockstep_speed, busy_machine, camera_cost).
 What is compared runs alternately in short windows (never at the same time: two cores), and the
 ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
 built, crashed) gets its rows marked as not measured and the run goes on, and a missing profiler
@@ -24,8 +24,8 @@ import time
 import traceback
 
 from onedof_harness.private_ros import PrivateRos
-from onedof_sim.benchmark import (busy_machine, lockstep_speed, loop_speed, real_time_factor,
-                                  round_trips, scaling, startup)
+from onedof_sim.benchmark import (busy_machine, camera_cost, lockstep_speed, loop_speed,
+                                  real_time_factor, round_trips, scaling, startup)
 from onedof_sim.benchmark import report as bm
 from onedof_sim.benchmark.graph import Bench, read_file, say
 from onedof_sim.engines import default_engine, engine_names
@@ -56,10 +56,14 @@ class Sizes:
     comparison_phase_s: float = 5.0
     # CPU-bound processes beside the busy-machine comparison (item 9): 8 as `make test-under-load`.
     busy_processes: int = 8
+    # The camera's windows with and without it (item 10), and the renderer's bare frames.
+    camera_windows: int = 5
+    camera_window_s: float = 1.0
+    render_frames: int = 200
 
 
 # The rows of the table, one per kind of measurement.
-ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9)
+ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10)
 FULL = Sizes()
 # The smallest run that still measures every row against its reference: it shows that the
 # benchmark works, and its figures are no claim. It starts no busy process beside item 9, whose
@@ -69,7 +73,8 @@ QUICK = Sizes(startup_repeats=1, throughput_windows=1, throughput_window_s=0.1, 
               chain_links=(1, 10), chain_windows=1, chain_window_s=0.05, chain_min_steps=2,
               latency_batches=1, persistent_calls=20, fresh_calls=5, control_s=2.0,
               sweep_rates=(200,), sweep_s=0.5, pacing_s=2.0, lockstep_s=0.2,
-              comparison_phase_s=0.5, busy_processes=0)
+              comparison_phase_s=0.5, busy_processes=0, camera_windows=1, camera_window_s=0.3,
+              render_frames=20)
 
 
 def load_average():
@@ -140,7 +145,8 @@ def items(bench, engines, sizes):
     found += [({8}, '8 lock-step speed, ' + engines[0],
                lambda: lockstep_speed.measure(bench, engines[0])),
               ({9}, '9 busy machine, ' + engines[0],
-               lambda: busy_machine.measure(bench, engines[0]))]
+               lambda: busy_machine.measure(bench, engines[0])),
+              ({10}, '10 camera, ' + engines[0], lambda: camera_cost.measure(bench, engines[0]))]
     return found
 
 

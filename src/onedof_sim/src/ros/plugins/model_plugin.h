@@ -34,6 +34,11 @@ class PublicationQueue {
   void add(const ros::Publisher& publisher, const Message& message) {
     pending_.push_back([publisher, message] { publisher.publish(message); });
   }
+  // A message held by a shared pointer, not copied (images, point clouds).
+  template <class Message>
+  void add(const ros::Publisher& publisher, const boost::shared_ptr<Message>& message) {
+    pending_.push_back([publisher, message] { publisher.publish(message); });
+  }
   std::vector<Publication> take() {
     std::vector<Publication> out;
     out.swap(pending_);

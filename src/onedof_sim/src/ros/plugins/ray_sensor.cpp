@@ -10,6 +10,7 @@
 #include <tinyxml2.h>
 
 #include "pose_ops.h"
+#include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -18,35 +19,10 @@ namespace {
 // step's time.
 constexpr long kMaxRays = 262144;
 
-const tinyxml2::XMLElement* path(const tinyxml2::XMLElement* element,
-                                 std::initializer_list<const char*> names) {
-  for (const char* name : names) element = element ? element->FirstChildElement(name) : nullptr;
-  return element;
-}
-
-// The number in `parent`'s <tag>, left as it is when there is none.
-bool readNumber(const tinyxml2::XMLElement* parent, const char* tag, const std::string& where,
-                double* value, std::string* error) {
-  const tinyxml2::XMLElement* child = parent ? parent->FirstChildElement(tag) : nullptr;
-  if (!child) return true;
-  const char* raw = child->GetText();
-  std::string text = raw ? raw : "";
-  text.erase(0, text.find_first_not_of(" \t\r\n"));
-  text.erase(text.find_last_not_of(" \t\r\n") + 1);
-  char* end = nullptr;
-  const double parsed = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(parsed)) {
-    *error = "<" + where + "><" + tag + "> is '" + text + "', not a number";
-    return false;
-  }
-  *value = parsed;
-  return true;
-}
-
 bool readCount(const tinyxml2::XMLElement* parent, const std::string& where, int* value,
                std::string* error) {
   double number = *value;
-  if (!readNumber(parent, "samples", where, &number, error)) return false;
+  if (!readSensorNumber(parent, "samples", where, &number, error)) return false;
   if (number < 1 || number != std::floor(number) || number > kMaxRays) {
     *error = "<" + where + "><samples> is " + std::to_string(number) + ", not a count of rays";
     return false;
@@ -75,26 +51,26 @@ bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string
     *error = "the <sensor> is not XML";
     return false;
   }
-  const tinyxml2::XMLElement* ray = path(doc.RootElement(), {"ray"});
+  const tinyxml2::XMLElement* ray = sensorPath(doc.RootElement(), {"ray"});
   if (!ray) {
     *error = "it has no <ray>";
     return false;
   }
   RayConfig c;
-  const auto* horizontal = path(ray, {"scan", "horizontal"});
-  const auto* vertical = path(ray, {"scan", "vertical"});
-  const auto* range = path(ray, {"range"});
+  const auto* horizontal = sensorPath(ray, {"scan", "horizontal"});
+  const auto* vertical = sensorPath(ray, {"scan", "vertical"});
+  const auto* range = sensorPath(ray, {"range"});
   if (!readCount(horizontal, "horizontal", &c.samples, error) ||
-      !readNumber(horizontal, "resolution", "horizontal", &c.resolution, error) ||
-      !readNumber(horizontal, "min_angle", "horizontal", &c.min_angle, error) ||
-      !readNumber(horizontal, "max_angle", "horizontal", &c.max_angle, error) ||
+      !readSensorNumber(horizontal, "resolution", "horizontal", &c.resolution, error) ||
+      !readSensorNumber(horizontal, "min_angle", "horizontal", &c.min_angle, error) ||
+      !readSensorNumber(horizontal, "max_angle", "horizontal", &c.max_angle, error) ||
       !readCount(vertical, "vertical", &c.vertical_samples, error) ||
-      !readNumber(vertical, "resolution", "vertical", &c.vertical_resolution, error) ||
-      !readNumber(vertical, "min_angle", "vertical", &c.vertical_min_angle, error) ||
-      !readNumber(vertical, "max_angle", "vertical", &c.vertical_max_angle, error) ||
-      !readNumber(range, "min", "range", &c.range_min, error) ||
-      !readNumber(range, "max", "range", &c.range_max, error) ||
-      !readNumber(range, "resolution", "range", &c.range_resolution, error))
+      !readSensorNumber(vertical, "resolution", "vertical", &c.vertical_resolution, error) ||
+      !readSensorNumber(vertical, "min_angle", "vertical", &c.vertical_min_angle, error) ||
+      !readSensorNumber(vertical, "max_angle", "vertical", &c.vertical_max_angle, error) ||
+      !readSensorNumber(range, "min", "range", &c.range_min, error) ||
+      !readSensorNumber(range, "max", "range", &c.range_max, error) ||
+      !readSensorNumber(range, "resolution", "range", &c.range_resolution, error))
     return false;
   if (!(c.resolution > 0) || !(c.vertical_resolution > 0) || c.rangeCount() < 1 ||
       c.verticalRangeCount() < 1 ||
@@ -118,11 +94,11 @@ bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string
     }
     if (type == "gaussian" || type == "gaussian_quantized") {
       c.noise.on = true;
-      if (!readNumber(noise, "mean", "noise", &c.noise.mean, error) ||
-          !readNumber(noise, "stddev", "noise", &c.noise.stddev, error) ||
-          !readNumber(noise, "bias_mean", "noise", &c.noise.bias_mean, error) ||
-          !readNumber(noise, "bias_stddev", "noise", &c.noise.bias_stddev, error) ||
-          !readNumber(noise, "precision", "noise", &c.noise.precision, error))
+      if (!readSensorNumber(noise, "mean", "noise", &c.noise.mean, error) ||
+          !readSensorNumber(noise, "stddev", "noise", &c.noise.stddev, error) ||
+          !readSensorNumber(noise, "bias_mean", "noise", &c.noise.bias_mean, error) ||
+          !readSensorNumber(noise, "bias_stddev", "noise", &c.noise.bias_stddev, error) ||
+          !readSensorNumber(noise, "precision", "noise", &c.noise.precision, error))
         return false;
       if (c.noise.stddev < 0 || c.noise.bias_stddev < 0 || c.noise.precision < 0) {
         *error = "<noise> has a negative stddev, bias_stddev or precision";

@@ -12,7 +12,11 @@ std::unique_ptr<ModelPlugin> makeGazeboRosImu(const ModelPluginContext&, std::st
 std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosJointStatePublisher(const ModelPluginContext&,
                                                               std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosCamera(const SensorPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosDepthCamera(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosLaser(const SensorPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosOpenniKinect(const SensorPluginContext&,
+                                                       std::string*);
 
 const std::vector<ModelPluginType>& modelPluginRegistry() {
   static const std::vector<ModelPluginType> entries{
@@ -28,8 +32,11 @@ const std::vector<ModelPluginType>& modelPluginRegistry() {
 
 const std::vector<SensorPluginType>& sensorPluginRegistry() {
   static const std::vector<SensorPluginType> entries{
+      {"libgazebo_ros_camera.so", {"camera"}, makeGazeboRosCamera},
+      {"libgazebo_ros_depth_camera.so", {"depth"}, makeGazeboRosDepthCamera},
       {"libgazebo_ros_gpu_laser.so", {"gpu_ray"}, makeGazeboRosLaser},
       {"libgazebo_ros_laser.so", {"ray"}, makeGazeboRosLaser},
+      {"libgazebo_ros_openni_kinect.so", {"depth"}, makeGazeboRosOpenniKinect},
   };
   return entries;
 }
