@@ -3,8 +3,10 @@
 The simulator's view (gzclient: rviz on gazebo_ros/rviz/world.rviz) adds a display for each
 sensor stream the simulator publishes once a robot carrying the sensor is spawned: the laser of
 tests/robots/laser_bot.urdf, 2 m before a box, draws its scan's points on the box's face and
-nowhere else. A world without sensors shows world.rviz's displays and no other. The book's way
-works too: the user's own rviz with the book's LaserScan display on /scan and fixed frame
+nowhere else; the Kinect of tests/robots/kinect_bot.urdf, 2 m before a red box, draws its point
+cloud's points of the box on the box's face and nowhere else, and the box shows in the camera's
+and the Kinect's images, in panels of their own. A world without sensors shows world.rviz's
+displays and no other. The book's way works too: the user's own rviz with the book's LaserScan display on /scan and fixed frame
 base_link (as the book's mobot_w_lidar.rviz has them) shows the same points.
 """
 import math
@@ -17,6 +19,7 @@ import yaml
 from conftest import ENGINES, start_sim
 from api_client import GazeboApi, pose
 from onedof_sim.tutorial.rviz_view import start_xvfb
+from test_camera import BOX, DISTANCE, KINECT, box_sdf, kinect_bot_urdf
 from test_laser import BOX_SDF, FACE_X, HALF_WIDTH, laser_bot_urdf
 from test_tutorial import count_pixels
 
@@ -24,12 +27,22 @@ WORLD_RVIZ = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file
                           'gazebo_ros', 'rviz', 'world.rviz')
 LASER = ('ray', 'libgazebo_ros_laser.so')
 LIDAR_Z = 0.3  # the lidar's height (the base is welded at the origin)
-# rviz's 3D panel in a 1000 x 720 window (the Xvfb screen) with the Displays panel docked left.
-RENDER_PANEL = (364, 62, 984, 690)
+# rviz's 3D panel in a 1000 x 720 window (the Xvfb screen): right of the docked panels (the
+# Displays, and the images' panels below it, whose width depends on what they hold: the panel's
+# left edge is found in each screenshot), below the tool bar, above the status bar.
+PANEL_TOP, PANEL_RIGHT, PANEL_BOTTOM = 62, 984, 690
+BACKGROUND = (48, 48, 48)  # the view's background colour
 # The scan's points are looked for this many pixels around where the box's face projects.
 MARGIN = 12
 scan_green = lambda r, g, b: (g > 180) & (r < 100) & (b < 100)
 coloured = lambda r, g, b: (abs(r - g) + abs(g - b) + abs(r - b)) > 90
+# The red box's points as rviz colours them from the cloud's rgb field: blue, as with Gazebo's
+# Kinect (its colour bytes in the image's order, which rviz reads as blue-green-red).
+cloud_blue = lambda r, g, b: (b > 60) & (r < 30) & (g < 30)
+# The red box in the camera's and the Kinect's colour images (Gazebo/Red turned from the sun).
+image_red = lambda r, g, b: (r > 80) & (g < 30) & (b < 30)
+# The Kinect's period (its updateRate, 10 Hz) in the default 1 ms steps.
+KINECT_PERIOD_STEPS = 100
 
 BOOK_RVIZ = """
 Panels:
@@ -99,7 +112,20 @@ Window Geometry:
 """
 
 
-def project(view, point):
+def rgb_of(png):
+    import matplotlib.image
+    return (matplotlib.image.imread(str(png))[..., :3] * 255).round()
+
+
+def render_panel(png):
+    """The 3D panel's region (x0, y0, x1, y1) in a screenshot: its left edge is the first pixel
+    of the background colour in its top row (the world's far side is drawn lower down)."""
+    row = rgb_of(png)[PANEL_TOP + 4]
+    background = np.all(row == BACKGROUND, axis=1)
+    return (int(np.argmax(background)), PANEL_TOP, PANEL_RIGHT, PANEL_BOTTOM)
+
+
+def project(view, panel, point):
     """The pixel (x, y) of the screenshot where rviz's orbit view (a config's Views: Current)
     draws a point of the fixed frame: the camera at Distance from the Focal Point, at Yaw about
     z and Pitch above the x-y plane, looking at it with z up; OGRE's vertical field of view,
@@ -114,21 +140,36 @@ def project(view, point):
     up = np.cross(right, forward)
     offset = np.array(point, dtype=float) - eye
     depth = offset @ forward
-    x0, y0, x1, y1 = RENDER_PANEL
+    x0, y0, x1, y1 = panel
     half_height = math.tan(math.pi / 8) * depth
     half_width = half_height * (x1 - x0) / (y1 - y0)
     return (x0 + (x1 - x0) / 2 * (1 + (offset @ right) / half_width),
             y0 + (y1 - y0) / 2 * (1 - (offset @ up) / half_height))
 
 
-def scan_region(config_text):
-    """The screenshot region (x0, y0, x1, y1) around the scan's points on the box's face (from
-    y = -0.25 to 0.25 m at x = 2.2 m, the lidar's height) in the view of an rviz config."""
+def region_around(config_text, panel, points):
+    """The screenshot region (x0, y0, x1, y1) around where points project in the view of an rviz
+    config drawn in panel, MARGIN pixels wider on every side."""
     view = yaml.safe_load(config_text)['Visualization Manager']['Views']['Current']
-    ends = [project(view, (FACE_X, y, LIDAR_Z)) for y in (-HALF_WIDTH, HALF_WIDTH)]
-    xs, ys = [x for x, _ in ends], [y for _, y in ends]
+    pixels = [project(view, panel, point) for point in points]
+    xs, ys = [x for x, _ in pixels], [y for _, y in pixels]
     return (int(min(xs)) - MARGIN, int(min(ys)) - MARGIN, int(max(xs)) + MARGIN + 1,
             int(max(ys)) + MARGIN + 1)
+
+
+def scan_region(config_text, panel):
+    """Around the scan's points on the laser's box: its near face, x = 2.2 m, from y = -0.25 to
+    0.25 m at the lidar's height."""
+    return region_around(config_text, panel,
+                         [(FACE_X, y, LIDAR_Z) for y in (-HALF_WIDTH, HALF_WIDTH)])
+
+
+def red_box_face_region(config_text, panel):
+    """Around the Kinect's red box's near face: a 0.5 m square 2 m ahead of the Kinect's lens."""
+    face_x = KINECT['x'] + DISTANCE
+    return region_around(config_text, panel, [(face_x, BOX['y'] + dy, BOX['z'] + dz)
+                                       for dy in (-BOX['half'], BOX['half'])
+                                       for dz in (-BOX['half'], BOX['half'])])
 
 
 def grab(display, path):
@@ -160,13 +201,18 @@ def spawn_laser_bot_before_the_box(ros, rospy):
     assert spawned.success, spawned.status_message
 
 
-def screenshot_with(ros, display, path, region, colour, pixels, what):
-    """Screenshots until one has more than `pixels` of colour in region (rviz draws what it
-    receives a few frames after it arrives; on a busy machine many seconds later)."""
-    def shown():
-        return (grab(display, path) and count_pixels(path, region, colour) > pixels) or None
-    ros.wait_until(shown, 180, interval=0.5, what=what)
-    return path
+def screenshot_with(ros, display, path, shown, what, before=None):
+    """Screenshots at path until shown(png, panel) holds for one, panel being its 3D panel's
+    region (rviz draws what it receives a few frames after it arrives; on a busy machine many
+    seconds later); runs before() ahead of each. Returns the panel."""
+    def screenshot_shown():
+        if before:
+            before()
+        if not grab(display, path):
+            return None
+        panel = render_panel(path)
+        return panel if shown(path, panel) else None
+    return ros.wait_until(screenshot_shown, 300, interval=0.5, what=what)
 
 
 def test_a_world_without_sensors_is_shown_with_world_rviz_displays_only(ros, rospy_client):
@@ -182,6 +228,37 @@ def test_a_world_without_sensors_is_shown_with_world_rviz_displays_only(ros, ros
         assert with_sensor_displays(yaml.safe_load(f), topics) == yaml.safe_load(open(WORLD_RVIZ))
 
 
+def test_the_view_shows_the_simulators_sensor_topics_only_and_keeps_the_users_displays():
+    from gazebo_ros.world_view import simulator_sensor_topics, with_sensor_displays
+    publishers = [['/gazebo/collision_markers', ['/gazebo']], ['/scan', ['/gazebo']],
+                  ['/kinect/depth/points', ['/gazebo']], ['/kinect/rgb/image_raw', ['/gazebo']],
+                  ['/kinect/rgb/camera_info', ['/gazebo']], ['/filtered_scan', ['/my_filter']],
+                  ['/imu_data', ['/gazebo']]]
+    types = [['/gazebo/collision_markers', 'visualization_msgs/MarkerArray'],
+             ['/scan', 'sensor_msgs/LaserScan'],
+             ['/kinect/depth/points', 'sensor_msgs/PointCloud2'],
+             ['/kinect/rgb/image_raw', 'sensor_msgs/Image'],
+             ['/kinect/rgb/camera_info', 'sensor_msgs/CameraInfo'],
+             ['/filtered_scan', 'sensor_msgs/LaserScan'], ['/imu_data', 'sensor_msgs/Imu']]
+    topics = simulator_sensor_topics([publishers, [], []], types)
+    assert topics == [('/kinect/depth/points', 'sensor_msgs/PointCloud2'),
+                      ('/kinect/rgb/image_raw', 'sensor_msgs/Image'),
+                      ('/scan', 'sensor_msgs/LaserScan')]
+
+    with open(WORLD_RVIZ) as f:
+        config = yaml.safe_load(f)
+    config['Visualization Manager']['Displays'].append({'Class': 'rviz/TF', 'Name': 'My TF'})
+    shown = with_sensor_displays(config, topics)
+    displays = shown['Visualization Manager']['Displays']
+    assert [(d['Class'], d.get('Topic', d.get('Image Topic'))) for d in displays[-3:]] == [
+        ('rviz/PointCloud2', '/kinect/depth/points'), ('rviz/Image', '/kinect/rgb/image_raw'),
+        ('rviz/LaserScan', '/scan')]
+    # The robot deleted: its displays go, the user's stay.
+    displays = with_sensor_displays(shown, [])['Visualization Manager']['Displays']
+    names = [d['Name'] for d in displays]
+    assert names == ['Ground plane', 'Simulated world (collision geometry)', 'My TF']
+
+
 def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_client,
                                                                     tmp_path):
     ros.set_param('/use_sim_time', True)
@@ -195,12 +272,65 @@ def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_c
     ros.wait_until(lambda: subscribers(ros, '/scan', '/gzclient_'), 120,
                    what='the view to show /scan')
     with open(WORLD_RVIZ) as f:
-        on_the_box = scan_region(f.read())
-    png = screenshot_with(ros, display, tmp_path / 'view.png', on_the_box, scan_green, 40,
-                          "the scan's points on the box")
-    assert count_pixels(png, RENDER_PANEL, scan_green) == count_pixels(png, on_the_box,
-                                                                       scan_green), \
+        view_config = f.read()
+    png = tmp_path / 'view.png'
+    panel = screenshot_with(
+        ros, display, png, lambda png, panel: count_pixels(
+            png, scan_region(view_config, panel), scan_green) > 40,
+        "the scan's points on the box")
+    assert count_pixels(png, panel, scan_green) == count_pixels(
+        png, scan_region(view_config, panel), scan_green), \
         "scan-green pixels off the box's face, where the rays meet nothing"
+    ros.terminate(view)  # rviz before its X server
+    ros.terminate(xvfb)
+
+
+def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros, rospy_client,
+                                                                            tmp_path):
+    """The Kinect's frame, kinect_depth_frame, is the book's: its launch file publishes it from
+    kinect_link with a static_transform_publisher, the optical frame's rotation. The world is
+    paused and stepped a Kinect period at a time: the view shows the last cloud it received."""
+    ros.set_param('/use_sim_time', True)
+    start_sim(ros, ENGINES[0], args=['_paused:=true'])
+    api = GazeboApi(rospy_client)
+    xvfb, display = start_xvfb(ros)
+    view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                     env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gzclient_'), 120,
+                   what='the view to subscribe to the collision markers')
+    urdf = kinect_bot_urdf()
+    ros.set_param('/robot_description', urdf)
+    ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
+              name='robot_state_publisher')
+    ros.start(['rosrun', 'tf', 'static_transform_publisher', '0', '0', '0', '-0.5', '0.5', '-0.5',
+               '0.5', 'kinect_link', 'kinect_depth_frame', '100'], name='kinect_broadcaster')
+    spawned = api.spawn_urdf_model('kinect_bot', urdf, '', pose(), '')
+    assert spawned.success, spawned.status_message
+    spawned = api.spawn_sdf_model('red_box', box_sdf(), '',
+                                  pose(KINECT['x'] + DISTANCE + BOX['half'], BOX['y'], BOX['z']),
+                                  '')
+    assert spawned.success, spawned.status_message
+    ros.wait_until(lambda: subscribers(ros, '/kinect/depth/points', '/gzclient_'), 120,
+                   what='the view to show /kinect/depth/points')
+
+    with open(WORLD_RVIZ) as f:
+        view_config = f.read()
+    png = tmp_path / 'view.png'
+
+    def docked_images(panel):
+        return (0, PANEL_TOP, panel[0], 720)
+
+    def cloud_and_images_shown(png, panel):
+        return (count_pixels(png, red_box_face_region(view_config, panel), cloud_blue) > 300
+                and count_pixels(png, docked_images(panel), image_red) > 1000)
+    panel = screenshot_with(
+        ros, display, png, cloud_and_images_shown, "the cloud's points on the box and the box "
+        "in the camera's and the Kinect's images",
+        before=lambda: api.step_simulation(KINECT_PERIOD_STEPS))
+    assert count_pixels(png, panel, cloud_blue) == count_pixels(
+        png, red_box_face_region(view_config, panel), cloud_blue), \
+        "the red box's cloud colour off the box's face"
+    assert count_pixels(png, panel, image_red) == 0, 'the images are drawn in their own panels'
     ros.terminate(view)  # rviz before its X server
     ros.terminate(xvfb)
 
@@ -214,10 +344,13 @@ def test_the_books_rviz_config_shows_the_scan_in_base_link(ros, rospy_client, tm
     xvfb, display = start_xvfb(ros)
     rviz = ros.start(['rosrun', 'rviz', 'rviz', '-d', str(config)], name='rviz',
                      env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    on_the_box = scan_region(BOOK_RVIZ)
-    png = screenshot_with(ros, display, tmp_path / 'book.png', on_the_box, coloured, 40,
-                          "the scan's points on the box")
-    assert count_pixels(png, RENDER_PANEL, coloured) == count_pixels(png, on_the_box, coloured), \
+    png = tmp_path / 'book.png'
+    panel = screenshot_with(
+        ros, display, png, lambda png, panel: count_pixels(
+            png, scan_region(BOOK_RVIZ, panel), coloured) > 40,
+        "the scan's points on the box")
+    assert count_pixels(png, panel, coloured) == count_pixels(
+        png, scan_region(BOOK_RVIZ, panel), coloured), \
         "coloured pixels off the box's face, where the rays meet nothing"
     ros.terminate(rviz)
     ros.terminate(xvfb)

@@ -28,6 +28,9 @@ import yaml
 
 MARKERS = '/gazebo/collision_markers'
 SENSOR_DISPLAY_PREFIX = 'Sensor: '
+# The depth an image's white stands for: the Kinect's far cutoff (pointCloudCutoffMax's default);
+# rviz's normalised range goes black on the NaNs a Kinect's depth image has where nothing is.
+DEPTH_SHOWN_M = 5.0
 # Seconds between two looks at the master: a sensor appears in the view this long after spawn.
 POLL_SECONDS = 1.0
 
@@ -48,9 +51,11 @@ def sensor_display(topic, msg_type):
             'Class': 'rviz/PointCloud2', 'Topic': topic, 'Style': 'Points',
             'Size (Pixels)': 2, 'Alpha': 1, 'Decay Time': 0, 'Queue Size': 10})
     if msg_type == 'sensor_msgs/Image':
+        # A depth image (32FC1, metres) in grey from 0 to DEPTH_SHOWN_M; colour images as sent.
         return dict(common, **{
             'Class': 'rviz/Image', 'Image Topic': topic, 'Transport Hint': 'raw',
-            'Normalize Range': True, 'Queue Size': 2})
+            'Normalize Range': False, 'Min Value': 0, 'Max Value': DEPTH_SHOWN_M,
+            'Queue Size': 2})
     return None
 
 
@@ -161,7 +166,7 @@ class WorldView:
         proxy = rospy.ServiceProxy(rosgraph.names.ns_join(self.node, service), SendFilePath)
         try:
             return proxy(_FilePathRequest(path)).success
-        except (rospy.ServiceException, OSError):
+        except (rospy.ServiceException, rospy.ROSException, OSError):
             return False
         finally:
             proxy.close()
