@@ -16,8 +16,9 @@ import subprocess
 import numpy as np
 import yaml
 
-from conftest import ENGINES, start_sim
 from api_client import GazeboApi, pose
+from conftest import ENGINES, start_sim
+from gazebo_commands import start_serving
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_camera import BOX, DISTANCE, KINECT, box_sdf, kinect_bot_urdf
 from test_laser import BOX_SDF, FACE_X, HALF_WIDTH, laser_bot_urdf
@@ -261,15 +262,15 @@ def test_the_view_shows_the_simulators_sensor_topics_only_and_keeps_the_users_di
 
 def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_client,
                                                                     tmp_path):
-    ros.set_param('/use_sim_time', True)
-    start_sim(ros, ENGINES[0])
+    """Started as the book starts Gazebo: empty_world.launch, whose gui runs gzclient as the node
+    gazebo_gui."""
     xvfb, display = start_xvfb(ros)
-    view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
-                     env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gzclient_'), 120,
+    launch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch'], 'launch',
+                           env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gazebo_gui'), 120,
                    what='the view to subscribe to the collision markers')
     spawn_laser_bot_before_the_box(ros, rospy_client)
-    ros.wait_until(lambda: subscribers(ros, '/scan', '/gzclient_'), 120,
+    ros.wait_until(lambda: subscribers(ros, '/scan', '/gazebo_gui'), 120,
                    what='the view to show /scan')
     with open(WORLD_RVIZ) as f:
         view_config = f.read()
@@ -281,7 +282,7 @@ def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_c
     assert count_pixels(png, panel, scan_green) == count_pixels(
         png, scan_region(view_config, panel), scan_green), \
         "scan-green pixels off the box's face, where the rays meet nothing"
-    ros.terminate(view)  # rviz before its X server
+    ros.terminate(launch)  # rviz before its X server
     ros.terminate(xvfb)
 
 
