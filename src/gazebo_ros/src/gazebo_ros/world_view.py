@@ -83,7 +83,8 @@ def world_config_path():
 
 
 class _FilePathRequest(genpy.Message):
-    """rviz/SendFilePath's request (std_msgs/String path): rviz ships no Python module for it."""
+    """rviz/SendFilePath's request (std_msgs/String path): Debian's rviz has no Python module
+    for its services."""
     _md5sum = '8a631822f6e3078667af5e13f8ab06b7'
     _type = 'rviz/SendFilePathRequest'
     _has_header = False
