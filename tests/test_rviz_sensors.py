@@ -1,13 +1,16 @@
 """The sensors in rviz, over real ROS on a private Xvfb, with screenshots whose pixels are counted.
 
-The simulator's view (gzclient: rviz on gazebo_ros/rviz/world.rviz) adds a display for each
-sensor stream the simulator publishes once a robot carrying the sensor is spawned: the laser of
+The simulator's view (gzclient: rviz on gazebo_ros/rviz/world.rviz) adds a display for each sensor
+stream the simulator publishes once a robot carrying the sensor is spawned: the laser of
 tests/robots/laser_bot.urdf, 2 m before a box, draws its scan's points on the box's face and
 nowhere else; the Kinect of tests/robots/kinect_bot.urdf, 2 m before a red box, draws its point
-cloud's points of the box on the box's face and nowhere else, and the box shows in the camera's
-and the Kinect's images, in panels of their own. A world without sensors shows world.rviz's
-displays and no other. The book's way works too: the user's own rviz with the book's LaserScan display on /scan and fixed frame
-base_link (as the book's mobot_w_lidar.rviz has them) shows the same points.
+cloud's points of the box on the box's face and nowhere else, and the box shows in the camera's and
+the Kinect's images, in panels of their own. A mobile base with the lidar (the book's mobot's TF:
+the diff drive's odom -> base_link, robot_state_publisher's base_link -> lidar_link) shows its scan
+once a static world -> odom joins odom to the view's world. A world without sensors shows
+world.rviz's displays and no other. The book's way works too: the user's own rviz with the book's
+LaserScan display on /scan and fixed frame base_link (as the book's mobot_w_lidar.rviz has them)
+shows the same points.
 """
 import math
 import os
@@ -21,6 +24,7 @@ from conftest import ENGINES, start_sim
 from gazebo_commands import start_serving
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_camera import BOX, DISTANCE, KINECT, box_sdf, kinect_bot_urdf
+from test_diff_drive import drive_base_urdf
 from test_laser import BOX_SDF, FACE_X, HALF_WIDTH, laser_bot_urdf
 from test_tutorial import count_pixels
 
@@ -158,11 +162,11 @@ def region_around(config_text, panel, points):
             int(max(ys)) + MARGIN + 1)
 
 
-def scan_region(config_text, panel):
+def scan_region(config_text, panel, height=LIDAR_Z):
     """Around the scan's points on the laser's box: its near face, x = 2.2 m, from y = -0.25 to
     0.25 m at the lidar's height."""
     return region_around(config_text, panel,
-                         [(FACE_X, y, LIDAR_Z) for y in (-HALF_WIDTH, HALF_WIDTH)])
+                         [(FACE_X, y, height) for y in (-HALF_WIDTH, HALF_WIDTH)])
 
 
 def red_box_face_region(config_text, panel):
@@ -171,6 +175,36 @@ def red_box_face_region(config_text, panel):
     return region_around(config_text, panel, [(face_x, BOX['y'] + dy, BOX['z'] + dz)
                                        for dy in (-BOX['half'], BOX['half'])
                                        for dz in (-BOX['half'], BOX['half'])])
+
+
+# The book's lidar on the drive base, ahead of its body and above it (the base's body reaches
+# 0.55 m up; its wheels and casters stay clear of the scan's plane).
+MOBOT_LIDAR = {'x': 0.2, 'z': 0.6}
+MOBOT_LIDAR_URDF = """
+  <joint name="lidar_joint" type="fixed">
+    <parent link="base_link"/>
+    <child link="lidar_link"/>
+    <origin xyz="%(x)g 0 %(z)g"/>
+  </joint>
+  <link name="lidar_link">
+    <inertial><mass value="0.1"/>
+      <inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/></inertial>
+  </link>
+  <gazebo reference="lidar_link">
+    <sensor type="gpu_ray" name="lidar">
+      <update_rate>40</update_rate>
+      <ray>
+        <scan><horizontal><samples>721</samples><resolution>1</resolution>
+          <min_angle>-1.570796</min_angle><max_angle>1.570796</max_angle></horizontal></scan>
+        <range><min>0.10</min><max>30.0</max><resolution>0.01</resolution></range>
+      </ray>
+      <plugin name="lidar_controller" filename="libgazebo_ros_gpu_laser.so">
+        <topicName>scan</topicName>
+        <frameName>lidar_link</frameName>
+      </plugin>
+    </sensor>
+  </gazebo>
+</robot>""" % MOBOT_LIDAR
 
 
 def grab(display, path):
@@ -283,6 +317,46 @@ def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_c
         png, scan_region(view_config, panel), scan_green), \
         "scan-green pixels off the box's face, where the rays meet nothing"
     ros.terminate(launch)  # rviz before its X server
+    ros.terminate(xvfb)
+
+
+def test_the_view_shows_a_mobile_bases_scan_once_odom_is_joined_to_the_world(ros, rospy_client,
+                                                                              tmp_path):
+    """The book's mobot: its TF tree starts at the diff drive's odom, which with its default
+    odometry source (world) is the world frame; a static world -> odom joins it to the view."""
+    ros.set_param('/use_sim_time', True)
+    start_sim(ros, ENGINES[0])
+    xvfb, display = start_xvfb(ros)
+    view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                     env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gzclient_'), 120,
+                   what='the view to subscribe to the collision markers')
+    urdf = drive_base_urdf('world').replace('</robot>', MOBOT_LIDAR_URDF)
+    ros.set_param('/robot_description', urdf)
+    ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
+              name='robot_state_publisher')
+    ros.start(['rosrun', 'tf', 'static_transform_publisher', '0', '0', '0', '0', '0', '0',
+               'world', 'odom', '100'], name='world_odom')
+    api = GazeboApi(rospy_client)
+    # Off the origin, so that odom -> base_link (the base's true pose) is not the identity.
+    spawned = api.spawn_urdf_model('mobot', urdf, '', pose(-0.5, 0.1, 0), '')
+    assert spawned.success, spawned.status_message
+    spawned = api.spawn_sdf_model('wall', BOX_SDF, '',
+                                  pose(FACE_X + HALF_WIDTH, 0, MOBOT_LIDAR['z']), '')
+    assert spawned.success, spawned.status_message
+    ros.wait_until(lambda: subscribers(ros, '/scan', '/gzclient_'), 120,
+                   what='the view to show /scan')
+    with open(WORLD_RVIZ) as f:
+        view_config = f.read()
+    png = tmp_path / 'view.png'
+    panel = screenshot_with(
+        ros, display, png, lambda png, panel: count_pixels(
+            png, scan_region(view_config, panel, MOBOT_LIDAR['z']), scan_green) > 40,
+        "the scan's points on the box")
+    assert count_pixels(png, panel, scan_green) == count_pixels(
+        png, scan_region(view_config, panel, MOBOT_LIDAR['z']), scan_green), \
+        "scan-green pixels off the box's face, where the rays meet nothing"
+    ros.terminate(view)  # rviz before its X server
     ros.terminate(xvfb)
 
 
