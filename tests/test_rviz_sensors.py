@@ -19,8 +19,8 @@ import subprocess
 import numpy as np
 import yaml
 
-from api_client import GazeboApi, pose
-from conftest import ENGINES, start_sim
+from api_client import ROBOT, GazeboApi, pose
+from conftest import ENGINES, TUTORIAL_URDF, start_sim
 from gazebo_commands import start_serving
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_camera import BOX, DISTANCE, KINECT, box_sdf, kinect_bot_urdf
@@ -251,9 +251,14 @@ def screenshot_with(ros, display, path, shown, what, before=None):
 
 
 def test_a_world_without_sensors_is_shown_with_world_rviz_displays_only(ros, rospy_client):
+    """The tutorial's world: its robot and a box."""
     from gazebo_ros.world_view import simulator_sensor_topics, with_sensor_displays
     start_sim(ros, ENGINES[0])
-    spawned = GazeboApi(rospy_client).spawn_sdf_model('wall', BOX_SDF, '', pose(2, 0, 0.25), '')
+    api = GazeboApi(rospy_client)
+    with open(TUTORIAL_URDF) as f:
+        spawned = api.spawn_urdf_model(ROBOT, f.read(), '', pose(), '')
+    assert spawned.success, spawned.status_message
+    spawned = api.spawn_sdf_model('wall', BOX_SDF, '', pose(2, 0, 0.25), '')
     assert spawned.success, spawned.status_message
     master = ros.master()
     topics = simulator_sensor_topics(master.getSystemState('/test')[2],
