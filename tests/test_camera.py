@@ -49,7 +49,8 @@ MALFORMED_URDF = """<robot name="bad_cameras">
   <link name="world"/>
   <joint name="weld" type="fixed"><parent link="world"/><child link="body"/></joint>
   <link name="body">
-    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <inertial><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
   </link>
   <gazebo reference="body">
     <sensor type="camera" name="fisheye">
@@ -70,9 +71,12 @@ MALFORMED_URDF = """<robot name="bad_cameras">
 </robot>"""
 
 
-def kinect_bot_urdf(depth_plugin='libgazebo_ros_openni_kinect.so'):
+def kinect_bot_urdf(depth_plugin='libgazebo_ros_openni_kinect.so', camera_noise=0.0):
+    """The robot, its depth sensor's plugin and its camera's image noise (stddev) as given."""
     with open(URDF) as f:
-        return f.read().replace('libgazebo_ros_openni_kinect.so', depth_plugin)
+        urdf = f.read().replace('libgazebo_ros_openni_kinect.so', depth_plugin)
+    assert urdf.count('<stddev>0.0</stddev>') == 1
+    return urdf.replace('<stddev>0.0</stddev>', '<stddev>%r</stddev>' % camera_noise)
 
 
 def focal(fov):
@@ -105,13 +109,14 @@ def topics():
 
 
 def record(ros, rospy, engine, periods, depth_plugin='libgazebo_ros_openni_kinect.so',
-           ball=False, extra=None):
+           ball=False, extra=None, camera_noise=0.0):
     """Starts a paused lock-step simulator, spawns the robot, the box (and the ball, dropped in
     front of the cameras; and `extra`'s URDF models), subscribes to every camera topic and steps
     one publication period at a time: what each topic heard."""
     sim = start_sim(ros, engine, args=['_paused:=true', '_lockstep:=true'])
     api = GazeboApi(rospy)
-    spawned = api.spawn_urdf_model('kinect_bot', kinect_bot_urdf(depth_plugin), '', pose(), '')
+    spawned = api.spawn_urdf_model('kinect_bot', kinect_bot_urdf(depth_plugin, camera_noise), '',
+                                   pose(), '')
     assert spawned.success, spawned.status_message
     spawned = api.spawn_sdf_model('red_box', box_sdf(), '',
                                   pose(FACE_X + BOX['half'], BOX['y'], BOX['z']), '')
@@ -264,16 +269,24 @@ def test_the_depth_camera_keeps_depths_past_the_kinects_far_cutoff(ros, rospy_cl
 
 @pytest.mark.parametrize('engine', ENGINES)
 def test_two_lockstep_runs_publish_identical_images(ros, rospy_client, engine):
+    """With the book's image noise on the camera (stddev 0.007) and a ball falling in view."""
     runs = []
     for _ in range(2):
-        sim, heard = record(ros, rospy_client, engine, 6, ball=True)
+        sim, heard = record(ros, rospy_client, engine, 6, ball=True, camera_noise=0.007)
         ros.terminate(sim)
         runs.append({topic: [(m.header.stamp.to_nsec(), bytes(m.data)) for m in messages]
                      for topic, messages in heard.items() if hasattr(messages[0], 'data')})
     assert runs[0] == runs[1]
-    # The frames are not all alike: the green ball falls through the view.
     frames = runs[0]['/example_camera/image_raw']
-    assert len({data for _, data in frames}) >= 4
+    assert len({data for _, data in frames}) == len(frames)  # the noise is drawn anew each frame
+    # The noise: the grey background (178) spread by about 0.007 x 255 = 1.8 levels.
+    background = numpy.frombuffer(frames[0][1], dtype=numpy.uint8).reshape(HEIGHT, WIDTH, 3)
+    top_rows = background[:20, :100].astype(float)  # the top left corner: the ball is right
+    assert 1.2 < top_rows.std() < 2.4 and abs(top_rows.mean() - 178) < 0.2, top_rows.std()
+    assert numpy.all(top_rows[:, :, 0] == top_rows[:, :, 2])  # one value a pixel, every channel
+    # The Kinect's images, free of noise, change with the falling ball alone.
+    kinect = runs[0]['/kinect/rgb/image_raw']
+    assert 3 <= len({data for _, data in kinect}) < len(kinect)
 
 
 def test_without_a_renderer_the_cameras_say_so_once_and_everything_else_runs(ros, rospy_client):

@@ -1,7 +1,9 @@
 #include "camera_sensor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <utility>
 
@@ -17,6 +19,9 @@ namespace {
 // The most pixels a camera may have (4096 x 4096): its frame, read back each update, stays tens
 // of megabytes.
 constexpr long kMaxPixels = 4096L * 4096L;
+// The image noise's table of normal deviates: 2^16 of them.
+constexpr int kNoiseBits = 16;
+constexpr size_t kNoiseTable = size_t{1} << kNoiseBits;
 
 std::string text(const tinyxml2::XMLElement* element) {
   std::string value = element && element->GetText() ? element->GetText() : "";
@@ -115,25 +120,49 @@ bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::
     std::string type = noise->Attribute("type") ? noise->Attribute("type") : "";
     if (type.empty()) type = text(noise->FirstChildElement("type"));
     if (type == "gaussian" &&
-        !readSensorNumber(noise, "stddev", "noise", &c.noise_stddev, error))
+        (!readSensorNumber(noise, "mean", "noise", &c.noise_mean, error) ||
+         !readSensorNumber(noise, "stddev", "noise", &c.noise_stddev, error)))
       return false;
+    if (c.noise_stddev < 0) {
+      *error = "<noise><stddev> is negative";
+      return false;
+    }
   }
   *config = c;
   return true;
 }
 
 CameraView::CameraView(const CameraConfig& config, std::string link, const Pose& pose,
-                       std::string label)
+                       std::string label, uint64_t seed)
     : config_(config), link_(std::move(link)), pose_(compose(pose, config.pose)),
-      label_(std::move(label)) {
+      label_(std::move(label)), noise_state_(seed | 1) {
   spec_.horizontal_fov = config.horizontal_fov;
   spec_.width = config.width;
   spec_.height = config.height;
   spec_.near_clip = config.near_clip;
   spec_.far_clip = config.far_clip;
-  if (config.noise_stddev > 0)
-    ROS_WARN_STREAM(label_ << ": its image <noise> (gaussian, stddev " << config.noise_stddev
-                    << ") is not applied: the images are noise-free");
+  if (config.noise_stddev > 0 || config.noise_mean != 0) {
+    std::mt19937_64 random(seed);
+    std::normal_distribution<float> normal(static_cast<float>(config.noise_mean * 255),
+                                           static_cast<float>(config.noise_stddev * 255));
+    noise_table_.resize(kNoiseTable);
+    for (float& value : noise_table_) value = normal(random);
+    ROS_INFO_STREAM(label_ << ": its image noise is drawn from a generator seeded with the "
+                    << "sensor's name (Gazebo seeds it at random), so runs repeat their images");
+  }
+}
+
+void CameraView::addNoise() {
+  std::vector<uint8_t>& rgb = frame_.rgb;
+  for (size_t pixel = 0; pixel + 2 < rgb.size(); pixel += 3) {
+    // xorshift64*: the table's index from the generator's top bits.
+    noise_state_ ^= noise_state_ >> 12;
+    noise_state_ ^= noise_state_ << 25;
+    noise_state_ ^= noise_state_ >> 27;
+    const float noise = noise_table_[(noise_state_ * 2685821657736338717ull) >> (64 - kNoiseBits)];
+    for (size_t c = pixel; c < pixel + 3; ++c)
+      rgb[c] = static_cast<uint8_t>(std::clamp(std::lround(rgb[c] + noise), 0L, 255L));
+  }
 }
 
 bool CameraView::render(const World& world) {
@@ -150,6 +179,7 @@ bool CameraView::render(const World& world) {
   } else {
     spec_.pose = compose(link_pose, pose_);
     if (renderer->render(world.visualShapes(), spec_, &frame_, &why)) {
+      if (!noise_table_.empty()) addNoise();
       for (const std::string& problem : renderer->takeProblems())
         ROS_WARN_STREAM("cameras: " << problem);
       return true;

@@ -3,7 +3,9 @@
 // The camera plugins (gazebo_ros_camera.cpp, gazebo_ros_openni_kinect.cpp) publish what it sees.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <onedof_sim/world.h>
 
@@ -19,7 +21,7 @@ struct CameraConfig {
   bool bgr = false;               // the format's bytes are blue, green, red (B8G8R8)
   double near_clip = 0.1, far_clip = 100;  // <clip>
   Pose pose;  // <camera><pose>, on the sensor's
-  double noise_stddev = 0;  // <noise> gaussian: read, not applied
+  double noise_mean = 0, noise_stddev = 0;  // <noise type="gaussian">, in [0, 1] of a channel
 };
 
 // Reads the <camera> of a <sensor> element (its XML text); false, with *error naming what is
@@ -32,11 +34,13 @@ bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::
 // once for all cameras and no camera renders.
 class CameraView {
  public:
-  // link: scoped "model::link"; pose: the sensor's on it; label: the camera in what is logged.
-  CameraView(const CameraConfig& config, std::string link, const Pose& pose, std::string label);
+  // link: scoped "model::link"; pose: the sensor's on it; label: the camera in what is logged;
+  // seed: its image noise's.
+  CameraView(const CameraConfig& config, std::string link, const Pose& pose, std::string label,
+             uint64_t seed);
 
-  // Renders the world as the camera sees it now into frame(); false when it cannot (no
-  // renderer, or the link's pose is not to be had; logged once).
+  // Renders the world as the camera sees it now into frame(), its image noise added; false when
+  // it cannot (no renderer, or the link's pose is not to be had; logged once).
   bool render(const World& world);
 
   const render::Frame& frame() const { return frame_; }
@@ -50,6 +54,13 @@ class CameraView {
   render::CameraSpec spec_;
   render::Frame frame_;  // reused: the renderer resizes it only when the size changes
   bool failed_ = false;  // logged once
+  // Gazebo's image noise: one value a pixel a frame, mean + stddev N(0, 1), added to its three
+  // channels and clamped, as Gazebo's GaussianNoise compositor adds it. Drawn from a table of
+  // normal deviates made once from the seed (in channel units), indexed by a xorshift generator:
+  // a table lookup a pixel, where drawing each afresh would cost more than the frame.
+  std::vector<float> noise_table_;
+  uint64_t noise_state_ = 0;
+  void addNoise();
 };
 
 }  // namespace onedof_sim::plugins

@@ -170,9 +170,9 @@ void CameraUtils::addPointCloud(const ros::Publisher& publisher, const render::F
                                 double cutoff, double cutoff_max, int64_t time_ns,
                                 PublicationQueue* out) {
   // Gazebo's layout (PointCloud2Modifier's "xyz", "rgb"): x, y, z as float32 at 0, 4, 8, four
-  // bytes of padding, rgb at 16 holding the image message's three bytes in its order (R, G, B for rgb8:
-  // the float PCL reads as B, G, R, so rviz shows Gazebo's R8G8B8 clouds with red and blue
-  // swapped), then twelve bytes of padding: 32 bytes a point.
+  // bytes of padding, rgb at 16 holding the image message's three bytes in its order (R, G, B
+  // for rgb8: the float PCL reads as B, G, R, so rviz shows Gazebo's R8G8B8 clouds with red and
+  // blue swapped), then twelve bytes of padding: 32 bytes a point.
   constexpr uint32_t kPointStep = 32;
   sensor_msgs::PointCloud2& cloud = reusable(cloud_);
   stamp(&cloud.header, frame_id_, time_ns);

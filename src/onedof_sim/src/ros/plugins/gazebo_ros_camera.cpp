@@ -23,7 +23,7 @@ class GazeboRosCamera : public ModelPlugin {
                   std::unique_ptr<CameraUtils> utils)
       : utils_(std::move(utils)),
         view_(camera, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
-              utils_->label()),
+              utils_->label(), sensorSeed(context)),
         gate_(utils_->sensorGate(context)),
         throttle_(utils_->updateRate()) {}
 

@@ -25,13 +25,6 @@
 namespace onedof_sim::plugins {
 namespace {
 
-// FNV-1a: a seed that is the same on every run and machine.
-uint64_t seedOf(const std::string& text) {
-  uint64_t hash = 14695981039346656037ull;
-  for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
-  return hash;
-}
-
 class GazeboRosLaser : public ModelPlugin {
  public:
   GazeboRosLaser(const SensorPluginContext& context, const RayConfig& config,
@@ -40,8 +33,7 @@ class GazeboRosLaser : public ModelPlugin {
       : label_(context.plugin.filename + " of sensor '" + context.sensor.name + "' (model '" +
                context.plugin.model + "')"),
         scanner_(config, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
-                 seedOf(context.plugin.model + "::" + context.sensor.link + "::" +
-                        context.sensor.name)),
+                 sensorSeed(context)),
         gate_(context.sensor.update_rate),
         node_(robot_namespace.empty() ? "/" : robot_namespace) {
     std::string prefix = tfPrefix(node_);

@@ -47,7 +47,7 @@ class GazeboRosDepthCamera : public ModelPlugin {
       : utils_(std::move(utils)),
         outputs_(outputs),
         view_(camera, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
-              utils_->label()),
+              utils_->label(), sensorSeed(context)),
         gate_(utils_->sensorGate(context)),
         info_throttle_(utils_->updateRate()),
         depth_info_throttle_(utils_->updateRate()) {

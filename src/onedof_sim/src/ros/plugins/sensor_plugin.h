@@ -60,6 +60,16 @@ struct SensorPluginType {
   SensorPluginFactory create;
 };
 
+// The seed of a sensor's noise: FNV-1a of its scoped name ("model::link::sensor"), the same on
+// every run and machine (Gazebo seeds its noise at random), so that runs in lock-step repeat it.
+inline uint64_t sensorSeed(const SensorPluginContext& context) {
+  const std::string name =
+      context.plugin.model + "::" + context.sensor.link + "::" + context.sensor.name;
+  uint64_t hash = 14695981039346656037ull;
+  for (unsigned char c : name) hash = (hash ^ c) * 1099511628211ull;
+  return hash;
+}
+
 // When a sensor updates, as Gazebo's Sensor::Update decides over sim time: at a time later than
 // the last update, once the time since it, plus what the last update came late, reaches the
 // period (1 / update_rate), so that updates keep to the rate's grid whatever the step; a rate of
