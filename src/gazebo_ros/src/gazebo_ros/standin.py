@@ -9,11 +9,10 @@ import signal
 import subprocess
 import sys
 
-import rospkg
-
 SERVER = ['rosrun', 'onedof_sim', 'onedof_sim']
 GUI_INSTEAD = ("no Gazebo GUI in this workspace; instead rviz shows the simulated world "
-               "(/gazebo/collision_markers; the robot too: roslaunch minimal_robot_description "
+               "(/gazebo/collision_markers, and the scans, point clouds and images of the "
+               "robots' sensors; the robot too: roslaunch minimal_robot_description "
                "display.launch)")
 SERVER_HELP = """usage: {prog} [-u|--pause] [-e ENGINE] [WORLD_FILE] [_param:=value ...]
 
@@ -40,9 +39,9 @@ def _server_command(argv):
         return SERVER + argv
 
 
-def _rviz_command():
-    config = os.path.join(rospkg.RosPack().get_path('gazebo_ros'), 'rviz', 'world.rviz')
-    return ['rosrun', 'rviz', 'rviz', '-d', config]
+def _gui_command():
+    """The world view (gazebo_ros.world_view) in a process of its own."""
+    return [sys.executable, '-m', 'gazebo_ros.world_view']
 
 
 def _has_display():
@@ -80,8 +79,8 @@ def gzclient_main(argv):
         _say('gzclient', GUI_INSTEAD + ': not started, there is no display ($DISPLAY is unset)')
         return 0
     _say('gzclient', GUI_INSTEAD + ': starting it')
-    command = _rviz_command()
-    os.execvp(command[0], command)
+    from gazebo_ros import world_view
+    return world_view.main(argv)
 
 
 def gazebo_main(argv):
@@ -96,7 +95,7 @@ def gazebo_main(argv):
         os.execvp(command[0], command)
     _say('gazebo', _server_line(argv) + '; ' + GUI_INSTEAD + ': starting it')
     server = subprocess.Popen(_server_command(argv))
-    gui = subprocess.Popen(_rviz_command())
+    gui = subprocess.Popen(_gui_command())
 
     # Stopping `gazebo` (Ctrl-C, roslaunch's SIGINT then SIGTERM) stops both; closing rviz leaves
     # the simulator running, as the server is what the other nodes need.
