@@ -262,6 +262,18 @@ class Bench:
     def proxy(self, name, srv_class, persistent=False):
         return self.rospy.ServiceProxy(name, srv_class, persistent=persistent)
 
+    def sim_clock(self):
+        """A reader of the simulator's sim time over a persistent get_world_properties: each call
+        returns (the wall time halfway through the call, the sim time it answered)."""
+        clock = self.proxy('/gazebo/get_world_properties', self.srv.GetWorldProperties,
+                           persistent=True)
+
+        def sim_time():
+            before = time.monotonic()
+            sim = clock().sim_time
+            return (before + time.monotonic()) / 2, sim
+        return sim_time
+
     def call(self, name, srv_class, *args):
         result = self.proxy(name, srv_class)(*args)
         if hasattr(result, 'success') and not result.success:

@@ -103,13 +103,7 @@ def loop_share(bench, engine):
     try:
         proc, pid = bench.start_sim(engine, max_update_rate=0, paused=True)
         spawn_scene(bench)
-        clock = bench.proxy('/gazebo/get_world_properties', bench.srv.GetWorldProperties,
-                            persistent=True)
-
-        def sim_time():
-            before = time.monotonic()
-            sim = clock().sim_time
-            return (before + time.monotonic()) / 2, sim
+        sim_time = bench.sim_clock()
 
         def window(subscribed):
             """(steps, wall seconds, the loop's and the node's CPU seconds, scans heard) of one

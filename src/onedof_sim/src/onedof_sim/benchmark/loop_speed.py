@@ -24,13 +24,7 @@ def measure_with_memory(bench, engine):
     try:
         proc, pid = bench.start_sim(engine, max_update_rate=0, paused=True)
         bench.spawn(bench.tutorial_models)
-        clock = bench.proxy('/gazebo/get_world_properties', bench.srv.GetWorldProperties,
-                            persistent=True)
-
-        def sim_time():
-            before = time.monotonic()
-            sim = clock().sim_time
-            return (before + time.monotonic()) / 2, sim
+        sim_time = bench.sim_clock()
 
         def node_window(clock_frequency):
             """(steps, wall seconds) of the node running for one window."""

@@ -1,36 +1,18 @@
 #include "sensor_noise.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <utility>
 
+#include "sensor_xml.h"
+
 namespace onedof_sim::plugins {
-namespace {
-
-bool readNumber(const tinyxml2::XMLElement* parent, const char* tag, const std::string& where,
-                double* value, std::string* error) {
-  const tinyxml2::XMLElement* child = parent->FirstChildElement(tag);
-  if (!child) return true;
-  const char* raw = child->GetText();
-  std::string text = raw ? raw : "";
-  text.erase(0, text.find_first_not_of(" \t\r\n"));
-  text.erase(text.find_last_not_of(" \t\r\n") + 1);
-  char* end = nullptr;
-  const double parsed = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(parsed)) {
-    *error = where + "<" + tag + "> is '" + text + "', not a number";
-    return false;
-  }
-  *value = parsed;
-  return true;
-}
-
-}  // namespace
 
 bool readNoise(const tinyxml2::XMLElement* noise, const std::string& where, NoiseParams* params,
                std::string* error) {
   *params = {};
   if (!noise) return true;
+  // readSensorNumber names "<element><tag>": `where` is "<a><b>", its element "a><b".
+  const std::string element = where.size() > 2 ? where.substr(1, where.size() - 2) : where;
   const char* attribute = noise->Attribute("type");
   std::string type = attribute ? attribute : "";
   if (type.empty()) {
@@ -51,10 +33,10 @@ bool readNoise(const tinyxml2::XMLElement* noise, const std::string& where, Nois
        {std::pair{"mean", &p.mean}, std::pair{"stddev", &p.stddev},
         std::pair{"bias_mean", &p.bias_mean}, std::pair{"bias_stddev", &p.bias_stddev},
         std::pair{"precision", &p.precision}})
-    if (!readNumber(noise, tag, where, value, error)) return false;
+    if (!readSensorNumber(noise, tag, element, value, error)) return false;
   double unused = 0;
   for (const char* tag : {"dynamic_bias_stddev", "dynamic_bias_correlation_time"})
-    if (!readNumber(noise, tag, where, &unused, error)) return false;
+    if (!readSensorNumber(noise, tag, element, &unused, error)) return false;
   if (p.stddev < 0 || p.bias_stddev < 0 || p.precision < 0) {
     *error = where + " has a negative stddev, bias_stddev or precision";
     return false;
