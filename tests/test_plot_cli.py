@@ -244,15 +244,22 @@ def test_live_window_draws_a_command_published_once_as_a_step(ros, rospy_client,
     command.publish(1.0)
     proc = ros.start(['rqt_plot', '/pos_cmd/data'], name='rqt_plot', env={'DISPLAY': display})
     command.wait_for_subscriber(proc, ros)
-    command.wait_ros_time(1.5)
-    command.publish(2.0)
     shot = tmp_path / 'window.png'
 
-    def window_shows_the_step():
+    def grabbed():
         assert proc.poll() is None, ros.log_text(proc)
-        grab = subprocess.run(['import', '-display', display, '-window', 'root', str(shot)],
-                              capture_output=True)
-        if grab.returncode != 0:
+        return subprocess.run(['import', '-display', display, '-window', 'root', str(shot)],
+                              capture_output=True).returncode == 0
+
+    # The time axis grows with the run: 1.0 is drawn held before 2.0 comes, so that however
+    # long the window took to come up, 1.0's line is as long as that and stays in sight.
+    wait_until(lambda: grabbed() and held_lines(shot), 120, interval=0.5,
+               what='the live window to show 1.0 held')
+    command.wait_ros_time(1.5)
+    command.publish(2.0)
+
+    def window_shows_the_step():
+        if not grabbed():
             return None
         step = a_step_up(shot)
         # Held "up to now": 2.0 has been held longer than 1.0 was, on the live time axis.
