@@ -51,7 +51,7 @@ def pytest_configure(config):
 # that the suite does not end on one of them running alone while the other workers idle.
 LONG_MODULES = ('test_benchmark_cli', 'test_tutorial', 'test_tutorial_commands',
                 'test_book_cpp_client', 'test_tutorial_rviz_failure', 'test_book_overlay',
-                'test_book_tools', 'test_controller_manager_tools')
+                'test_book_tools', 'test_controller_manager_tools', 'test_rviz_sensors')
 
 
 def pytest_collection_modifyitems(session, config, items):
