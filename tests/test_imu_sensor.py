@@ -11,6 +11,7 @@ import os
 from api_client import GazeboApi, pose
 from conftest import start_sim
 from onedof_harness.private_ros import wait_until
+from test_imu_ft import in_frame, listen as listen_to, step_and_hear
 
 ROBOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'robots', 'imu_sensor_box.urdf')
 TOPIC = '/imu_sensor_box/imu'  # no <robotNamespace>: the model's name, as in Gazebo
@@ -28,17 +29,7 @@ def robot(noise=0.0, stddev_x=None):
 
 def listen(rospy):
     from sensor_msgs.msg import Imu
-    heard = []
-    subscriber = rospy.Subscriber(TOPIC, Imu, heard.append, queue_size=100000)
-    wait_until(lambda: subscriber.get_num_connections() > 0, 30, what='a connection to ' + TOPIC)
-    return heard
-
-
-def step_and_hear(api, heard, steps, stamp_ns):
-    assert api.step_simulation(steps).success
-    wait_until(lambda: heard and heard[-1].header.stamp.to_nsec() >= stamp_ns, 30,
-               what='the message stamped %d ns' % stamp_ns)
-    return heard[-1]
+    return listen_to(rospy, TOPIC, Imu)
 
 
 def product(a, b):
@@ -47,15 +38,6 @@ def product(a, b):
     bx, by, bz, bw = b
     return (aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
             aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz)
-
-
-def in_frame(q, v):
-    """v (world) in the axes of a frame turned by the quaternion q (x, y, z, w)."""
-    x, y, z, w = q
-    r = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
-    return [sum(r[row][i] * v[row] for row in range(3)) for i in range(3)]
 
 
 def assert_close(values, expected, tolerance, what):
