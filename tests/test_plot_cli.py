@@ -174,7 +174,10 @@ def held_lines(png):
     pixels or more (short interruptions by grid lines allowed)."""
     import matplotlib.image
     import numpy
-    rgb = (matplotlib.image.imread(str(png))[..., :3] * 255).round()
+    image = matplotlib.image.imread(str(png))
+    if image.ndim < 3:  # saved grey (a screen without the window yet): no line of its colour
+        return {}
+    rgb = (image[..., :3] * 255).round()
     is_line = (numpy.abs(rgb - numpy.array(LINE_RGB)) < 40).all(axis=2)
     rows = {}
     for row in numpy.flatnonzero(is_line.sum(axis=1) >= HELD_RUN):
