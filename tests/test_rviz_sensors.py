@@ -250,6 +250,19 @@ def screenshot_with(ros, display, path, shown, what, before=None):
     return ros.wait_until(screenshot_shown, 300, interval=0.5, what=what)
 
 
+def assert_scan_on_the_face_only(ros, display, png, config, colour, height=LIDAR_Z):
+    """Screenshots until more than 40 pixels of `colour` are on the box's face where the view of
+    `config` projects it; then none of that colour may be elsewhere in the 3D panel (the rays
+    meet nothing else)."""
+    panel = screenshot_with(
+        ros, display, png, lambda png, panel: count_pixels(
+            png, scan_region(config, panel, height), colour) > 40,
+        "the scan's points on the box")
+    assert count_pixels(png, panel, colour) == count_pixels(
+        png, scan_region(config, panel, height), colour), \
+        "scan pixels off the box's face, where the rays meet nothing"
+
+
 def test_a_world_without_sensors_is_shown_with_world_rviz_displays_only(ros, rospy_client):
     """The tutorial's world: its robot and a box."""
     from gazebo_ros.world_view import simulator_sensor_topics, with_sensor_displays
@@ -314,13 +327,7 @@ def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_c
     with open(WORLD_RVIZ) as f:
         view_config = f.read()
     png = tmp_path / 'view.png'
-    panel = screenshot_with(
-        ros, display, png, lambda png, panel: count_pixels(
-            png, scan_region(view_config, panel), scan_green) > 40,
-        "the scan's points on the box")
-    assert count_pixels(png, panel, scan_green) == count_pixels(
-        png, scan_region(view_config, panel), scan_green), \
-        "scan-green pixels off the box's face, where the rays meet nothing"
+    assert_scan_on_the_face_only(ros, display, png, view_config, scan_green)
     ros.terminate(launch)  # rviz before its X server
     ros.terminate(xvfb)
 
@@ -354,13 +361,7 @@ def test_the_view_shows_a_mobile_bases_scan_once_odom_is_joined_to_the_world(ros
     with open(WORLD_RVIZ) as f:
         view_config = f.read()
     png = tmp_path / 'view.png'
-    panel = screenshot_with(
-        ros, display, png, lambda png, panel: count_pixels(
-            png, scan_region(view_config, panel, MOBOT_LIDAR['z']), scan_green) > 40,
-        "the scan's points on the box")
-    assert count_pixels(png, panel, scan_green) == count_pixels(
-        png, scan_region(view_config, panel, MOBOT_LIDAR['z']), scan_green), \
-        "scan-green pixels off the box's face, where the rays meet nothing"
+    assert_scan_on_the_face_only(ros, display, png, view_config, scan_green, MOBOT_LIDAR['z'])
     ros.terminate(view)  # rviz before its X server
     ros.terminate(xvfb)
 
@@ -425,12 +426,6 @@ def test_the_books_rviz_config_shows_the_scan_in_base_link(ros, rospy_client, tm
     rviz = ros.start(['rosrun', 'rviz', 'rviz', '-d', str(config)], name='rviz',
                      env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
     png = tmp_path / 'book.png'
-    panel = screenshot_with(
-        ros, display, png, lambda png, panel: count_pixels(
-            png, scan_region(BOOK_RVIZ, panel), coloured) > 40,
-        "the scan's points on the box")
-    assert count_pixels(png, panel, coloured) == count_pixels(
-        png, scan_region(BOOK_RVIZ, panel), coloured), \
-        "coloured pixels off the box's face, where the rays meet nothing"
+    assert_scan_on_the_face_only(ros, display, png, BOOK_RVIZ, coloured)
     ros.terminate(rviz)
     ros.terminate(xvfb)
