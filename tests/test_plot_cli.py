@@ -130,6 +130,16 @@ def test_fails_clearly_on_a_topic_that_sends_nothing(ros, rospy_client, publishe
     assert '/test_value' not in result.stderr
 
 
+def test_under_sim_time_waits_for_the_clock_and_says_when_none_comes(ros, publisher, tmp_path):
+    # /test_value is published, but with /use_sim_time set and no /clock no sample has a time.
+    ros.set_param('/use_sim_time', True)
+    result = ros.run(PLOT + ['/test_value/data', '--timeout', '2', '--duration', '1',
+                             '--csv', str(tmp_path / 'p.csv')], timeout=CLI_TIMEOUT)
+    assert result.returncode != 0
+    assert 'no /clock message came in 2 s' in result.stderr
+    assert not os.path.exists(str(tmp_path / 'p.csv'))
+
+
 def test_fails_clearly_on_an_unknown_topic(ros, publisher, tmp_path):
     result = ros.run(PLOT + ['/test_value/data', '/no_such_topic/data', '--timeout', '2',
                              '--duration', '1', '--csv', str(tmp_path / 'p.csv')],

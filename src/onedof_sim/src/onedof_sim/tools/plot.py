@@ -473,6 +473,7 @@ class TopicRecorder:
         self.first_reception = None  # ROS time (s) at which the first message arrived
         # topic -> [(label, read, msg_class)]; one label per plotted field, in the order given.
         self._fields, self.labels = self._resolve(specs, timeout)
+        self._timeout = timeout
         self.buffer = SampleBuffer(self.labels, buffer_length)
         self._missing_index = set()
         self._subscribers = []
@@ -512,7 +513,17 @@ class TopicRecorder:
         return fields, labels
 
     def start(self):
+        """Subscribes once ROS time is known: under /use_sim_time rospy reads 0 until its first
+        /clock message, and a sample stamped then would sit at 0 on the time axis."""
         import rospy
+        if rospy.get_param('/use_sim_time', False):
+            from rosgraph_msgs.msg import Clock
+            try:
+                # rospy's own /clock callback runs before this one on the same message.
+                rospy.wait_for_message('/clock', Clock, timeout=self._timeout)
+            except rospy.ROSException:
+                raise PlotError('/use_sim_time is set and no /clock message came in %g s '
+                                '(is the simulator running?)' % self._timeout) from None
         for topic, fields in self._fields.items():
             self._subscribers.append(rospy.Subscriber(
                 topic, fields[0][2], self._on_message, callback_args=topic, queue_size=100))
