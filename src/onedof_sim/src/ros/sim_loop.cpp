@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <thread>
 #include <utility>
@@ -40,6 +41,17 @@ constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
 // In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
 constexpr std::chrono::seconds kStopWaitLimit(1);
 constexpr std::chrono::milliseconds kStopWaitSlice(50);
+
+// The view of process pid in views, made when missing. Making one lets go of the views of
+// processes gone (a controller restarted has another pid), and with them their open files.
+ProcessThreads& viewOf(std::map<int, std::unique_ptr<ProcessThreads>>* views, int pid) {
+  std::unique_ptr<ProcessThreads>& view = (*views)[pid];
+  if (view) return *view;
+  view = std::make_unique<ProcessThreads>(pid);
+  for (auto it = views->begin(); it != views->end();)
+    it = it->first != pid && !processExists(it->first) ? views->erase(it) : std::next(it);
+  return *view;
+}
 
 // Whether a throttled output is due at sim time now_ns (frequency <= 0: every step). Time going
 // back (reset_simulation) makes it due at once.
@@ -336,19 +348,11 @@ bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) {
   return true;
 }
 
-ProcessThreads& SimLoop::loopView(int pid) {
-  std::unique_ptr<ProcessThreads>& view = loop_views_[pid];
-  if (!view) view = std::make_unique<ProcessThreads>(pid);
-  return *view;
-}
+ProcessThreads& SimLoop::loopView(int pid) { return viewOf(&loop_views_, pid); }
 
 uint64_t SimLoop::commandRuns(int pid) {
   std::lock_guard<std::mutex> lock(command_views_mutex_);
-  std::unique_ptr<ProcessThreads>& view = command_views_[pid];
-  if (!view) view = std::make_unique<ProcessThreads>(pid);
-  const uint64_t runs = view->runs();
-  if (runs == 0) command_views_.erase(pid);  // gone: its files closed
-  return runs;
+  return viewOf(&command_views_, pid).runs();
 }
 
 // Holds a stop's clock until every lock-stepped controller's process on this machine has run since
@@ -371,7 +375,6 @@ void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
     std::vector<const Lockstep::Watched*> busy;
     for (const Lockstep::Watched& controller : controllers) {
       const ProcessActivity activity = loopView(controller.pid).activity();
-      if (activity.gone) loop_views_.erase(controller.pid);  // its files closed
       if (!activity.gone && !(activity.asleep && activity.runs > controller.runs_at_command))
         busy.push_back(&controller);
     }
