@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -27,13 +28,23 @@ void closeFile(int* fd) {
   *fd = -1;
 }
 
+// The threads' files kept open between looks, in every view of this process together, are at
+// most this many: beyond it (many controllers, or many threads) a thread's files are opened for
+// a look and closed after it, so that the node keeps its descriptors for its connections.
+constexpr int kKeptFilesBudget = 256;
+std::atomic<int> kept_files{0};
+
 }  // namespace
 
+void ProcessThreads::release(ThreadFiles* files) {
+  closeFile(&files->stat_fd);
+  closeFile(&files->schedstat_fd);
+  if (files->kept) kept_files.fetch_sub(2);
+  files->kept = false;
+}
+
 void ProcessThreads::forget() {
-  for (ThreadFiles& files : threads_) {
-    closeFile(&files.stat_fd);
-    closeFile(&files.schedstat_fd);
-  }
+  for (ThreadFiles& files : threads_) release(&files);
   threads_.clear();
   if (task_dir_) ::closedir(task_dir_);
   task_dir_ = nullptr;
@@ -50,10 +61,13 @@ const ProcessThreads::ThreadFiles* ProcessThreads::filesOf(long tid,
   }
   ThreadFiles files;
   files.tid = tid;
+  files.kept = kept_files.fetch_add(2) + 2 <= kKeptFilesBudget;
+  if (!files.kept) kept_files.fetch_sub(2);
   const int dir_fd = ::dirfd(task_dir_);
   const std::string thread_dir = std::to_string(tid);
   files.stat_fd = ::openat(dir_fd, (thread_dir + "/stat").c_str(), O_RDONLY | O_CLOEXEC);
-  files.schedstat_fd = ::openat(dir_fd, (thread_dir + "/schedstat").c_str(), O_RDONLY | O_CLOEXEC);
+  files.schedstat_fd =
+      ::openat(dir_fd, (thread_dir + "/schedstat").c_str(), O_RDONLY | O_CLOEXEC);
   listed->push_back(files);
   return &listed->back();
 }
@@ -115,10 +129,16 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* 
       listed.push_back(files);
       continue;
     }
-    closeFile(&files.stat_fd);
-    closeFile(&files.schedstat_fd);
+    release(&files);
   }
-  threads_ = std::move(listed);
+  threads_.clear();
+  for (ThreadFiles& files : listed) {
+    if (files.kept) {
+      threads_.push_back(files);
+    } else {
+      release(&files);  // beyond the budget: opened for this look only
+    }
+  }
   return complete && !threads->empty();
 }
 

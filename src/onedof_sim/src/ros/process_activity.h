@@ -42,6 +42,7 @@ class ProcessThreads {
     long tid = 0;
     int stat_fd = -1;
     int schedstat_fd = -1;
+    bool kept = false;  // open between looks (within the budget of kept files)
   };
   struct ThreadSample {
     long tid = 0;
@@ -56,6 +57,8 @@ class ProcessThreads {
   bool lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* threads, bool* all_blocked);
   // The files of thread tid, opened if they are not yet.
   const ThreadFiles* filesOf(long tid, std::vector<ThreadFiles>* listed);
+  // Closes a thread's files.
+  static void release(ThreadFiles* files);
   // Closes every file.
   void forget();
 
