@@ -78,7 +78,7 @@ class Lockstep {
   void heardFrom(const std::string& caller, Clock::time_point at) { callers_[caller].last_request = at; }
 
   // The process of an accepted command's caller on this machine (empty: elsewhere or unknown),
-  // and its threads' runs (processRuns) when the command came.
+  // and its threads' runs (ProcessThreads::runs) when the command came.
   void commandedFrom(const std::string& caller, std::optional<int> pid, uint64_t runs);
 
   // A lock-stepped controller's process on this machine, which a stop's clock waits for.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <thread>
 #include <utility>
@@ -32,12 +33,25 @@ constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
 constexpr std::chrono::milliseconds kLockstepClockDelay(1);
 // How often a stop's clock looks again whether the controllers' processes rest (awaitAsleep).
 constexpr std::chrono::microseconds kAsleepPoll(20);
+// How long its wait for a reply to be written goes on before it looks for a shutdown.
+constexpr std::chrono::milliseconds kAsleepWaitSlice(50);
 // How long a stopped world waits for a controller's command, the controller asleep, before it
 // shows the clock ahead to wake one that slept past the stop (awaitControllers).
 constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
 // In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
 constexpr std::chrono::seconds kStopWaitLimit(1);
 constexpr std::chrono::milliseconds kStopWaitSlice(50);
+
+// The view of process pid in views, made when missing. Making one lets go of the views of
+// processes gone (a controller restarted has another pid), and with them their open files.
+ProcessThreads& viewOf(std::map<int, std::unique_ptr<ProcessThreads>>* views, int pid) {
+  std::unique_ptr<ProcessThreads>& view = (*views)[pid];
+  if (view) return *view;
+  view = std::make_unique<ProcessThreads>(pid);
+  for (auto it = views->begin(); it != views->end();)
+    it = it->first != pid && !processExists(it->first) ? views->erase(it) : std::next(it);
+  return *view;
+}
 
 // Whether a throttled output is due at sim time now_ns (frequency <= 0: every step). Time going
 // back (reset_simulation) makes it due at once.
@@ -326,12 +340,19 @@ void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
 
 // A controller on this machine that has not answered is woken only when its process is asleep:
 // a starved one (runnable, waiting for a CPU) has not slept past the stop and answers on its own.
-bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) const {
+bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) {
   for (const Lockstep::Awaited& joint : awaited) {
     const std::optional<int> pid = lockstep_.pidOf(joint.caller);
-    if (pid && !readProcessActivity(*pid).asleep) return false;
+    if (pid && !loopView(*pid).activity().asleep) return false;
   }
   return true;
+}
+
+ProcessThreads& SimLoop::loopView(int pid) { return viewOf(&loop_views_, pid); }
+
+uint64_t SimLoop::commandRuns(int pid) {
+  std::lock_guard<std::mutex> lock(command_views_mutex_);
+  return viewOf(&command_views_, pid).runs();
 }
 
 // Holds a stop's clock until every lock-stepped controller's process on this machine has run since
@@ -343,15 +364,17 @@ void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
   if (controllers.empty()) return;
   const auto give_up_at = Lockstep::Clock::now() + lockstep_.timeout();
   const uint64_t heard = efforts_heard_.load();
+  {
+    // Until its reply is written, a controller rests waiting for it. In slices, to notice a
+    // shutdown.
+    std::unique_lock<std::mutex> lock(replies_mutex_);
+    while (efforts_replied_ < heard && ros::ok() && Lockstep::Clock::now() < give_up_at)
+      replied_.wait_until(lock, std::min(give_up_at, Lockstep::Clock::now() + kAsleepWaitSlice));
+  }
   for (;;) {
-    // Until its reply is written, a controller rests waiting for it.
-    if (efforts_replied_.load() < heard && ros::ok() && Lockstep::Clock::now() < give_up_at) {
-      std::this_thread::sleep_for(kAsleepPoll);
-      continue;
-    }
     std::vector<const Lockstep::Watched*> busy;
     for (const Lockstep::Watched& controller : controllers) {
-      const ProcessActivity activity = readProcessActivity(controller.pid);
+      const ProcessActivity activity = loopView(controller.pid).activity();
       if (!activity.gone && !(activity.asleep && activity.runs > controller.runs_at_command))
         busy.push_back(&controller);
     }
@@ -463,6 +486,14 @@ void SimLoop::pace(double max_update_rate, bool resumed) {
 
 // --- requests of the service callbacks ----------------------------------------------------------
 
+void SimLoop::effortReplied() {
+  {
+    std::lock_guard<std::mutex> lock(replies_mutex_);
+    ++efforts_replied_;
+  }
+  replied_.notify_all();
+}
+
 SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
   EffortResult result;
   efforts_heard_.fetch_add(1);
@@ -472,7 +503,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
   uint64_t runs = 0;
   if (lockstep_.enabled()) {
     pid = controllerPid(command.caller);
-    if (pid) runs = processRuns(*pid);
+    if (pid) runs = commandRuns(*pid);
   }
   {
     Lock lock(*this);

@@ -29,6 +29,7 @@
 #include "node_options.h"
 #include "physics_config.h"
 #include "plugins/model_plugin.h"
+#include "process_activity.h"
 
 namespace onedof_sim {
 
@@ -75,7 +76,7 @@ class SimLoop {
   EffortResult applyJointEffort(const EffortCommand& command);
   // apply_joint_effort's reply is written (its caller may go on): said by the thread serving it
   // after each call, whatever its outcome.
-  void effortReplied() { efforts_replied_.fetch_add(1); }
+  void effortReplied();
 
   bool paused();
   void setPaused(bool paused);
@@ -134,9 +135,13 @@ class SimLoop {
                      bool want_markers);
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
-  bool awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) const;
+  bool awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited);
   void awaitAsleep(const std::vector<Lockstep::Watched>& controllers);
   std::optional<int> controllerPid(const std::string& caller);
+  // A controller's process as the loop looks at it (awaitAsleep, awaitedAsleep).
+  ProcessThreads& loopView(int pid);
+  // Its threads' runs, as the thread serving apply_joint_effort reads them.
+  uint64_t commandRuns(int pid);
   // Lock held: moves out the plugins of models no longer in the world, stopped.
   void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
@@ -172,14 +177,23 @@ class SimLoop {
   // Ends a step request in progress, lock held: `by` is the request that ends it.
   void endStepRequest(const char* by);
   std::atomic<int> waiting_callbacks_{0};
-  std::atomic<uint64_t> efforts_heard_{0};    // apply_joint_effort calls begun
-  std::atomic<uint64_t> efforts_replied_{0};  // and answered (effortReplied)
+  std::atomic<uint64_t> efforts_heard_{0};  // apply_joint_effort calls begun
+  // And answered (effortReplied): a stop's clock waits on replied_ for the replies of the calls
+  // begun before it.
+  std::mutex replies_mutex_;
+  std::condition_variable replied_;
+  uint64_t efforts_replied_ = 0;  // guarded by replies_mutex_
   // Each model's plugins, called in this order around every step.
   std::map<std::string, std::vector<std::unique_ptr<plugins::ModelPlugin>>> plugins_;
 
   // The processes of apply_joint_effort's callers on this machine (empty: elsewhere), by name.
   std::mutex pids_mutex_;
   std::map<std::string, std::optional<int>> controller_pids_;
+  // Those processes' threads, by pid: as apply_joint_effort reads them (guarded by
+  // command_views_mutex_), and as the loop reads them (loop thread only).
+  std::mutex command_views_mutex_;
+  std::map<int, std::unique_ptr<ProcessThreads>> command_views_;
+  std::map<int, std::unique_ptr<ProcessThreads>> loop_views_;
 
   // Step-loop state (only the loop thread touches these).
   std::set<std::string> busy_controllers_;  // named once for never resting (awaitAsleep)

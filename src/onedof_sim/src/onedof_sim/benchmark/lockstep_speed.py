@@ -1,7 +1,10 @@
 """Item 8, lock-step speed: the real-time factor of the lock-stepped tutorial run as fast as the
 controller allows (_lockstep:=true, _max_update_rate:=0, stepped with /gazebo/step_simulation),
 with the rospy controller and the book-shaped C++ client, each at 100 Hz and 1 kHz, and the
-lock-step timeouts the simulator logged."""
+lock-step timeouts the simulator logged. Beside each, in the same run, what a period costs each
+side: the CPU time and the times put on a CPU (wake-ups) of the simulator's and the controller's
+threads per period (Linux's schedstat), where the period's wall time goes."""
+import os
 import subprocess
 import time
 
@@ -46,7 +49,7 @@ def measure(bench, engine):
                 continue
             try:
                 run = lockstep_run(bench, engine, command, node, 'lockstep_%s_%d' % (
-                    'cpp' if node == book_client.NODE else 'rospy', rate), pos_cmd)
+                    'cpp' if node == book_client.NODE else 'rospy', rate), pos_cmd, rate)
             except (NotMeasured, TimeoutError) as error:
                 bench.not_measured('8', what, str(error)[:300])
                 continue
@@ -54,6 +57,10 @@ def measure(bench, engine):
                       % (run['rtf'], run['timeouts']),
                       'real time: the free-running tutorial\'s real-time factor', '1.0',
                       run['rtf'])
+            bench.notes.append('8: %s at %d Hz: per period, %.0f us of wall time; on a CPU: the '
+                               'simulator\'s threads %s, the controller\'s %s' % (
+                                   label, rate, run['wall_s'] / run['periods'] * 1e6,
+                                   cost_text(run['sim_cost']), cost_text(run['controller_cost'])))
             if run['timeouts']:
                 bench.notes.append('8: %s at %d Hz: the simulator gave up waiting %d times; '
                                    'the first: %s' % (label, rate, run['timeouts'],
@@ -61,12 +68,13 @@ def measure(bench, engine):
             bench.results.setdefault('lockstep_speed', {})['%s at %d Hz' % (label, rate)] = run
 
 
-def lockstep_run(bench, engine, controller_command, node, name, pos_cmd):
+def lockstep_run(bench, engine, controller_command, node, name, pos_cmd, rate):
     """Starts the lock-stepped simulator paused with the tutorial's robot, steps it through one
     period so that the controller starts on a valid ROS time, starts the controller with the
     command latched on /pos_cmd, waits for it to join the lock-step and to hear /clock, and times
-    /gazebo/step_simulation through lockstep_s of sim time. Returns the real-time factor and the
-    lock-step timeouts the simulator logged."""
+    /gazebo/step_simulation through lockstep_s of sim time. Returns the real-time factor, the
+    lock-step timeouts the simulator logged and, per period of the controller (`rate` Hz), what
+    the simulator's and the controller's threads cost."""
     from onedof_sim.srv import StepSimulation
     sim = controller = None
     # The simulators of one engine share a log: this one's lines are those after this offset.
@@ -105,9 +113,12 @@ def lockstep_run(bench, engine, controller_command, node, name, pos_cmd):
         # up after a short run's last period: the run starts once the controller has it.
         wait_until(took_command, 60, what='%s to take the command %g' % (name, COMMAND))
         steps = round(bench.sizes.lockstep_s / STEP)
+        sim_pid, controller_pid = bench.node_pid('/gazebo'), bench.node_pid(node)
         start = time.monotonic()
         sim_start = stepped(step, 0)  # where the controller stands
+        sim_before, controller_before = thread_times(sim_pid), thread_times(controller_pid)
         sim_end = stepped(step, steps)
+        sim_after, controller_after = thread_times(sim_pid), thread_times(controller_pid)
         wall = time.monotonic() - start
         if controller.poll() is not None:
             raise NotMeasured('%s exited: %s' % (name, bench.ros.log_text(controller)[-300:]))
@@ -116,8 +127,54 @@ def lockstep_run(bench, engine, controller_command, node, name, pos_cmd):
             if proc:
                 bench.stop(proc)
     timeouts = [line for line in sim_log().splitlines() if TIMEOUT_TEXT in line]
+    periods = max(1, round((sim_end - sim_start) * rate))
     return dict(rtf=(sim_end - sim_start) / wall, sim_s=sim_end - sim_start, wall_s=wall,
-                timeouts=len(timeouts), timeout_lines=timeouts)
+                timeouts=len(timeouts), timeout_lines=timeouts, periods=periods,
+                sim_cost=per_period(sim_before, sim_after, periods),
+                controller_cost=per_period(controller_before, controller_after, periods))
+
+
+def thread_times(pid):
+    """Each thread of a process by id: (ns on a CPU, times put on a CPU), from
+    /proc/PID/task/*/schedstat; empty when the process is unknown or gone."""
+    times = {}
+    if not pid:
+        return times
+    task = '/proc/%d/task' % pid
+    try:
+        tids = os.listdir(task)
+    except OSError:
+        return times
+    for tid in tids:
+        try:
+            with open('%s/%s/schedstat' % (task, tid)) as f:
+                on_cpu_ns, _, runs = (int(field) for field in f.read().split()[:3])
+        except (OSError, ValueError):
+            continue  # a thread gone meanwhile
+        times[tid] = (on_cpu_ns, runs)
+    return times
+
+
+def per_period(before, after, periods):
+    """The CPU time (us) and the times put on a CPU per period, of every thread and of the one
+    that took most, between two thread_times() of a process (threads started meanwhile from 0)."""
+    deltas = [(on_cpu - before.get(tid, (0, 0))[0], runs - before.get(tid, (0, 0))[1])
+              for tid, (on_cpu, runs) in after.items()]
+    if not deltas:
+        return None
+    busiest = max(deltas)
+    return dict(cpu_us=sum(d[0] for d in deltas) / 1e3 / periods,
+                runs=sum(d[1] for d in deltas) / periods,
+                busiest_thread_cpu_us=busiest[0] / 1e3 / periods,
+                busiest_thread_runs=busiest[1] / periods)
+
+
+def cost_text(cost):
+    if not cost:
+        return 'not read'
+    return ('%.0f us and %.1f wake-ups (its busiest thread %.0f us, %.1f)'
+            % (cost['cpu_us'], cost['runs'], cost['busiest_thread_cpu_us'],
+               cost['busiest_thread_runs']))
 
 
 def stepped(step, steps):
