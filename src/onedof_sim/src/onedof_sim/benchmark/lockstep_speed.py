@@ -1,10 +1,14 @@
 """Item 8, lock-step speed: the real-time factor of the lock-stepped tutorial run as fast as the
 controller allows (_lockstep:=true, _max_update_rate:=0, stepped with /gazebo/step_simulation),
 with the rospy controller and the book-shaped C++ client, each at 100 Hz and 1 kHz, and the
-lock-step timeouts the simulator logged. Beside each, in the same run, what a period costs each
-side: the CPU time and the times put on a CPU (wake-ups) of the simulator's and the controller's
-threads per period (Linux's schedstat), where the period's wall time goes."""
+lock-step timeouts the simulator logged. Each is set against its floor, measured just before and
+just after it in the same run: the same controller against bench_lockstep_floor, which answers its
+two calls and publishes the next period's /clock once the controller rests, with no world (the
+least a lock-step partner can do). Beside each, what a period costs each side: the CPU time and the times put on a
+CPU (wake-ups) of the simulator's and the controller's threads per period (Linux's schedstat),
+where the period's wall time goes."""
 import os
+import re
 import subprocess
 import time
 
@@ -15,6 +19,16 @@ from onedof_sim.tutorial import phases
 
 COMMAND = 1.0  # the tutorial's first command step, rad
 TIMEOUT_TEXT = 'lock-step: the world waited'  # the simulator's line when it gives up
+# The issue's aims: the real-time factor of each controller at each rate, or this share of its floor.
+AIMS = {('rospy', 100): 25.0, ('cpp', 100): 50.0, ('rospy', 1000): 5.0, ('cpp', 1000): 5.0}
+FLOOR_SHARE = 0.7
+# Beyond this ratio (the simulator faster than its floor, more than run-to-run noise) the partner
+# is not a floor for that controller.
+NOT_A_FLOOR = 1.25
+FLOOR_WARM_UP = 20  # periods before the floor's counted window (connections, first clock)
+FLOOR_MAX_PERIODS = 2000  # a floor's period costs the same throughout: more adds only time
+FLOOR_LINE = re.compile(r'floor: (\d+) periods in ([0-9.]+) s of wall time, ([0-9.]+) s of sim '
+                        r'time, (\d+) wake-ups')
 
 
 def measure(bench, engine):
@@ -47,16 +61,39 @@ def measure(bench, engine):
             if command is None:
                 bench.not_measured('8', what, 'the overlay build failed: ' + build_error[-200:])
                 continue
+            kind = 'cpp' if node == book_client.NODE else 'rospy'
+            periods = min(FLOOR_MAX_PERIODS, max(1, round(bench.sizes.lockstep_s * rate)))
             try:
-                run = lockstep_run(bench, engine, command, node, 'lockstep_%s_%d' % (
-                    'cpp' if node == book_client.NODE else 'rospy', rate), pos_cmd, rate)
+                # The floor just before and just after the simulator's run: the faster of the
+                # two, the least a period costs this controller.
+                floors = [floor_run(bench, command, node, 'floor_%s_%d_before' % (kind, rate),
+                                    periods)]
+                run = lockstep_run(bench, engine, command, node, 'lockstep_%s_%d' % (kind, rate),
+                                   pos_cmd, rate)
+                floors.append(floor_run(bench, command, node, 'floor_%s_%d_after' % (kind, rate),
+                                        periods))
             except (NotMeasured, TimeoutError) as error:
                 bench.not_measured('8', what, str(error)[:300])
                 continue
+            floor = max(floors, key=lambda f: f['rtf'])
+            run['floors'] = floors
+            aim = AIMS[(kind, rate)]
+            share = run['rtf'] / floor['rtf']
+            # A partner slower than the simulator bounds nothing: no claim then.
+            met = None if share > NOT_A_FLOOR else (run['rtf'] >= aim or share >= FLOOR_SHARE)
             bench.add('8', what, '%.2f (lock-step timeouts in the simulator\'s log: %d)'
                       % (run['rtf'], run['timeouts']),
-                      'real time: the free-running tutorial\'s real-time factor', '1.0',
-                      run['rtf'])
+                      'its floor: the same controller against bench_lockstep_floor (its two calls '
+                      'answered, /clock published once it rests, no world), %d periods, the '
+                      'faster of a run before and one after' % floor['periods'],
+                      '%.2f%s' % (floor['rtf'], (
+                          ' (%d wake-ups)' % floor['wake_ups']) if floor['wake_ups'] else ''),
+                      share, aim=None if met is None else '>= %g, or >= %g of the floor' % (
+                          aim, FLOOR_SHARE), met=met)
+            if met is None:
+                bench.notes.append('8: %s at %d Hz: the floor partner ran %.1fx slower than the '
+                                   'simulator with this controller, so it is no floor for it and '
+                                   'the row claims nothing' % (label, rate, share))
             bench.notes.append('8: %s at %d Hz: per period, %.0f us of wall time; on a CPU: the '
                                'simulator\'s threads %s, the controller\'s %s' % (
                                    label, rate, run['wall_s'] / run['periods'] * 1e6,
@@ -66,6 +103,38 @@ def measure(bench, engine):
                                    'the first: %s' % (label, rate, run['timeouts'],
                                                       run['timeout_lines'][0]))
             bench.results.setdefault('lockstep_speed', {})['%s at %d Hz' % (label, rate)] = run
+
+
+def floor_run(bench, controller_command, node, name, periods):
+    """The controller against bench_lockstep_floor standing in for the simulator (as /gazebo):
+    the real-time factor over `periods` periods after FLOOR_WARM_UP, and the wake-ups the floor
+    had to give in them."""
+    bench.ros.set_param('/use_sim_time', True)
+    floor = controller = None
+    try:
+        floor = bench.ros.start(by_path([
+            'rosrun', 'onedof_sim', 'bench_lockstep_floor', '__name:=gazebo',
+            '_controller:=' + node,
+            '_start:=%g' % phases.CONTROL_PERIOD, '_periods:=%d' % periods,
+            '_warm_up:=%d' % FLOOR_WARM_UP]), name=name)
+        wait_until(lambda: bench.node_pid('/gazebo'), 60, what='bench_lockstep_floor')
+        controller = bench.ros.start(by_path(controller_command), name=name + '_controller')
+
+        def counted():
+            for proc in (floor, controller):
+                if proc.poll() is not None:
+                    raise NotMeasured('%s exited: %s' % (proc.log_name,
+                                                         bench.ros.log_text(proc)[-300:]))
+            return FLOOR_LINE.search(bench.ros.log_text(floor))
+        found = wait_until(counted, 120 + periods * 0.05,
+                           what='%d periods of %s against the floor' % (periods, name))
+    finally:
+        for proc in (controller, floor):
+            if proc:
+                bench.stop(proc)
+    wall, sim = float(found.group(2)), float(found.group(3))
+    return dict(rtf=sim / wall, periods=int(found.group(1)), wall_s=wall, sim_s=sim,
+                wake_ups=int(found.group(4)))
 
 
 def lockstep_run(bench, engine, controller_command, node, name, pos_cmd, rate):
