@@ -75,12 +75,19 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_
         # Lock-step: the tutorial with each controller at each rate, with the times
         # the world gave up waiting for it (to be seen, not asserted here: the lock-step tests
         # do).
-        lockstep = [row for row in table if row[0] == '8']
+        lockstep = [row for row in table if row[0] == '8' and 'lock-stepped tutorial' in row[1]]
+        stepping = [row for row in table if row[0] == '8' and 'in-simulator controllers' in row[1]]
+        assert len(stepping) == 1 and 'running free' in stepping[0][3], stepping
+        assert stepping[0][6] == '>= 0.7', stepping
         assert [re.search(r'(rospy|C\+\+) .* at (\d+) Hz', row[1]).groups()
                 for row in lockstep] == [('rospy', '100'), ('C++', '100'), ('rospy', '1000'),
                                          ('C++', '1000')], lockstep
         for row in lockstep:
             assert re.search(r"\(lock-step timeouts in the simulator's log: \d+\)$", row[2]), row
+            # Each against its floor, measured in the same run: the aim, or none when the
+            # partner ran slower than the simulator (the notes say so).
+            assert 'bench_lockstep_floor' in row[3] and float(row[5]) > 0, row
+            assert row[6] == '—' or re.fullmatch(r'>= \d+, or >= 0\.7 of the floor', row[6]), row
     if '9' in items:
         busy = [row[1] for row in table if row[0] == '9']
         assert len(busy) == 2 and 'lock-stepped' in busy[0] and 'free-running' in busy[1], busy

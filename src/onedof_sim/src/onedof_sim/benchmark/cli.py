@@ -4,11 +4,12 @@ results.json.
 
 The items, by their row of the table, short ones first so that a failure shows early:
   6 start-up, 1 loop speed + 7 memory, 2 scaling, 3 service round trips, 4 controller periods +
-  5 real-time factor, 8 the real-time factor of the lock-stepped tutorial with each controller,
-  9 the tutorial's settled angle on a busy machine, lock-step against free-running, 10 a
+  5 real-time factor, 8 the real-time factor of the lock-stepped tutorial with each controller
+  against its floor, and step_simulation with only in-simulator controllers against the free
+  loop, 9 the tutorial's settled angle on a busy machine, lock-step against free-running, 10 a
   camera's cost, 11 the laser's cost on the book's mobot in its pen; each in a module of its
   own (startup, loop_speed, memory, scaling, round_trips, controller_periods, real_time_factor,
-  lockstep_speed, busy_machine, camera_cost, laser_cost).
+  lockstep_speed, in_sim_stepping, busy_machine, camera_cost, laser_cost).
 What is compared runs alternately in short windows (never at the same time: two cores), and the
 ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
 built, crashed) gets its rows marked as not measured and the run goes on, and a missing profiler
@@ -25,8 +26,9 @@ import time
 import traceback
 
 from onedof_harness.private_ros import PrivateRos
-from onedof_sim.benchmark import (busy_machine, camera_cost, laser_cost, lockstep_speed,
-                                  loop_speed, real_time_factor, round_trips, scaling, startup)
+from onedof_sim.benchmark import (busy_machine, camera_cost, in_sim_stepping, laser_cost,
+                                  lockstep_speed, loop_speed, real_time_factor, round_trips,
+                                  scaling, startup)
 from onedof_sim.benchmark import report as bm
 from onedof_sim.benchmark.graph import Bench, read_file, say
 from onedof_sim.engines import default_engine, engine_names
@@ -150,6 +152,8 @@ def items(bench, engines, sizes):
     # controller sets the pace, not the engine.
     found += [({8}, '8 lock-step speed, ' + engines[0],
                lambda: lockstep_speed.measure(bench, engines[0])),
+              ({8}, '8 stepping with in-simulator controllers, ' + engines[0],
+               lambda: in_sim_stepping.measure(bench, engines[0])),
               ({9}, '9 busy machine, ' + engines[0],
                lambda: busy_machine.measure(bench, engines[0])),
               ({10}, '10 camera, ' + engines[0], lambda: camera_cost.measure(bench, engines[0]))]
