@@ -1,7 +1,7 @@
 // bench_lockstep_floor: the floor of a lock-stepped period, for the benchmark to set the simulator
 // against. It stands where the simulator stands for a controller in the book's shape and does only
 // what lock-step needs of a partner: it serves get_joint_properties and apply_joint_effort with
-// fixed replies (as bench_bare_service), and after each command, once the reply is written and the
+// fixed replies (fixed_replies.h), and after each command, once the reply is written and the
 // controller's process rests, publishes /clock at the end of the command's job. Waiting for the
 // rest is part of the floor: a clock published sooner can land between the two clock readings of
 // the controller's Rate, which then sleeps a period past the stop (see SimLoop::awaitAsleep). No
@@ -27,9 +27,7 @@
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 
-#include <gazebo_msgs/ApplyJointEffort.h>
-#include <gazebo_msgs/GetJointProperties.h>
-
+#include "fixed_replies.h"
 #include "node_process.h"
 #include "process_activity.h"
 
@@ -42,16 +40,6 @@ using onedof_sim::ProcessThreads;
 constexpr std::chrono::microseconds kRestPoll(20);
 constexpr auto kRestLimit = std::chrono::seconds(5);
 constexpr auto kWakeAfter = std::chrono::milliseconds(500);
-
-bool getJointProperties(gazebo_msgs::GetJointProperties::Request&,
-                        gazebo_msgs::GetJointProperties::Response& res) {
-  res.type = gazebo_msgs::GetJointProperties::Response::REVOLUTE;
-  res.position = {0.0};
-  res.rate = {0.0};
-  res.success = true;
-  res.status_message = "GetJointProperties: got properties";
-  return true;
-}
 
 // The floor's state. The command's callback runs on the thread serving apply_joint_effort; the
 // rest of it on the main thread (as the simulator's loop): one mutex between them, and a view of
@@ -84,8 +72,7 @@ class Floor {
       pid_ = command_view_ ? std::optional<int>(command_view_->pid()) : std::nullopt;
       runs_at_command_ = runs;
     }
-    event.getResponse().success = true;
-    event.getResponse().status_message = "ApplyJointEffort: effort set";
+    onedof_sim::bench::fixedEffortReply(&event.getResponse());
     return true;
   }
 
@@ -220,8 +207,8 @@ int main(int argc, char** argv) {
   effort_nh.setCallbackQueue(&effort_queue);
   const ros::ServiceServer apply = effort_nh.advertiseService(
       "apply_joint_effort", &Floor::applyJointEffort, &floor);
-  const ros::ServiceServer get = private_nh.advertiseService("get_joint_properties",
-                                                             getJointProperties);
+  const ros::ServiceServer get = private_nh.advertiseService(
+      "get_joint_properties", onedof_sim::bench::fixedJointProperties);
   // As the simulator: the thread that serves apply_joint_effort says when a reply is written, and
   // another (the simulator's loop) waits for the controller to rest and publishes the clock.
   std::mutex mutex;
