@@ -217,7 +217,10 @@ class InSimRun:
         self.state_subscriber = rospy.Subscriber(IN_SIM_STATE, JointControllerState,
                                                  self._on_state, queue_size=1000)
         self.command_pub = rospy.Publisher(IN_SIM_COMMAND, Float64, queue_size=1, latch=True)
-        self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation)
+        # Persistent: a phase is hundreds of short requests, each a master lookup and a new
+        # connection otherwise.
+        self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation,
+                                               persistent=True)
         self.list_controllers = rospy.ServiceProxy(
             IN_SIM_NAMESPACE + '/controller_manager/list_controllers', ListControllers)
         self.time_step = rospy.ServiceProxy('/gazebo/get_physics_properties',
