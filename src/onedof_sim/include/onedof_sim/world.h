@@ -410,7 +410,9 @@ class World {
   // --- reset ---------------------------------------------------------------------------------
   // Every model back to its spawn pose and configuration with zero velocity; drops effort jobs.
   void resetWorld();
-  // resetWorld() and sim time back to 0.
+  // resetWorld() and sim time back to 0, the engine's random numbers (and, where the engine
+  // needs it, the engine itself) as a new world's: the same steps after it give the same states
+  // bit for bit as they gave after the spawns.
   void resetSimulation();
 
   // --- introspection -------------------------------------------------------------------------

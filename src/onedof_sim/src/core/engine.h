@@ -156,6 +156,14 @@ class Engine {
   // detection, as the bodies stand now; +infinity where it meets none. Every shape counts: a
   // model's own bodies are not left out.
   virtual void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) = 0;
+  // Puts the random numbers the engine's solver draws (ODE's quickstep orders its constraints
+  // with ODE's one generator per process) back where a new world starts them, so that a world
+  // run again from its start, in this process or another, takes the same steps bit for bit.
+  virtual void reseed() {}
+  // Whether bodies put back where they started (reset) take the same steps again, bit for bit,
+  // as they did from there. ODE's do not: its collision spaces keep geoms in the order they last
+  // moved, which orders the contacts; reset_simulation builds such an engine anew.
+  virtual bool repeatsWhenPutBack() const { return true; }
 };
 
 struct EngineEntry {

@@ -44,6 +44,7 @@ const EngineEntry& findEngine(const std::string& name) {
 
 World::Impl::Impl(const std::string& name, const PhysicsParams& p)
     : engine_name(name), engine(findEngine(name).make()) {
+  engine->reseed();
   engine->addGroundPlane(kGroundMu, kGroundMu2);
   // A constructor cannot report: invalid parameters fall back to the defaults.
   applyParams(validateParams(p).ok() ? p : PhysicsParams());
@@ -337,6 +338,11 @@ void World::resetWorld() {
 
 void World::resetSimulation() {
   resetWorld();
+  if (!impl_->engine->repeatsWhenPutBack()) {
+    impl_->saveStates();
+    impl_->rebuildEngine(impl_->saved_states);
+  }
+  impl_->engine->reseed();
   impl_->time_ns = 0;
   impl_->time_ended = false;
   impl_->steps = 0;

@@ -425,6 +425,9 @@ class OdeEngine : public Engine {
     dCloseODE();
   }
 
+  void reseed() override { dRandSetSeed(0); }
+  bool repeatsWhenPutBack() const override { return false; }
+
   void setParams(const PhysicsParams& p) override {
     OdeTrap trap(&faulted_);
     params_ = p;
