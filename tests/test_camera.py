@@ -86,14 +86,16 @@ def focal(fov):
 class Listener:
     """Every message of each topic, in order."""
 
-    def __init__(self, rospy, topics):
+    def __init__(self, ros, rospy, topics):
         self.heard = {topic: [] for topic in topics}
         self.subscribers = [rospy.Subscriber(topic, kind, self.heard[topic].append,
                                              queue_size=1000)
                             for topic, kind in topics.items()]
-        for subscriber in self.subscribers:
-            wait_until(lambda: subscriber.get_num_connections() > 0, 30,
-                       what='%s to connect' % subscriber.name)
+        # Connected as the running simulator says: a subscriber's own count can still hold its
+        # connection to a simulator stopped before.
+        for topic in topics:
+            wait_until(lambda: ros.connected('/gazebo', topic, rospy.get_name()), 30,
+                       what='%s to connect' % topic)
 
     def stop(self):
         for subscriber in self.subscribers:
@@ -127,7 +129,7 @@ def record(ros, rospy, engine, periods, depth_plugin='libgazebo_ros_openni_kinec
     for name, urdf in (extra or {}).items():
         spawned = api.spawn_urdf_model(name, urdf, '', pose(), '')
         assert spawned.success, spawned.status_message
-    listener = Listener(rospy, topics())
+    listener = Listener(ros, rospy, topics())
     for count in range(1, periods + 1):
         assert api.step_simulation(PERIOD_STEPS).success
         wait_until(lambda: all(len(heard) >= count for heard in listener.heard.values()), 60,
@@ -298,10 +300,10 @@ def test_without_a_renderer_the_cameras_say_so_once_and_everything_else_runs(ros
     api = GazeboApi(rospy_client)
     spawned = api.spawn_urdf_model('kinect_bot', kinect_bot_urdf(), '', pose(), '')
     assert spawned.success, spawned.status_message
-    listener = Listener(rospy_client, {'/example_camera/image_raw': Image,
-                                       '/example_camera/camera_info': CameraInfo,
-                                       '/kinect/depth/image_raw': Image,
-                                       '/kinect/depth/camera_info': CameraInfo})
+    listener = Listener(ros, rospy_client, {'/example_camera/image_raw': Image,
+                                            '/example_camera/camera_info': CameraInfo,
+                                            '/kinect/depth/image_raw': Image,
+                                            '/kinect/depth/camera_info': CameraInfo})
     for count in (1, 2):
         done = api.step_simulation(PERIOD_STEPS)
         assert done.success and done.iterations == count * PERIOD_STEPS

@@ -22,11 +22,13 @@ def robot(name, noise=0.0):
         return f.read().replace('NOISE', repr(noise))
 
 
-def listen(rospy, topic, message_type):
-    """A subscriber keeping every message, once connected to the simulator's publisher."""
+def listen(ros, rospy, topic, message_type):
+    """A subscriber keeping every message, once the running simulator says it is connected: the
+    subscriber's own count can still hold its connection to a simulator stopped before."""
     heard = []
-    subscriber = rospy.Subscriber(topic, message_type, heard.append, queue_size=100000)
-    wait_until(lambda: subscriber.get_num_connections() > 0, 30, what='a connection to ' + topic)
+    rospy.Subscriber(topic, message_type, heard.append, queue_size=100000)
+    wait_until(lambda: ros.connected('/gazebo', topic, rospy.get_name()), 30,
+               what='the simulator\'s %s to connect' % topic)
     return heard
 
 
@@ -52,7 +54,8 @@ def assert_close(values, expected, tolerance, what):
     assert all(abs(a - b) <= tolerance for a, b in zip(values, expected)), (what, values, expected)
 
 
-def test_the_imu_at_rest_reads_gravity_up_and_follows_a_set_model_state_turn(shared_sim, rospy_client):
+def test_the_imu_at_rest_reads_gravity_up_and_follows_a_set_model_state_turn(shared_sim, ros,
+                                                                               rospy_client):
     from gazebo_msgs.msg import ModelState
     from geometry_msgs.msg import Pose, Quaternion, Point
     from sensor_msgs.msg import Imu
@@ -60,7 +63,7 @@ def test_the_imu_at_rest_reads_gravity_up_and_follows_a_set_model_state_turn(sha
     api.set_gravity(0, 0, -G)
     spawned = api.spawn_urdf_model('imu_box', robot('imu_box'), '', pose(z=0.1), '')
     assert spawned.success, spawned.status_message
-    heard = listen(rospy_client, '/imu_data', Imu)
+    heard = listen(ros, rospy_client, '/imu_data', Imu)
 
     msg = step_and_hear(api, heard, 1000, 990000000)
     assert msg.header.frame_id == 'imu_link'
@@ -91,13 +94,13 @@ def test_the_imu_at_rest_reads_gravity_up_and_follows_a_set_model_state_turn(sha
     assert_close([w.x, w.y, w.z], [0, 0, 0], 1e-3, 'turned rates at rest')
 
 
-def test_the_force_torque_sensor_reads_the_static_loads_weight(shared_sim, rospy_client):
+def test_the_force_torque_sensor_reads_the_static_loads_weight(shared_sim, ros, rospy_client):
     from geometry_msgs.msg import WrenchStamped
     api = shared_sim
     api.set_gravity(0, 0, -G)
     spawned = api.spawn_urdf_model('ft_rig', robot('ft_rig'), '', pose(), '')
     assert spawned.success, spawned.status_message
-    heard = listen(rospy_client, '/ft_sensor_topic', WrenchStamped)
+    heard = listen(ros, rospy_client, '/ft_sensor_topic', WrenchStamped)
     msg = step_and_hear(api, heard, 1000, 1000000000)
     assert msg.header.frame_id == 'ft_sensor_link'
     f, t = msg.wrench.force, msg.wrench.torque
@@ -121,8 +124,8 @@ def record(ros, rospy, engine, noise):
     api.set_gravity(0, 0, -G)
     assert api.spawn_urdf_model('imu_box', robot('imu_box', noise), '', pose(z=0.3), '').success
     assert api.spawn_urdf_model('ft_rig', robot('ft_rig', noise), '', pose(x=2), '').success
-    imu = listen(rospy, '/imu_data', Imu)
-    ft = listen(rospy, '/ft_sensor_topic', WrenchStamped)
+    imu = listen(ros, rospy, '/imu_data', Imu)
+    ft = listen(ros, rospy, '/ft_sensor_topic', WrenchStamped)
     # In steps of 10, each heard before the next: stepped flat out, the publishers' queues
     # would drop messages before they are written out.
     for end_ns in range(10000000, 600000001, 10000000):

@@ -27,9 +27,9 @@ def robot(noise=0.0, stddev_x=None):
         'NOISE', repr(noise))
 
 
-def listen(rospy):
+def listen(ros, rospy):
     from sensor_msgs.msg import Imu
-    return listen_to(rospy, TOPIC, Imu)
+    return listen_to(ros, rospy, TOPIC, Imu)
 
 
 def product(a, b):
@@ -50,14 +50,14 @@ def assert_orientation(o, q, tolerance, what):
 
 
 def test_the_imu_sensor_at_rest_reads_gravity_in_its_own_axes_and_follows_a_turn(
-        shared_sim, rospy_client):
+        shared_sim, ros, rospy_client):
     from gazebo_msgs.msg import ModelState
     from geometry_msgs.msg import Pose, Quaternion, Point
     api = shared_sim
     api.set_gravity(0, 0, -G)
     spawned = api.spawn_urdf_model('imu_sensor_box', robot(), '', pose(z=0.1), '')
     assert spawned.success, spawned.status_message
-    heard = listen(rospy_client)
+    heard = listen(ros, rospy_client)
 
     msg = step_and_hear(api, heard, 1000, 1000000000)
     assert msg.header.frame_id == 'imu_sensor_frame'
@@ -89,14 +89,14 @@ def test_the_imu_sensor_at_rest_reads_gravity_in_its_own_axes_and_follows_a_turn
 
 
 def test_spun_without_gravity_the_imu_sensor_reads_the_spin_and_its_levers_acceleration(
-        shared_sim, rospy_client):
+        shared_sim, ros, rospy_client):
     from gazebo_msgs.msg import ModelState
     from geometry_msgs.msg import Pose, Quaternion, Point, Twist, Vector3
     api = shared_sim
     api.set_gravity(0, 0, 0)
     spawned = api.spawn_urdf_model('imu_sensor_box', robot(), '', pose(z=1), '')
     assert spawned.success, spawned.status_message
-    heard = listen(rospy_client)
+    heard = listen(ros, rospy_client)
     spin = 2.0  # rad/s about the world's z, through the cube's centre
     res = api.set_model_state(ModelState('imu_sensor_box',
                                          Pose(Point(0, 0, 1), Quaternion(0, 0, 0, 1)),
@@ -119,7 +119,7 @@ def record(ros, rospy, engine, noise):
     api = GazeboApi(rospy)
     api.set_gravity(0, 0, -G)
     assert api.spawn_urdf_model('imu_sensor_box', robot(noise), '', pose(z=0.3), '').success
-    heard = listen(rospy)
+    heard = listen(ros, rospy)
     for end_ns in range(10000000, 400000001, 10000000):
         step_and_hear(api, heard, 10, end_ns)
     ros.terminate(sim)

@@ -53,7 +53,10 @@ def record(ros, rospy, engine, laser, noise_stddev, scans, ball=False):
     if ball:
         spawned = api.spawn_sdf_model('ball', BALL_SDF, '', pose(1.2, 0, 0.9), '')
         assert spawned.success, spawned.status_message
-    wait_until(lambda: subscriber.get_num_connections() > 0, 30, what='/scan to connect')
+    # Connected as this simulator says: the subscriber's own count can still hold its
+    # connection to the simulator of the run before.
+    wait_until(lambda: ros.connected('/gazebo', '/scan', rospy.get_name()), 30,
+               what='/scan to connect')
     for count in range(1, scans + 1):
         assert api.step_simulation(PERIOD_STEPS).success
         wait_until(lambda: len(heard) >= count, 30, what='scan %d' % count)

@@ -5,7 +5,7 @@ import xml.etree.ElementTree as ElementTree
 import pytest
 
 from onedof_sim.benchmark.report import (Row, chain_urdf, collapsed_stack_shares,
-                                         connected_to, cpu_model, markdown_cell, mean_rtf, missed_periods, one_line,
+                                         cpu_model, markdown_cell, mean_rtf, missed_periods, one_line,
                                          percentile, perf_report_shares, period_jitter,
                                          power_law_exponent, rate, render_table, windowed_rtf)
 
@@ -156,7 +156,8 @@ def test_collapsed_stack_shares_counts_self_and_inclusive_once_per_stack():
     assert collapsed_stack_shares('') == {}
 
 
-def test_connected_to_reads_bus_info_rows():
+def test_bus_has_connection_reads_bus_info_rows():
+    from onedof_harness.private_ros import bus_has_connection as connected_to
     # As roscpp's getBusInfo answers: [id, other node, direction, transport, topic, connected, ...]
     bus_info = [[1, '/book_controller', 'o', 'TCPROS', '/clock', True, 'c1'],
                 [2, '/benchmark', 'o', 'TCPROS', '/rosout', True, 'c2']]

@@ -111,6 +111,12 @@ def bind_library():
                        'devel/setup.bash' % BIND_LIBRARY)
 
 
+def bus_has_connection(bus_info, other, topic):
+    """Whether a node's bus information (its getBusInfo reply: per connection [id, the other
+    node, direction, transport, topic, ...]) has a connection with `other` on `topic`."""
+    return any(connection[1] == other and connection[4] == topic for connection in bus_info)
+
+
 def listening_environment(address):
     """The variables that make a ROS process advertise `address` and listen on it only."""
     preload = os.environ.get('LD_PRELOAD', '').split()
@@ -261,6 +267,21 @@ class PrivateRos:
 
     def set_param(self, name, value):
         self.master().setParam('/private_ros', name, value)
+
+    def connected(self, node, topic, other):
+        """Whether `node` has a connection with `other` on `topic` now, as `node` itself says
+        (its getBusInfo: per connection [id, the other node, direction, transport, topic, ...]).
+        A subscriber's own count can still hold a connection to a publisher that has gone; the
+        publisher's running process knows only its own."""
+        code, _, uri = self.master().lookupNode('/private_ros', node)
+        if code != 1:
+            return False
+        try:
+            code, _, bus_info = xmlrpc.client.ServerProxy(
+                uri, transport=TimeoutTransport(MASTER_TIMEOUT)).getBusInfo('/private_ros')
+        except OSError:
+            return False  # a node that has gone
+        return code == 1 and bus_has_connection(bus_info, other, topic)
 
     def has_service(self, name):
         code, _, _ = self.master().lookupService('/private_ros', name)

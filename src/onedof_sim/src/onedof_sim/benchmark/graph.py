@@ -253,11 +253,7 @@ class Bench:
 
     def hears_clock(self, node):
         """Whether the simulator's /clock has a connection to `node` (from its bus information)."""
-        code, _, uri = self.ros.master().lookupNode('/benchmark', '/gazebo')
-        if code != 1:
-            return False
-        code, _, bus_info = xmlrpc.client.ServerProxy(uri).getBusInfo('/benchmark')
-        return code == 1 and bm.connected_to(bus_info, node, '/clock')
+        return self.ros.connected('/gazebo', '/clock', node)
 
     def proxy(self, name, srv_class, persistent=False):
         return self.rospy.ServiceProxy(name, srv_class, persistent=persistent)

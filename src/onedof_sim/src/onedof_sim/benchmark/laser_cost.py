@@ -75,12 +75,7 @@ def cpu_seconds(pid, thread=None):
 
 def scan_connected(bench):
     """Whether the simulator's /scan has a connection to this process now."""
-    import xmlrpc.client
-    code, _, uri = bench.ros.master().lookupNode('/benchmark', '/gazebo')
-    if code != 1:
-        return False
-    code, _, bus_info = xmlrpc.client.ServerProxy(uri).getBusInfo('/benchmark')
-    return code == 1 and bm.connected_to(bus_info, '/benchmark', '/scan')
+    return bench.ros.connected('/gazebo', '/scan', '/benchmark')
 
 
 def measure(bench, engine):

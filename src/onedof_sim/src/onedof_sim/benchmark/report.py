@@ -157,12 +157,6 @@ def collapsed_stack_shares(text):
             for frame, inclusive in inclusive_counts.items()}
 
 
-def connected_to(bus_info, node, topic):
-    """Whether a node's bus information (its getBusInfo XML-RPC reply: per connection [id, the
-    other node, direction, transport, topic, ...]) has a connection with `node` on `topic`."""
-    return any(connection[1] == node and connection[4] == topic for connection in bus_info)
-
-
 def ratio(value, reference):
     return value / reference if reference else math.nan
 
