@@ -19,7 +19,7 @@ from onedof_sim.tutorial import phases
 
 COMMAND = 1.0  # the tutorial's first command step, rad
 TIMEOUT_TEXT = 'lock-step: the world waited'  # the simulator's line when it gives up
-# The aims: the real-time factor of each controller at each rate, or this share of its floor.
+# The aims: the real-time factor of each controller at each rate, or this share of its floor.
 AIMS = {('rospy', 100): 25.0, ('cpp', 100): 50.0, ('rospy', 1000): 5.0, ('cpp', 1000): 5.0}
 FLOOR_SHARE = 0.7
 # Beyond this ratio (the simulator faster than its floor, more than run-to-run noise) the partner
