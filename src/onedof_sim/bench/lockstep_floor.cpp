@@ -36,8 +36,6 @@ namespace {
 using onedof_sim::ProcessActivity;
 using onedof_sim::ProcessThreads;
 
-// As the simulator's stop looks again whether a controller rests.
-constexpr std::chrono::microseconds kRestPoll(20);
 constexpr auto kRestLimit = std::chrono::seconds(5);
 constexpr auto kWakeAfter = std::chrono::milliseconds(500);
 
@@ -90,8 +88,8 @@ class Floor {
     const auto limit = std::chrono::steady_clock::now() + kRestLimit;
     while (pid && std::chrono::steady_clock::now() < limit && ros::ok()) {
       const ProcessActivity activity = loop_view_->activity();
-      if (activity.gone || (activity.asleep && activity.runs > runs_at_command)) break;
-      std::this_thread::sleep_for(kRestPoll);
+      if (activity.restedSince(runs_at_command)) break;
+      std::this_thread::sleep_for(onedof_sim::kRestLookInterval);
     }
     publish(clock_pub, false);
     count();

@@ -5,6 +5,7 @@
 
 #include <dirent.h>
 
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -14,7 +15,16 @@ struct ProcessActivity {
   bool gone = false;    // no such process (or /proc unreadable)
   bool asleep = false;  // every thread blocked (state S) at two looks, none put on a CPU between
   uint64_t runs = 0;    // when asleep: times its threads have been put on a CPU (schedstat), summed
+
+  // Lock-step's rule for publishing a stop's clock: the process has run since `runs_at_command`
+  // (its call returned) and rests now, or it is gone.
+  bool restedSince(uint64_t runs_at_command) const {
+    return gone || (asleep && runs > runs_at_command);
+  }
 };
+
+// How often a wait for a process to rest looks again.
+constexpr std::chrono::microseconds kRestLookInterval(20);
 
 // One process's threads as /proc shows them. Its task folder and each thread's stat and schedstat
 // stay open between looks, and a look reads them again (procfs writes a file's text anew at each

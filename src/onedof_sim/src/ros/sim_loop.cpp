@@ -31,8 +31,6 @@ constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
 // client's two clock readings after a call are microseconds apart; a millisecond leaves them room
 // and bounds such a 1 kHz controller to real time.
 constexpr std::chrono::milliseconds kLockstepClockDelay(1);
-// How often a stop's clock looks again whether the controllers' processes rest (awaitAsleep).
-constexpr std::chrono::microseconds kAsleepPoll(20);
 // How long its wait for a reply to be written goes on before it looks for a shutdown.
 constexpr std::chrono::milliseconds kAsleepWaitSlice(50);
 // How long a stopped world waits for a controller's command, the controller asleep, before it
@@ -375,8 +373,7 @@ void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
     std::vector<const Lockstep::Watched*> busy;
     for (const Lockstep::Watched& controller : controllers) {
       const ProcessActivity activity = loopView(controller.pid).activity();
-      if (!activity.gone && !(activity.asleep && activity.runs > controller.runs_at_command))
-        busy.push_back(&controller);
+      if (!activity.restedSince(controller.runs_at_command)) busy.push_back(&controller);
     }
     if (busy.empty() || !ros::ok()) return;
     if (Lockstep::Clock::now() >= give_up_at) {
@@ -386,7 +383,7 @@ void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
                                            lockstep_.timeout()));
       return;
     }
-    std::this_thread::sleep_for(kAsleepPoll);
+    std::this_thread::sleep_for(kRestLookInterval);
   }
 }
 
