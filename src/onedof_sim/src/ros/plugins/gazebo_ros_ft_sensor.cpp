@@ -23,6 +23,7 @@
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "pose_ops.h"
+#include "sensor_noise.h"
 #include "update_gate.h"
 
 namespace onedof_sim::plugins {
@@ -39,7 +40,7 @@ struct FtParams {
 class GazeboRosFt : public ModelPlugin {
  public:
   GazeboRosFt(const ModelPluginContext& context, const FtParams& params, const std::string& frame)
-      : params_(params), node_(context.node), noise_(0.0, 1.0) {
+      : params_(params), node_(context.node), noise_(params.gaussian_noise) {
     frame_id_ = resolveTfFrame(tfPrefix(node_), frame);
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
@@ -65,12 +66,12 @@ class GazeboRosFt : public ModelPlugin {
     geometry_msgs::WrenchStamped msg;
     msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
     msg.header.frame_id = frame_id_;
-    msg.wrench.force.x = noisy(force.x);
-    msg.wrench.force.y = noisy(force.y);
-    msg.wrench.force.z = noisy(force.z);
-    msg.wrench.torque.x = noisy(torque.x);
-    msg.wrench.torque.y = noisy(torque.y);
-    msg.wrench.torque.z = noisy(torque.z);
+    msg.wrench.force.x = noise_.apply(force.x, random_);
+    msg.wrench.force.y = noise_.apply(force.y, random_);
+    msg.wrench.force.z = noise_.apply(force.z, random_);
+    msg.wrench.torque.x = noise_.apply(torque.x, random_);
+    msg.wrench.torque.y = noise_.apply(torque.y, random_);
+    msg.wrench.torque.z = noise_.apply(torque.z, random_);
     publications_.add(publisher_, msg);
   }
 
@@ -79,18 +80,13 @@ class GazeboRosFt : public ModelPlugin {
   std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
-  double noisy(double value) {
-    const double sigma = params_.gaussian_noise;
-    return sigma > 0 ? value + sigma * noise_(random_) : value;
-  }
-
   FtParams params_;
   ros::NodeHandle node_;
   std::string frame_id_;
   ros::Publisher publisher_;
   UpdateGate update_gate_;
   std::mt19937 random_;  // default seed: the same numbers every run
-  std::normal_distribution<double> noise_;
+  WhiteNoise noise_;
   PublicationQueue publications_;
 };
 

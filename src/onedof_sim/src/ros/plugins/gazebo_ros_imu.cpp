@@ -28,9 +28,11 @@
 #include <std_srvs/Empty.h>
 
 #include "imu_measurement.h"
+#include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "pose_ops.h"
+#include "sensor_noise.h"
 #include "update_gate.h"
 
 namespace onedof_sim::plugins {
@@ -53,7 +55,7 @@ class GazeboRosImu : public ModelPlugin {
       : params_(params),
         node_(context.node),
         imu_(params.link, Pose{}, params.rpy_offset),
-        noise_(0.0, 1.0) {
+        noise_(params.gaussian_noise) {
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
       update_gate_ = UpdateGate(params_.update_rate, context.world->timeNs());
@@ -71,28 +73,16 @@ class GazeboRosImu : public ModelPlugin {
     ImuReading reading;
     if (!imu_.measure(world, at.time_ns, &reading)) return;
     if (params_.topic.empty() || publisher_.getNumSubscribers() == 0) return;
-    const Quat& orientation = reading.orientation;
-    const Vec3& rate = reading.angular_velocity;
-    const Vec3& felt = reading.linear_acceleration;
-
-    sensor_msgs::Imu msg;
-    msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
-    msg.header.frame_id = params_.frame;
-    msg.orientation.w = orientation.w;
-    msg.orientation.x = orientation.x;
-    msg.orientation.y = orientation.y;
-    msg.orientation.z = orientation.z;
-    msg.angular_velocity.x = noisy(rate.x);
-    msg.angular_velocity.y = noisy(rate.y);
-    msg.angular_velocity.z = noisy(rate.z);
-    msg.linear_acceleration.x = noisy(felt.x);
-    msg.linear_acceleration.y = noisy(felt.y);
-    msg.linear_acceleration.z = noisy(felt.z);
-    const double variance = params_.gaussian_noise * params_.gaussian_noise;
-    for (int i : {0, 4, 8})
-      msg.orientation_covariance[i] = msg.angular_velocity_covariance[i] =
-          msg.linear_acceleration_covariance[i] = variance;
-    publications_.add(publisher_, msg);
+    // Gazebo's plugin adds its noise to the rates, then to the accelerations; the orientation has
+    // none.
+    const Vec3 rate = reading.angular_velocity, felt = reading.linear_acceleration;
+    reading.angular_velocity = {noise_.apply(rate.x, random_), noise_.apply(rate.y, random_),
+                                noise_.apply(rate.z, random_)};
+    reading.linear_acceleration = {noise_.apply(felt.x, random_), noise_.apply(felt.y, random_),
+                                   noise_.apply(felt.z, random_)};
+    publications_.add(publisher_,
+                      imuMessage(reading, at.time_ns, params_.frame,
+                                 params_.gaussian_noise * params_.gaussian_noise));
   }
 
   // The world jumped (reset_world, reset_simulation): differences start again from there.
@@ -104,11 +94,6 @@ class GazeboRosImu : public ModelPlugin {
   std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
-  double noisy(double value) {
-    const double sigma = params_.gaussian_noise;
-    return sigma > 0 ? value + sigma * noise_(random_) : value;
-  }
-
   bool calibrate(std_srvs::Empty::Request&, std_srvs::Empty::Response&) { return true; }
 
   ImuParams params_;
@@ -118,7 +103,7 @@ class GazeboRosImu : public ModelPlugin {
   UpdateGate update_gate_;
   ImuMeasurement imu_;
   std::mt19937 random_;  // default seed: the same numbers every run
-  std::normal_distribution<double> noise_;
+  WhiteNoise noise_;
   PublicationQueue publications_;
 };
 

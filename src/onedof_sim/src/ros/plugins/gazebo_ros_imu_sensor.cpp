@@ -34,6 +34,7 @@
 #include <tinyxml2.h>
 
 #include "imu_measurement.h"
+#include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "pose_ops.h"
@@ -122,6 +123,7 @@ class GazeboRosImuSensor : public ModelPlugin {
         imu_(context.plugin.model + "::" + context.sensor.link, context.sensor.pose),
         random_(seedOf(context.plugin.model + "::" + context.sensor.link + "::" +
                        context.sensor.name)),
+        white_(params.gaussian_noise),
         node_(params.robot_namespace) {
     for (int i = 0; i < 3; ++i) {
       rate_noise_[i] = Noise(params_.noise.rate[i], random_);
@@ -174,24 +176,20 @@ class GazeboRosImuSensor : public ModelPlugin {
         product(params_.rpy_offset,
                 product({reference_.w, -reference_.x, -reference_.y, -reference_.z},
                         reading.orientation));
-    sensor_msgs::Imu msg;
-    msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
-    msg.header.frame_id = params_.frame;
-    msg.orientation.x = noisy(o.x);
-    msg.orientation.y = noisy(o.y);
-    msg.orientation.z = noisy(o.z);
-    msg.orientation.w = noisy(o.w);
-    msg.linear_acceleration.x = noisy(a.x);
-    msg.linear_acceleration.y = noisy(a.y);
-    msg.linear_acceleration.z = noisy(a.z);
-    msg.angular_velocity.x = noisy(w.x);
-    msg.angular_velocity.y = noisy(w.y);
-    msg.angular_velocity.z = noisy(w.z);
-    const double variance = params_.gaussian_noise * params_.gaussian_noise;
-    for (int i : {0, 4, 8})
-      msg.orientation_covariance[i] = msg.angular_velocity_covariance[i] =
-          msg.linear_acceleration_covariance[i] = variance;
-    if (publisher_.getNumSubscribers() > 0) publications_.add(publisher_, msg);
+    // Gazebo's plugin adds its <gaussianNoise> to the orientation (x, y, z, w), then to the
+    // accelerations, then to the rates.
+    ImuReading noisy;
+    noisy.orientation.x = white_.apply(o.x, random_);
+    noisy.orientation.y = white_.apply(o.y, random_);
+    noisy.orientation.z = white_.apply(o.z, random_);
+    noisy.orientation.w = white_.apply(o.w, random_);
+    noisy.linear_acceleration = {white_.apply(a.x, random_), white_.apply(a.y, random_),
+                                 white_.apply(a.z, random_)};
+    noisy.angular_velocity = {white_.apply(w.x, random_), white_.apply(w.y, random_),
+                              white_.apply(w.z, random_)};
+    if (publisher_.getNumSubscribers() > 0)
+      publications_.add(publisher_, imuMessage(noisy, at.time_ns, params_.frame,
+                                               params_.gaussian_noise * params_.gaussian_noise));
   }
 
   // reset_world, reset_simulation: the sensor's rate and the differences start again there.
@@ -203,11 +201,6 @@ class GazeboRosImuSensor : public ModelPlugin {
   std::vector<Publication> takePublications() override { return publications_.take(); }
 
  private:
-  double noisy(double value) {
-    const double sigma = params_.gaussian_noise;
-    return sigma > 0 ? value + sigma * white_(random_) : value;
-  }
-
   ImuSensorParams params_;
   std::string label_;
   SensorGate gate_;
@@ -215,7 +208,7 @@ class GazeboRosImuSensor : public ModelPlugin {
   Quat reference_;  // the world's orientation the published one is relative to
   std::mt19937_64 random_;
   Noise rate_noise_[3], acceleration_noise_[3];
-  std::normal_distribution<double> white_{0.0, 1.0};
+  WhiteNoise white_;
   int64_t last_published_ns_ = 0;
   ros::NodeHandle node_;
   ros::Publisher publisher_;

@@ -37,6 +37,21 @@ class Noise {
   double bias_ = 0;
 };
 
+// The gazebo_ros plugins' <gaussianNoise>: value + sigma * N(0, 1) from the caller's generator;
+// nothing is drawn when sigma is 0.
+class WhiteNoise {
+ public:
+  explicit WhiteNoise(double sigma = 0) : sigma_(sigma) {}
+  template <class Generator>
+  double apply(double value, Generator& random) {
+    return sigma_ > 0 ? value + sigma_ * white_(random) : value;
+  }
+
+ private:
+  double sigma_;
+  std::normal_distribution<double> white_{0.0, 1.0};
+};
+
 // FNV-1a of `text`: a generator's seed that is the same on every run and machine.
 uint64_t seedOf(const std::string& text);
 
