@@ -33,15 +33,21 @@ geometry_msgs::Vector3 toVector3(const Vec3& v) {
   return m;
 }
 
+geometry_msgs::Quaternion toQuaternion(const Quat& q) {
+  geometry_msgs::Quaternion m;
+  m.w = q.w;
+  m.x = q.x;
+  m.y = q.y;
+  m.z = q.z;
+  return m;
+}
+
 geometry_msgs::Pose toMsg(const Pose& p) {
   geometry_msgs::Pose m;
   m.position.x = p.position.x;
   m.position.y = p.position.y;
   m.position.z = p.position.z;
-  m.orientation.w = p.orientation.w;
-  m.orientation.x = p.orientation.x;
-  m.orientation.y = p.orientation.y;
-  m.orientation.z = p.orientation.z;
+  m.orientation = toQuaternion(p.orientation);
   return m;
 }
 

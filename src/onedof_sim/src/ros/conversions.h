@@ -26,6 +26,7 @@ Pose toCore(const geometry_msgs::Pose& p);
 Twist toCore(const geometry_msgs::Twist& t);
 
 geometry_msgs::Vector3 toVector3(const Vec3& v);
+geometry_msgs::Quaternion toQuaternion(const Quat& q);
 geometry_msgs::Pose toMsg(const Pose& p);
 geometry_msgs::Twist toMsg(const Twist& t);
 

@@ -8,6 +8,7 @@
 
 #include <sensor_msgs/Imu.h>
 
+#include "conversions.h"
 #include "imu_measurement.h"
 
 namespace onedof_sim::plugins {
@@ -17,16 +18,9 @@ inline sensor_msgs::Imu imuMessage(const ImuReading& reading, int64_t time_ns,
   sensor_msgs::Imu msg;
   msg.header.stamp.fromNSec(static_cast<uint64_t>(time_ns));
   msg.header.frame_id = frame;
-  msg.orientation.w = reading.orientation.w;
-  msg.orientation.x = reading.orientation.x;
-  msg.orientation.y = reading.orientation.y;
-  msg.orientation.z = reading.orientation.z;
-  msg.angular_velocity.x = reading.angular_velocity.x;
-  msg.angular_velocity.y = reading.angular_velocity.y;
-  msg.angular_velocity.z = reading.angular_velocity.z;
-  msg.linear_acceleration.x = reading.linear_acceleration.x;
-  msg.linear_acceleration.y = reading.linear_acceleration.y;
-  msg.linear_acceleration.z = reading.linear_acceleration.z;
+  msg.orientation = toQuaternion(reading.orientation);
+  msg.angular_velocity = toVector3(reading.angular_velocity);
+  msg.linear_acceleration = toVector3(reading.linear_acceleration);
   for (int i : {0, 4, 8})
     msg.orientation_covariance[i] = msg.angular_velocity_covariance[i] =
         msg.linear_acceleration_covariance[i] = variance;
