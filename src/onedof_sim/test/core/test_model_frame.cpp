@@ -75,23 +75,27 @@ void expectNear(const Pose& got, const Pose& want, double tolerance) {
   expectNear(got.orientation, want.orientation, tolerance);
 }
 
+// What World::modelState or World::linkState gives of `name` in `frame`: the pose, and the twist
+// into *twist when asked; the call is expected to succeed.
+using StateGetter = Status (World::*)(const std::string&, const std::string&, Pose*, Twist*) const;
+Pose stateOf(const World& world, StateGetter getter, const std::string& name,
+             const std::string& frame, Twist* twist) {
+  Pose pose;
+  Twist unused;
+  const Status status = (world.*getter)(name, frame, &pose, twist ? twist : &unused);
+  EXPECT_TRUE(status.ok()) << name << ": " << status;
+  return pose;
+}
+
 class ModelFrames : public ::testing::TestWithParam<std::string> {
  protected:
   Pose modelPose(const World& world, const std::string& model, const std::string& frame = "",
                  Twist* twist = nullptr) {
-    Pose pose;
-    Twist unused;
-    const Status status = world.modelState(model, frame, &pose, twist ? twist : &unused);
-    EXPECT_TRUE(status.ok()) << status;
-    return pose;
+    return stateOf(world, &World::modelState, model, frame, twist);
   }
   Pose linkPose(const World& world, const std::string& link, const std::string& frame = "",
                 Twist* twist = nullptr) {
-    Pose pose;
-    Twist unused;
-    const Status status = world.linkState(link, frame, &pose, twist ? twist : &unused);
-    EXPECT_TRUE(status.ok()) << status;
-    return pose;
+    return stateOf(world, &World::linkState, link, frame, twist);
   }
 };
 
