@@ -289,12 +289,23 @@ class World {
   Status setParams(const PhysicsParams& params);
 
   // --- models ------------------------------------------------------------------------------
-  // Parses xml (URDF with urdfdom, SDF with libsdformat), builds the model and places its root
-  // at `pose` expressed in `reference_frame` ("" or "world", a model name, or "model::link").
-  // Refuses, in this order: a non-finite or zero-quaternion pose, an empty or taken name, an
-  // unknown reference frame (checkSpawn), XML that makes no model (ModelRejected with the reason:
-  // prepare), a model too large for this world's solver (ModelRejected: see spawn(PreparedModel)).
-  // The same as checkSpawn, prepare and spawn(PreparedModel) in a row.
+  // Model frames. Each model has a model frame, Gazebo's: an SDF model's frame, in which its
+  // links' <pose>s are given, or a URDF's root link frame (where Gazebo's URDF conversion puts
+  // it). It moves with the model's canonical link (SDF's, else its first link; a URDF's root),
+  // keeping that link's pose in it, as Gazebo's model pose follows its canonical link. Every
+  // model pose here is the model frame's: spawn, modelState and setModelState, resetWorld, and a
+  // model named as a reference frame. A model's twist is its canonical link's (the velocity of
+  // that link's origin and its angular velocity), as Gazebo's Model::WorldLinearVel and
+  // WorldAngularVel give it.
+  //
+  // Parses xml (URDF with urdfdom, SDF with libsdformat), builds the model and places its model
+  // frame at `pose` expressed in `reference_frame` ("" or "world", a model name, or
+  // "model::link") composed with the model's own pose (an SDF model's <pose>, or a -database
+  // request's <include> <pose>, taken in `pose`'s frame, as gazebo_ros' spawn services compose
+  // them). Refuses, in this order: a non-finite or zero-quaternion pose, an empty or taken name,
+  // an unknown reference frame (checkSpawn), XML that makes no model (ModelRejected with the
+  // reason: prepare), a model too large for this world's solver (ModelRejected: see
+  // spawn(PreparedModel)). The same as checkSpawn, prepare and spawn(PreparedModel) in a row.
   Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
                const Pose& pose, const std::string& reference_frame = "");
   // The refusals of spawn that depend on this world (the name and the reference frame) and
@@ -309,9 +320,10 @@ class World {
                                const std::vector<std::string>& model_path);
   // Adds a prepared model (it is consumed; on a refusal too). Refuses, in this order: checkSpawn's
   // refusals, the prepared model's, (ModelRejected) a model with more moving joints than this
-  // world's solver steps in the step-cost budget (ODE's exact dWorldStep: see "Limits"), and
-  // (EngineFault) a model the engine fails on as it takes it in: the world builds its engine
-  // again without it, every other model where it was.
+  // world's solver steps in the step-cost budget (ODE's exact dWorldStep: see "Limits"),
+  // (OutOfRange "pose.position") a model frame that the model's own pose would put past the
+  // Limits, and (EngineFault) a model the engine fails on as it takes it in: the world builds its
+  // engine again without it, every other model where it was.
   Status spawn(const std::string& name, PreparedModel model, const Pose& pose,
                const std::string& reference_frame = "");
   // Folders where SDF's model://NAME URIs are looked up, in this order, as gzserver looks them
@@ -323,9 +335,16 @@ class World {
   std::vector<std::string> modelNames() const;  // in spawn order
 
   Status modelProperties(const std::string& name, ModelInfo* out) const;
-  // Pose and twist of the model's root link frame, in reference_frame ("" / "world" or entity).
+  // Pose of the model frame and the model's twist (see Model frames above), in reference_frame
+  // ("" / "world" or entity): the pose in the entity's frame, the velocities relative to the
+  // entity's in its axes, as Gazebo's get_model_state gives them.
   Status modelState(const std::string& name, const std::string& reference_frame, Pose* pose,
                     Twist* twist) const;
+  // Puts the model frame at `pose` in reference_frame, the whole model moving rigidly with it
+  // (its joints where they are), and gives the model `twist` (in reference_frame's axes): its
+  // canonical link's origin moves at twist.linear and every body turns at twist.angular, rigidly,
+  // so modelState gives the twist back. (Gazebo gives every link's centre of mass twist.linear:
+  // the same when the angular velocity is zero; a turning model's joints are pulled apart there.)
   // Refuses a non-finite pose or twist before it looks the model up.
   Status setModelState(const std::string& name, const Pose& pose, const Twist& twist,
                        const std::string& reference_frame);
@@ -336,6 +355,8 @@ class World {
 
   // --- links (names scoped "model::link") ----------------------------------------------------
   Status linkProperties(const std::string& scoped_link, LinkInfo* out) const;
+  // Pose of the link frame and its twist (its origin's velocity), in reference_frame as
+  // modelState's (a model named there: its model frame).
   Status linkState(const std::string& scoped_link, const std::string& reference_frame,
                    Pose* pose, Twist* twist) const;
   // Refuses a non-finite pose or twist before it looks the link up; an anchored link (LinkAnchored)
@@ -408,7 +429,8 @@ class World {
   void clearBodyWrenches(const std::string& scoped_link);
 
   // --- reset ---------------------------------------------------------------------------------
-  // Every model back to its spawn pose and configuration with zero velocity; drops effort jobs.
+  // Every model back to its spawn pose (of its model frame) and configuration with zero velocity;
+  // drops effort jobs.
   void resetWorld();
   // resetWorld() and sim time back to 0, the engine's random numbers (and, where the engine
   // needs it, the engine itself) as a new world's: the same steps after it give the same states

@@ -133,6 +133,10 @@ struct JointDescription {
 
 struct ModelDescription {
   bool is_static = false;
+  // The model frame in the frame the model is placed in (World::spawn's pose composed with it):
+  // an SDF model's own <pose>, or a -database request's <include> <pose>; the identity for URDF,
+  // whose model frame is its root link's frame (Gazebo's URDF conversion puts it there).
+  Pose pose;
   std::vector<LinkDescription> links;  // parents before children
   std::vector<JointDescription> joints;
   std::string canonical_link;
@@ -151,7 +155,7 @@ Status precheckModelXml(const std::string& xml, ModelFormat format);
 // Both fill `out` only on success; else ModelRejected with the reason. model_path: absolute
 // folders where model://NAME URIs are looked up, in order (an <include>'s model, a mesh file:
 // resolveMeshUri). An SDF may also be gazebo_ros' -database request, a <world> whose one
-// <include> names the model; the include's <pose> is then the model's pose in the spawn frame.
+// <include> names the model; the include's <pose> is then the model's own (ModelDescription::pose).
 Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_path,
                  ModelDescription* out);
 Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,

@@ -596,18 +596,15 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
   // libsdformat has turned into the world's one model; its <pose> is the include's.
   const sdf::World* world = root.WorldCount() == 1 ? root.WorldByIndex(0) : nullptr;
   const sdf::Model* model = root.Model();
-  Pose include_pose;
-  if (!model && world && world->ModelCount() == 1) {
-    model = world->ModelByIndex(0);
-    include_pose = toPose(model->RawPose());
-  }
+  if (!model && world && world->ModelCount() == 1) model = world->ModelByIndex(0);
   if (!model)
     return rejected("invalid SDF: no <model> at the top level, nor one <world> with one "
                     "<include> or <model>");
   ModelDescription desc;
   desc.is_static = model->Static();
+  desc.pose = toPose(model->RawPose());
   MeshReader meshes;
-  Status status = addSdfModel(*model, include_pose, "", model_path, &meshes, &desc);
+  Status status = addSdfModel(*model, Pose(), "", model_path, &meshes, &desc);
   if (!status.ok()) return status;
   const auto canonical = model->CanonicalLinkAndRelativeName();
   if (!canonical.first) return rejected("invalid SDF: the model has no link");

@@ -263,7 +263,14 @@ PreparedModel World::prepare(const std::string& xml, ModelFormat format,
   content.status = format == ModelFormat::Urdf ? parseUrdf(xml, model_path, &desc)
                                                : parseSdf(xml, model_path, &desc);
   if (!content.status.ok()) return prepared;
+  if (!isFinite(desc.pose) || !withinPosition(desc.pose.position)) {
+    std::ostringstream why;
+    why << "the model's own <pose> is not finite or lies beyond " << kMaxPosition << " m";
+    content.status = rejected(why.str());
+    return prepared;
+  }
   content.record.is_static = desc.is_static;
+  content.model_pose = desc.pose;
   content.status = planModel(desc, &content.record, &content.spec);
   return prepared;
 }
@@ -286,10 +293,15 @@ Status World::spawn(const std::string& name, PreparedModel prepared, const Pose&
   Pose frame;
   Twist unused;
   impl_->resolveFrame(reference_frame, &frame, &unused);
+  // As gazebo_ros' spawn services: the model's own pose taken in the requested one.
+  const Pose spawn_pose =
+      compose(compose(frame, {pose.position, normalized(pose.orientation)}), content.model_pose);
+  if (!withinPosition(spawn_pose.position))
+    return outOfRange("pose.position", -kMaxPosition, kMaxPosition);
   auto model = std::make_unique<ModelRecord>(std::move(content.record));
   model->name = name;
   model->spec = std::move(content.spec);
-  model->spawn_pose = compose(frame, {pose.position, normalized(pose.orientation)});
+  model->spawn_pose = spawn_pose;
   try {
     model->engine_model = impl_->engine->addModel(model->spec);
     impl_->resetModel(model.get());

@@ -18,6 +18,12 @@
 // have no body: their collision shapes are anchored to the environment, and joints to them attach
 // to it.
 //
+// Every model has a model frame (SDF's; a URDF's is its root link's frame), in which its links'
+// poses are given (LinkDescription::pose). It moves with the model's canonical link: its world
+// pose is that link's times the inverse of the link's pose in it (modelFramePose), as Gazebo's
+// Model::WorldPose follows its canonical link. `frame_pose` is where the model frame was when the
+// model was last placed: where its joints to `world` are anchored.
+//
 // Placing a model always goes through the zero configuration first (the engine attaches the
 // joints there, so that they read zero there), then to the wanted joint positions by forward
 // kinematics; see placeModel().
@@ -101,8 +107,8 @@ struct ModelRecord {
   ModelSpec spec;
   std::unique_ptr<EngineModel> engine_model;
   size_t canonical = 0;
-  Pose frame_pose;  // world pose of the model frame, where joints to `world` are anchored
-  Pose spawn_pose;
+  Pose frame_pose;  // world pose of the model frame when last placed: joints to `world` anchor here
+  Pose spawn_pose;  // world pose of the model frame at spawn, and after a reset
   bool velocity_capped = false;  // warned already, until a step passes without capping
   bool blown_up = false;  // the last step left it non-finite: held, its jobs not applied
   int64_t last_blow_up_warning_ns = -1;
@@ -211,6 +217,7 @@ struct PreparedModel::Content {
   Status status;
   core::ModelRecord record;
   core::ModelSpec spec;
+  Pose model_pose;  // ModelDescription::pose: the model frame in the spawn pose's frame
 };
 
 // World's parts are written against the core's private types (every file that includes this
@@ -297,6 +304,8 @@ struct World::Impl {
   // --- state of links and joints, lookups (world_state.cpp) ----------------------------------
 
   Pose linkWorldPose(const ModelRecord& model, const LinkRecord& link) const;
+  // The model frame's world pose, following the canonical link (see Frames above).
+  Pose modelFramePose(const ModelRecord& model) const;
   Twist linkWorldTwist(const ModelRecord& model, const LinkRecord& link) const;
   double jointRate(const ModelRecord& model, const JointRecord& joint) const;
 
@@ -312,7 +321,7 @@ struct World::Impl {
   bool findJoint(const std::string& name, ModelRecord** model, size_t* joint) const;
 
   // World pose and twist of an entity used as a reference frame: "" or "world", a model (its
-  // canonical link frame) or a scoped link.
+  // model frame, with its canonical link's twist: World::modelState) or a scoped link.
   bool resolveFrame(const std::string& name, Pose* pose, Twist* twist) const;
 
   // --- building and placing (world_models.cpp) ----------------------------------------------

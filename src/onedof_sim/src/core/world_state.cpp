@@ -14,6 +14,11 @@ Pose World::Impl::linkWorldPose(const ModelRecord& model, const LinkRecord& link
                         : link.anchored_pose;
 }
 
+Pose World::Impl::modelFramePose(const ModelRecord& model) const {
+  const LinkRecord& canonical = model.links[model.canonical];
+  return compose(linkWorldPose(model, canonical), inverse(canonical.desc.pose));
+}
+
 Twist World::Impl::linkWorldTwist(const ModelRecord& model, const LinkRecord& link) const {
   if (link.body < 0) return Twist();
   const Pose body_pose = model.engine_model->bodyPose(link.body);
@@ -87,10 +92,11 @@ bool World::Impl::resolveFrame(const std::string& name, Pose* pose, Twist* twist
   ModelRecord* model = findModel(name);
   size_t link = 0;
   if (model) {
-    link = model->canonical;
-  } else if (!findLink(name, &model, &link)) {
-    return false;
+    *pose = modelFramePose(*model);
+    *twist = linkWorldTwist(*model, model->links[model->canonical]);
+    return true;
   }
+  if (!findLink(name, &model, &link)) return false;
   *pose = linkWorldPose(*model, model->links[link]);
   *twist = linkWorldTwist(*model, model->links[link]);
   return true;
@@ -130,9 +136,8 @@ Status World::modelState(const std::string& name, const std::string& reference_f
   Twist frame_twist;
   if (!impl_->resolveFrame(reference_frame, &frame, &frame_twist))
     return {StatusCode::ReferenceFrameNotFound, reference_frame};
-  const LinkRecord& root = model->links[model->canonical];
-  *pose = impl_->linkWorldPose(*model, root);
-  *twist = impl_->linkWorldTwist(*model, root);
+  *pose = impl_->modelFramePose(*model);
+  *twist = impl_->linkWorldTwist(*model, model->links[model->canonical]);
   makeRelative(frame, frame_twist, pose, twist);
   return {};
 }
@@ -147,19 +152,21 @@ Status World::setModelState(const std::string& name, const Pose& pose, const Twi
   Twist unused;
   if (!impl_->resolveFrame(reference_frame, &frame, &unused))
     return {StatusCode::ReferenceFrameNotFound, reference_frame};
+  // The model frame goes to the target, the whole model moving rigidly with it.
   const Pose target = compose(frame, {pose.position, normalized(pose.orientation)});
-  // The whole model moves rigidly with its root link.
-  const Pose motion =
-      compose(target, inverse(impl_->linkWorldPose(*model, model->links[model->canonical])));
+  const Pose motion = compose(target, inverse(impl_->modelFramePose(*model)));
   std::vector<Pose> root_poses = impl_->currentLinkPoses(*model);
   for (Pose& p : root_poses) p = compose(motion, p);
   impl_->placeModel(model, compose(motion, model->frame_pose), root_poses,
                     impl_->currentPositions(*model));
+  // The twist is the canonical link origin's (what modelState gives back), every body moving
+  // rigidly with it.
+  const Vec3 origin = impl_->linkWorldPose(*model, model->links[model->canonical]).position;
   const Vec3 linear = rotate(frame.orientation, twist.linear);
   const Vec3 angular = rotate(frame.orientation, twist.angular);
   for (size_t body = 0; body < model->bodies.size(); ++body) {
     const Pose body_pose = model->engine_model->bodyPose(body);
-    const Vec3 v = linear + cross(angular, body_pose.position - target.position);
+    const Vec3 v = linear + cross(angular, body_pose.position - origin);
     model->engine_model->setBodyState(body, body_pose, {v, angular});
   }
   return {};
