@@ -48,6 +48,28 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       private_nh_("~"),
       step_spinner_(1, &step_queue_) {
   if (options.world) spawnWorldModels(*options.world);
+  if (options.enable_ros_network) advertiseServices();
+  step_spinner_.start();
+  effort_thread_ = std::thread([this] {
+    // callOne returns once the callback has run and roscpp has written its reply.
+    while (!stopping_ && ros::ok())
+      if (effort_queue_.callOne(ros::WallDuration(0.1)) == ros::CallbackQueue::Called)
+        loop_.effortReplied();
+  });
+  for (int i = 0; i < kServiceThreads; ++i) {
+    service_threads_.emplace_back([this] { serveGlobalQueue(); });
+  }
+  const PhysicsSettings physics = loop_.physics();
+  const std::string api =
+      options.enable_ros_network
+          ? "serving the Gazebo API under " + private_nh_.getNamespace()
+          : "ROS gazebo topics/services are disabled (enable_ros_network is false): /clock only";
+  ROS_INFO("onedof_sim, standing in for Gazebo: %s (step %g s, max_update_rate %g Hz%s%s)",
+           api.c_str(), physics.params.step, physics.max_update_rate,
+           loop_.paused() ? ", paused" : "", options.lockstep.enabled ? ", lock-step" : "");
+}
+
+void GazeboApi::advertiseServices() {
   parameter_descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
       "parameter_descriptions", 1, true);
   parameter_updates_pub_ =
@@ -110,20 +132,6 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       n.subscribe("set_model_state", 10, &GazeboApi::setModelStateTopic, this),
       n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
   };
-  step_spinner_.start();
-  effort_thread_ = std::thread([this] {
-    // callOne returns once the callback has run and roscpp has written its reply.
-    while (!stopping_ && ros::ok())
-      if (effort_queue_.callOne(ros::WallDuration(0.1)) == ros::CallbackQueue::Called)
-        loop_.effortReplied();
-  });
-  for (int i = 0; i < kServiceThreads; ++i) {
-    service_threads_.emplace_back([this] { serveGlobalQueue(); });
-  }
-  const PhysicsSettings physics = loop_.physics();
-  ROS_INFO("onedof_sim, standing in for Gazebo: serving the Gazebo API under %s (step %g s, max_update_rate %g Hz%s%s)",
-           private_nh_.getNamespace().c_str(), physics.params.step, physics.max_update_rate,
-           loop_.paused() ? ", paused" : "", options.lockstep.enabled ? ", lock-step" : "");
 }
 
 GazeboApi::~GazeboApi() {

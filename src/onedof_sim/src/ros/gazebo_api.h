@@ -145,6 +145,9 @@ class GazeboApi {
   Status applyModelState(const gazebo_msgs::ModelState& state);
   Status applyLinkState(const gazebo_msgs::LinkState& state);
   void serveGlobalQueue();
+  // The services under /gazebo/ and the topics of the API (the dynamic reconfigure topics, the
+  // set_*_state subscriptions); left out with ~enable_ros_network false.
+  void advertiseServices();
 
   SimLoop loop_;
   std::vector<plugins::ModelPluginType> plugin_types_;

@@ -160,6 +160,7 @@ ServerArguments parseServerArguments(const std::vector<std::string>& args) {
 //   ~states_publish_frequency (Hz of sim time for model_states/link_states; 0 = every step)
 //   ~lockstep (false; see lockstep.h)
 //   ~lockstep_timeout (wall s a stopped world waits for a controller's command, 5)
+//   ~enable_ros_network (true; false: no /gazebo service nor topic, as Gazebo's, NodeOptions)
 // and, read while running, ~pub_clock_frequency (Hz of sim time; unset or <= 0 = every step).
 // A world file's physics (options->world) comes between the defaults and these: the engine its
 // <physics type> names unless ~physics or -e names one, its physics for that engine and its
@@ -210,7 +211,8 @@ bool readNodeOptions(const ros::NodeHandle& nh, const ServerArguments& arguments
       !readParam(nh, "cfm", &p.cfm, error) || !readParam(nh, "erp", &p.erp, error) ||
       !readCount(nh, "max_contacts", &p.max_contacts, error) ||
       !readRate(nh, "states_publish_frequency", &options->states_publish_frequency, error) ||
-      !readLockstep(nh, &options->lockstep, error)) {
+      !readLockstep(nh, &options->lockstep, error) ||
+      !readParam(nh, "enable_ros_network", &options->enable_ros_network, error)) {
     return false;
   }
   if (arguments.paused) options->paused = true;

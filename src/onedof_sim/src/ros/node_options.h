@@ -28,6 +28,10 @@ struct NodeOptions {
   double states_publish_frequency = 0;   // Hz of sim time for model/link_states; 0 = every step
   std::vector<std::string> model_path;   // where SDF's model:// URIs resolve (World::setModelPath)
   Lockstep::Options lockstep;
+  // Gazebo's ~enable_ros_network: false leaves the node's ROS API out (no /gazebo service nor
+  // topic: model_states, link_states, the markers, the set_*_state subscriptions, the dynamic
+  // reconfigure topics); /clock, the world, its plugins and the node's logger services remain.
+  bool enable_ros_network = true;
   // The world file named on the command line, read (world_loading.h); its models are spawned
   // before the services are up.
   std::optional<WorldFile> world;

@@ -117,6 +117,8 @@ SimLoop::SimLoop(const NodeOptions& options)
   // thread too, so the queue holds a second of clocks at the default 1 kHz, and a subscriber
   // that keeps up hears every step's time.
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueue, true);
+  // Without the ROS network these stay empty publishers: no subscriber, nothing is published.
+  if (!options.enable_ros_network) return;
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
