@@ -12,7 +12,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
-#include "camera_sensor.h"
+#include "sensors/camera_sensor.h"
 #include "model_plugin.h"
 #include "sensor_plugin.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "camera_sensor.h"
+#include "sensors/camera_sensor.h"
 #include "camera_utils.h"
 #include "model_plugin.h"
 #include "sensor_plugin.h"

@@ -22,9 +22,9 @@
 
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "sensor_noise.h"
-#include "update_gate.h"
+#include "sensors/pose_ops.h"
+#include "sensors/sensor_noise.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {

@@ -27,13 +27,13 @@
 #include <sensor_msgs/Imu.h>
 #include <std_srvs/Empty.h>
 
-#include "imu_measurement.h"
+#include "sensors/imu_measurement.h"
 #include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "sensor_noise.h"
-#include "update_gate.h"
+#include "sensors/pose_ops.h"
+#include "sensors/sensor_noise.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {

@@ -33,12 +33,12 @@
 #include <sensor_msgs/Imu.h>
 #include <tinyxml2.h>
 
-#include "imu_measurement.h"
+#include "sensors/imu_measurement.h"
 #include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "sensor_noise.h"
+#include "sensors/pose_ops.h"
+#include "sensors/sensor_noise.h"
 #include "sensor_plugin.h"
 
 namespace onedof_sim::plugins {

@@ -19,8 +19,8 @@
 
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "ray_sensor.h"
-#include "sensor_noise.h"
+#include "sensors/ray_sensor.h"
+#include "sensors/sensor_noise.h"
 #include "sensor_plugin.h"
 
 namespace onedof_sim::plugins {

@@ -12,8 +12,8 @@
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "update_gate.h"
+#include "sensors/pose_ops.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {

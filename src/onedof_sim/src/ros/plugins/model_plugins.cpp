@@ -11,7 +11,7 @@
 #include <ros/console.h>
 #include <tinyxml2.h>
 
-#include "pose_ops.h"
+#include "sensors/pose_ops.h"
 
 namespace onedof_sim::plugins {
 namespace {
