@@ -18,11 +18,11 @@
 #include <random>
 
 #include <geometry_msgs/WrenchStamped.h>
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "sensors/pose_ops.h"
 #include "sensors/sensor_noise.h"
 #include "sensors/update_gate.h"
 

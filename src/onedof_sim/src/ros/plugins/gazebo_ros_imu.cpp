@@ -23,15 +23,15 @@
 // with a fixed seed per plugin, so that two runs publish the same numbers.
 #include <random>
 
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 #include <sensor_msgs/Imu.h>
 #include <std_srvs/Empty.h>
 
-#include "sensors/imu_measurement.h"
 #include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "sensors/pose_ops.h"
+#include "sensors/imu_measurement.h"
 #include "sensors/sensor_noise.h"
 #include "sensors/update_gate.h"
 

@@ -29,17 +29,17 @@
 #include <string>
 #include <vector>
 
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 #include <sensor_msgs/Imu.h>
 #include <tinyxml2.h>
 
-#include "sensors/imu_measurement.h"
 #include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "sensors/pose_ops.h"
-#include "sensors/sensor_noise.h"
 #include "sensor_plugin.h"
+#include "sensors/imu_measurement.h"
+#include "sensors/sensor_noise.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -173,9 +173,7 @@ class GazeboRosImuSensor : public ModelPlugin {
     last_published_ns_ = at.time_ns;
 
     const Quat o =
-        product(params_.rpy_offset,
-                product({reference_.w, -reference_.x, -reference_.y, -reference_.z},
-                        reading.orientation));
+        multiply(params_.rpy_offset, multiply(conjugate(reference_), reading.orientation));
     // Gazebo's plugin adds its <gaussianNoise> to the orientation (x, y, z, w), then to the
     // accelerations, then to the rates.
     ImuReading noisy;

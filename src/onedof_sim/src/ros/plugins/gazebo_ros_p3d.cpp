@@ -7,12 +7,12 @@
 #include <random>
 
 #include <nav_msgs/Odometry.h>
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "sensors/pose_ops.h"
 #include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
@@ -49,7 +49,7 @@ class GazeboRosP3d : public ModelPlugin {
       return;
     pose.position = {pose.position.x + params_.xyz_offset.x, pose.position.y + params_.xyz_offset.y,
                      pose.position.z + params_.xyz_offset.z};
-    pose.orientation = product(params_.rpy_offset, pose.orientation);
+    pose.orientation = multiply(params_.rpy_offset, pose.orientation);
     nav_msgs::Odometry msg;
     msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
     msg.header.frame_id = frame_id_;

@@ -1,17 +1,16 @@
 #include "model_plugins.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <set>
 #include <sstream>
 #include <utility>
 
+#include <onedof_sim/pose_math.h>
+#include <onedof_sim/trim.h>
 #include <ros/console.h>
 #include <tinyxml2.h>
-
-#include "sensors/pose_ops.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -54,13 +53,6 @@ void addPlugins(const tinyxml2::XMLElement* parent, std::vector<PluginElement>* 
   for (auto* plugin = parent->FirstChildElement("plugin"); plugin;
        plugin = plugin->NextSiblingElement("plugin"))
     out->push_back(toPluginElement(plugin));
-}
-
-std::string trimmed(std::string text) {
-  const auto space = [](unsigned char c) { return std::isspace(c); };
-  text.erase(text.begin(), std::find_if_not(text.begin(), text.end(), space));
-  text.erase(std::find_if_not(text.rbegin(), text.rend(), space).base(), text.end());
-  return text;
 }
 
 // An SDF boolean as sdformat reads it: true/false/1/0.

@@ -6,18 +6,11 @@
 #include <cstdlib>
 #include <sstream>
 
+#include <onedof_sim/trim.h>
 #include <ros/console.h>
 
 namespace onedof_sim::plugins {
 namespace {
-
-std::string trimmed(const char* text) {
-  std::string value = text ? text : "";
-  const auto space = [](unsigned char c) { return std::isspace(c); };
-  value.erase(value.begin(), std::find_if_not(value.begin(), value.end(), space));
-  value.erase(std::find_if_not(value.rbegin(), value.rend(), space).base(), value.end());
-  return value;
-}
 
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),

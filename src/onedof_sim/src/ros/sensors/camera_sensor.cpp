@@ -7,10 +7,11 @@
 #include <sstream>
 #include <utility>
 
+#include <onedof_sim/pose_math.h>
+#include <onedof_sim/trim.h>
 #include <ros/console.h>
 #include <tinyxml2.h>
 
-#include "pose_ops.h"
 #include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
@@ -24,10 +25,7 @@ constexpr int kNoiseBits = 16;
 constexpr size_t kNoiseTable = size_t{1} << kNoiseBits;
 
 std::string text(const tinyxml2::XMLElement* element) {
-  std::string value = element && element->GetText() ? element->GetText() : "";
-  value.erase(0, value.find_first_not_of(" \t\r\n"));
-  value.erase(value.find_last_not_of(" \t\r\n") + 1);
-  return value;
+  return trimmed(element ? element->GetText() : nullptr);
 }
 
 bool readSize(const tinyxml2::XMLElement* image, const char* tag, int* value, std::string* error) {

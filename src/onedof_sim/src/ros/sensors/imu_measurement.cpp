@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "pose_ops.h"
+#include <onedof_sim/pose_math.h>
 
 namespace onedof_sim::plugins {
 
@@ -49,7 +49,7 @@ bool ImuMeasurement::measure(const World& world, int64_t time_ns, ImuReading* re
   }
   const Vec3& g = world.params().gravity;
   const Vec3 specific_force{acceleration_.x - g.x, acceleration_.y - g.y, acceleration_.z - g.z};
-  reading->orientation = normalized(product(world_turn_, frame.orientation));
+  reading->orientation = normalized(multiply(world_turn_, frame.orientation));
   reading->angular_velocity = inFrame(reading->orientation, angular);
   reading->linear_acceleration = inFrame(reading->orientation, specific_force);
   return true;

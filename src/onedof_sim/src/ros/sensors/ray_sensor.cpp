@@ -7,9 +7,9 @@
 #include <sstream>
 #include <utility>
 
+#include <onedof_sim/pose_math.h>
 #include <tinyxml2.h>
 
-#include "pose_ops.h"
 #include "sensor_xml.h"
 
 namespace onedof_sim::plugins {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <utility>
 
+#include <onedof_sim/trim.h>
+
 #include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
@@ -17,9 +19,7 @@ bool readNoise(const tinyxml2::XMLElement* noise, const std::string& where, Nois
   std::string type = attribute ? attribute : "";
   if (type.empty()) {
     const tinyxml2::XMLElement* child = noise->FirstChildElement("type");
-    if (child && child->GetText()) type = child->GetText();
-    type.erase(0, type.find_first_not_of(" \t\r\n"));
-    type.erase(type.find_last_not_of(" \t\r\n") + 1);
+    if (child) type = trimmed(child->GetText());
   }
   if (type == "none") return true;
   if (type != "gaussian" && type != "gaussian_quantized") {

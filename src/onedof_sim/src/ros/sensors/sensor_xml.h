@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <string>
 
+#include <onedof_sim/trim.h>
 #include <tinyxml2.h>
 
 namespace onedof_sim::plugins {
@@ -24,10 +25,7 @@ inline bool readSensorNumber(const tinyxml2::XMLElement* parent, const char* tag
                              const std::string& where, double* value, std::string* error) {
   const tinyxml2::XMLElement* child = parent ? parent->FirstChildElement(tag) : nullptr;
   if (!child) return true;
-  const char* raw = child->GetText();
-  std::string text = raw ? raw : "";
-  text.erase(0, text.find_first_not_of(" \t\r\n"));
-  text.erase(text.find_last_not_of(" \t\r\n") + 1);
+  const std::string text = trimmed(child->GetText());
   char* end = nullptr;
   const double parsed = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0' || !std::isfinite(parsed)) {
