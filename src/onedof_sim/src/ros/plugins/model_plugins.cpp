@@ -4,13 +4,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <set>
-#include <sstream>
 #include <utility>
 
-#include <onedof_sim/pose_math.h>
 #include <onedof_sim/trim.h>
 #include <ros/console.h>
 #include <tinyxml2.h>
+
+#include "sensors/sensor_xml.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -81,14 +81,7 @@ SensorElement toSensorElement(const tinyxml2::XMLElement* sensor, const std::str
   if (link.empty()) fail("it is on no link (a <gazebo> without reference)");
   if (sensor->FirstChildElement("pose")) {
     const std::string text = trimmed(childText(sensor, "pose"));
-    std::istringstream in(text);
-    Vec3 xyz, rpy;
-    std::string rest;
-    if (!(in >> xyz.x >> xyz.y >> xyz.z >> rpy.x >> rpy.y >> rpy.z) || (in >> rest) ||
-        !std::isfinite(xyz.x + xyz.y + xyz.z + rpy.x + rpy.y + rpy.z))
-      fail("<pose> is '" + text + "', not six numbers");
-    else
-      element.pose = {xyz, fromRpy(rpy)};
+    if (!readPoseText(text, &element.pose)) fail("<pose> is '" + text + "', not six numbers");
   }
   if (sensor->FirstChildElement("update_rate")) {
     const std::string text = trimmed(childText(sensor, "update_rate"));

@@ -9,6 +9,8 @@
 #include <onedof_sim/trim.h>
 #include <ros/console.h>
 
+#include "sensors/sensor_noise.h"
+
 namespace onedof_sim::plugins {
 namespace {
 
@@ -118,6 +120,10 @@ bool jointLinks(const ModelPluginContext& context, const std::string& joint, std
     return !parent->empty() && !child->empty();
   }
   return false;
+}
+
+uint64_t pluginSeed(const ModelPluginContext& context) {
+  return seedOf(context.model + "::" + context.name + "::" + context.filename);
 }
 
 void applyRosDebugLevel(const std::string& level) {

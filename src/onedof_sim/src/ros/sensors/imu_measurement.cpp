@@ -3,6 +3,10 @@
 #include <utility>
 
 #include <onedof_sim/pose_math.h>
+#include <onedof_sim/trim.h>
+#include <tinyxml2.h>
+
+#include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
 
@@ -52,6 +56,61 @@ bool ImuMeasurement::measure(const World& world, int64_t time_ns, ImuReading* re
   reading->orientation = normalized(multiply(world_turn_, frame.orientation));
   reading->angular_velocity = inFrame(reading->orientation, angular);
   reading->linear_acceleration = inFrame(reading->orientation, specific_force);
+  return true;
+}
+
+bool ImuNoiseParams::any() const {
+  for (int i = 0; i < 3; ++i)
+    if (rate[i].on || acceleration[i].on) return true;
+  return false;
+}
+
+bool ImuNoiseParams::drifts() const {
+  for (int i = 0; i < 3; ++i)
+    if (rate[i].drifts() || acceleration[i].drifts()) return true;
+  return false;
+}
+
+bool readImuNoise(const std::string& sensor_xml, ImuNoiseParams* params, std::string* error) {
+  *params = {};
+  tinyxml2::XMLDocument doc;
+  const tinyxml2::XMLElement* sensor = parseSensor(sensor_xml, &doc, error);
+  if (!sensor) return false;
+  const tinyxml2::XMLElement* imu = sensor->FirstChildElement("imu");
+  if (!imu) return true;
+  if (const tinyxml2::XMLElement* old = imu->FirstChildElement("noise")) {
+    // <type> applies to both groups: copied into each as the converted SDF has it.
+    const tinyxml2::XMLElement* type = old->FirstChildElement("type");
+    const std::string type_text = type ? trimmed(type->GetText()) : "gaussian";
+    for (const auto& [group, out] : {std::pair{"rate", params->rate},
+                                     std::pair{"accel", params->acceleration}}) {
+      tinyxml2::XMLDocument copy;
+      tinyxml2::XMLElement* noise = copy.NewElement("noise");
+      copy.InsertEndChild(noise);
+      noise->SetAttribute("type", type_text.c_str());
+      if (const tinyxml2::XMLElement* values = old->FirstChildElement(group))
+        for (auto* child = values->FirstChildElement(); child; child = child->NextSiblingElement())
+          noise->InsertEndChild(child->DeepClone(&copy));
+      NoiseParams axis;
+      if (!readNoise(noise, "<imu><noise><" + std::string(group) + ">", &axis, error))
+        return false;
+      for (int i = 0; i < 3; ++i) out[i] = axis;
+    }
+  }
+  const char* axes[3] = {"x", "y", "z"};
+  for (const auto& [group, out] : {std::pair{"angular_velocity", params->rate},
+                                   std::pair{"linear_acceleration", params->acceleration}}) {
+    const tinyxml2::XMLElement* element = imu->FirstChildElement(group);
+    if (!element) continue;
+    for (int i = 0; i < 3; ++i) {
+      const tinyxml2::XMLElement* axis = element->FirstChildElement(axes[i]);
+      const tinyxml2::XMLElement* noise = axis ? axis->FirstChildElement("noise") : nullptr;
+      if (!noise) continue;
+      if (!readNoise(noise, "<imu><" + std::string(group) + "><" + axes[i] + "><noise>", &out[i],
+                     error))
+        return false;
+    }
+  }
   return true;
 }
 
