@@ -62,13 +62,8 @@ render::Renderer* sharedRenderer() {
 
 bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::string* error) {
   tinyxml2::XMLDocument doc;
-  const tinyxml2::XMLElement* sensor = parseSensor(sensor_xml, &doc, error);
-  if (!sensor) return false;
-  const tinyxml2::XMLElement* camera = sensor->FirstChildElement("camera");
-  if (!camera) {
-    *error = "it has no <camera>";
-    return false;
-  }
+  const tinyxml2::XMLElement* camera = requiredSensorChild(sensor_xml, "camera", &doc, error);
+  if (!camera) return false;
   CameraConfig c;
   const auto* image = camera->FirstChildElement("image");
   const auto* clip = camera->FirstChildElement("clip");

@@ -47,13 +47,8 @@ double RayConfig::angleIncrement() const { return (max_angle - min_angle) / (ran
 
 bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string* error) {
   tinyxml2::XMLDocument doc;
-  const tinyxml2::XMLElement* sensor = parseSensor(sensor_xml, &doc, error);
-  if (!sensor) return false;
-  const tinyxml2::XMLElement* ray = sensor->FirstChildElement("ray");
-  if (!ray) {
-    *error = "it has no <ray>";
-    return false;
-  }
+  const tinyxml2::XMLElement* ray = requiredSensorChild(sensor_xml, "ray", &doc, error);
+  if (!ray) return false;
   RayConfig c;
   const auto* horizontal = sensorPath(ray, {"scan", "horizontal"});
   const auto* vertical = sensorPath(ray, {"scan", "vertical"});

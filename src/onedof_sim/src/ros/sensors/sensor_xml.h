@@ -33,6 +33,19 @@ inline const tinyxml2::XMLElement* parseSensor(const std::string& sensor_xml,
   return nullptr;
 }
 
+// The <tag> a <sensor> element's XML text must hold (<ray>, <camera>), parsed into *doc; null with
+// *error when the text is not XML or has no <tag>.
+inline const tinyxml2::XMLElement* requiredSensorChild(const std::string& sensor_xml,
+                                                       const char* tag,
+                                                       tinyxml2::XMLDocument* doc,
+                                                       std::string* error) {
+  const tinyxml2::XMLElement* sensor = parseSensor(sensor_xml, doc, error);
+  if (!sensor) return nullptr;
+  const tinyxml2::XMLElement* child = sensor->FirstChildElement(tag);
+  if (!child) *error = "it has no <" + std::string(tag) + ">";
+  return child;
+}
+
 // The number in `parent`'s <tag>, left as it is when there is none; false, with *error naming
 // "<where><tag>", when its text is not a finite number.
 inline bool readSensorNumber(const tinyxml2::XMLElement* parent, const char* tag,
