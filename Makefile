@@ -115,7 +115,7 @@ $(STAMPS)/build: $(SOURCES) $(WS)/Makefile | deps venv
 tutorial: setup
 	source $(WS)/$(DEVEL)/setup.bash && rosrun onedof_sim play_tutorial --output $(OUTPUT) $(if $(PHYSICS),--physics $(PHYSICS))
 
-# Every test: Python unit tests in the packages, the gtests (collected by tests/conftest.py) and
+# Every test: Python unit tests in the packages, the gtests (collected by tests/test_gtest.py) and
 # the end-to-end tests over real nodes, on private roscores (README, Testing).
 test: setup
 	source $(WS)/$(DEVEL)/setup.bash && cd $(WS) && $(PYTEST_SUITE)

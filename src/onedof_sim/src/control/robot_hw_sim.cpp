@@ -7,18 +7,13 @@
 
 #include <tinyxml2.h>
 
+#include "onedof_sim/trim.h"
+
 namespace onedof_sim::control {
 
 namespace {
 
 constexpr const char* kPluginFile = "libgazebo_ros_control.so";
-
-std::string trimmed(const char* text) {
-  std::string s = text ? text : "";
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return "";
-  return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
-}
 
 std::string childText(const tinyxml2::XMLElement* element, const char* name) {
   const tinyxml2::XMLElement* child = element->FirstChildElement(name);

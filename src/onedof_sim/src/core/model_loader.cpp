@@ -15,7 +15,7 @@
 
 #include "mesh_loader.h"
 #include "model_description.h"
-#include "pose_math.h"
+#include "onedof_sim/pose_math.h"
 #include "sdf_parsing.h"
 #include "visual_loader.h"
 

@@ -6,7 +6,8 @@
 #include <filesystem>
 
 #include "mesh_loader.h"
-#include "pose_math.h"
+#include "onedof_sim/pose_math.h"
+#include "onedof_sim/trim.h"
 #include "sdf_parsing.h"
 
 namespace onedof_sim {
@@ -50,11 +51,9 @@ std::map<std::string, std::string> urdfGazeboMaterials(const std::string& xml) {
     const char* reference = gazebo->Attribute("reference");
     const tinyxml2::XMLElement* material = gazebo->FirstChildElement("material");
     if (!reference || !material || !material->GetText()) continue;
-    std::string name = material->GetText();
-    const size_t first = name.find_first_not_of(" \t\r\n");
-    const size_t last = name.find_last_not_of(" \t\r\n");
-    if (first == std::string::npos) continue;
-    materials[reference] = name.substr(first, last - first + 1);
+    std::string name = trimmed(material->GetText());
+    if (name.empty()) continue;
+    materials[reference] = name;
   }
   return materials;
 }

@@ -38,8 +38,8 @@
 
 #include "engine.h"
 #include "model_description.h"
+#include "onedof_sim/pose_math.h"
 #include "onedof_sim/world.h"
-#include "pose_math.h"
 
 namespace onedof_sim {
 namespace core {

@@ -8,7 +8,7 @@
 namespace onedof_sim {
 namespace core {
 
-bool isFinite(const Twist& t) { return core::isFinite(t.linear) && core::isFinite(t.angular); }
+bool isFinite(const Twist& t) { return onedof_sim::isFinite(t.linear) && onedof_sim::isFinite(t.angular); }
 
 Status outOfRange(std::string field, double min, double max) {
   Status status{StatusCode::OutOfRange, std::move(field)};
@@ -67,7 +67,7 @@ bool withinPosition(const Vec3& v) {
 }
 
 Status checkPose(const Pose& pose) {
-  if (!core::isFinite(pose)) return {StatusCode::NotFinite, "pose"};
+  if (!onedof_sim::isFinite(pose)) return {StatusCode::NotFinite, "pose"};
   if (quatNorm(pose.orientation) < 1e-9) return {StatusCode::ZeroQuaternion, "pose"};
   if (!withinPosition(pose.position))
     return outOfRange("pose.position", -kMaxPosition, kMaxPosition);

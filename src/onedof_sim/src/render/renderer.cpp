@@ -11,6 +11,7 @@
 
 #include "egl_context.h"
 #include "materials.h"
+#include "onedof_sim/pose_math.h"
 #include "primitives.h"
 
 namespace onedof_sim {
@@ -71,8 +72,8 @@ Mat4 multiply(const Mat4& a, const Mat4& b) {
 
 // The rotation matrix of a unit quaternion, row-major.
 std::array<double, 9> rotation(const Quat& q) {
-  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  const double w = q.w / n, x = q.x / n, y = q.y / n, z = q.z / n;
+  const Quat u = normalized(q);
+  const double w = u.w, x = u.x, y = u.y, z = u.z;
   return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
           2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
           2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};

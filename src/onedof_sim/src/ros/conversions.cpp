@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <gazebo_msgs/GetJointProperties.h>
+#include <onedof_sim/pose_math.h>
 
 namespace onedof_sim {
 namespace {
@@ -17,9 +18,9 @@ Vec3 toCore(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
 Pose toCore(const geometry_msgs::Pose& p) {
   Pose pose;
   pose.position = toCore(p.position);
-  const auto& q = p.orientation;
-  const double norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  if (!(norm <= 1e-12)) pose.orientation = {q.w / norm, q.x / norm, q.y / norm, q.z / norm};
+  const Quat q{p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z};
+  // A zero quaternion stays the identity; a NaN one goes through, for the core to refuse.
+  if (!(quatNorm(q) <= 1e-12)) pose.orientation = normalized(q);
   return pose;
 }
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "onedof_sim/world.h"
-#include "pose_math.h"
+#include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
 namespace {

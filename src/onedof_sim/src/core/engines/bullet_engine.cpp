@@ -46,7 +46,7 @@
 #include <stdexcept>
 
 #include "engine.h"
-#include "pose_math.h"
+#include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
 namespace core {

@@ -45,7 +45,7 @@
 #include <limits>
 
 #include "engine.h"
-#include "pose_math.h"
+#include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
 namespace core {

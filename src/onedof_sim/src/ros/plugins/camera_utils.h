@@ -12,32 +12,12 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
-#include "camera_sensor.h"
 #include "model_plugin.h"
 #include "sensor_plugin.h"
+#include "sensors/camera_sensor.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
-
-// The plugin's own <updateRate> over its sensor's updates, as GazeboRosCameraUtils throttles:
-// an update goes out once the sim time since the last one that went out is at least the period
-// (the last starting at 0); a rate of 0: every update.
-class PublishThrottle {
- public:
-  PublishThrottle() = default;
-  explicit PublishThrottle(double rate_hz)
-      : period_ns_(rate_hz > 0 ? static_cast<int64_t>(std::llround(1e9 / rate_hz)) : 0) {}
-  bool due(int64_t now_ns) {
-    if (now_ns < last_ns_) last_ns_ = now_ns;  // sim time went back (reset_simulation)
-    if (now_ns - last_ns_ < period_ns_) return false;
-    last_ns_ = now_ns;
-    return true;
-  }
-  void reset() { last_ns_ = 0; }
-
- private:
-  int64_t period_ns_ = 0;
-  int64_t last_ns_ = 0;
-};
 
 // GazeboRosCameraUtils' parameters and publishers for one camera sensor.
 class CameraUtils {

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "camera_sensor.h"
 #include "camera_utils.h"
 #include "model_plugin.h"
 #include "sensor_plugin.h"
+#include "sensors/camera_sensor.h"
 
 namespace onedof_sim::plugins {
 namespace {

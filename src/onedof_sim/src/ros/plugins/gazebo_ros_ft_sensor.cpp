@@ -14,17 +14,16 @@
 // joint cannot carry the sensor: its links are one rigid body here, and Gazebo's URDF loading
 // lumps it away too (the plugin then finds no such joint); the book's own xacro makes it a
 // prismatic joint with both limits at 0 for that reason, which works here. The noise comes from
-// a generator with a fixed seed per plugin, so that two runs publish the same numbers.
-#include <random>
-
+// a generator seeded with the plugin's name (pluginSeed), so that two runs publish the same
+// numbers.
 #include <geometry_msgs/WrenchStamped.h>
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "sensor_noise.h"
-#include "update_gate.h"
+#include "sensors/sensor_noise.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -40,7 +39,10 @@ struct FtParams {
 class GazeboRosFt : public ModelPlugin {
  public:
   GazeboRosFt(const ModelPluginContext& context, const FtParams& params, const std::string& frame)
-      : params_(params), node_(context.node), noise_(params.gaussian_noise) {
+      : params_(params),
+        node_(context.node),
+        random_(pluginSeed(context)),
+        noise_(whiteNoise(params.gaussian_noise), random_) {
     frame_id_ = resolveTfFrame(tfPrefix(node_), frame);
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
@@ -85,8 +87,8 @@ class GazeboRosFt : public ModelPlugin {
   std::string frame_id_;
   ros::Publisher publisher_;
   UpdateGate update_gate_;
-  std::mt19937 random_;  // default seed: the same numbers every run
-  WhiteNoise noise_;
+  NoiseRandom random_;
+  NoiseModel noise_;  // <gaussianNoise>
   PublicationQueue publications_;
 };
 

@@ -20,20 +20,18 @@
 // which is the same only while the link is not turned); the velocity is sampled at every update
 // whether or not anyone subscribes (GazeboRosIMU samples only while publishing), so that what
 // is published does not depend on when a subscriber came; and the noise comes from a generator
-// with a fixed seed per plugin, so that two runs publish the same numbers.
-#include <random>
-
+// seeded with the plugin's name (pluginSeed), so that two runs publish the same numbers.
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 #include <sensor_msgs/Imu.h>
 #include <std_srvs/Empty.h>
 
-#include "imu_measurement.h"
 #include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "sensor_noise.h"
-#include "update_gate.h"
+#include "sensors/imu_measurement.h"
+#include "sensors/sensor_noise.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -55,7 +53,8 @@ class GazeboRosImu : public ModelPlugin {
       : params_(params),
         node_(context.node),
         imu_(params.link, Pose{}, params.rpy_offset),
-        noise_(params.gaussian_noise) {
+        random_(pluginSeed(context)),
+        noise_(whiteNoise(params.gaussian_noise), random_) {
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
       update_gate_ = UpdateGate(params_.update_rate, context.world->timeNs());
@@ -102,8 +101,8 @@ class GazeboRosImu : public ModelPlugin {
   ros::ServiceServer calibrate_;
   UpdateGate update_gate_;
   ImuMeasurement imu_;
-  std::mt19937 random_;  // default seed: the same numbers every run
-  WhiteNoise noise_;
+  NoiseRandom random_;
+  NoiseModel noise_;  // <gaussianNoise>
   PublicationQueue publications_;
 };
 

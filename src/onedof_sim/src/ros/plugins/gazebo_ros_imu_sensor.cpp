@@ -9,7 +9,8 @@
 // angular velocity and the specific force (gravity's reaction included: at rest 9.81 m/s^2 up),
 // both in the sensor's axes. <imu><angular_velocity> and <linear_acceleration> <x>/<y>/<z>
 // <noise> (and SDF 1.4's <imu><noise> with <rate> and <accel>, which sdformat turns into
-// those) add their noise to each rate and acceleration component (sensor_noise.h).
+// those) add their noise to each rate and acceleration component (sensor_noise.h); a dynamic
+// bias drifts over the sim time between measurements.
 //
 // The plugin publishes a measurement once at least a period of <updateRateHZ> (default 1 Hz)
 // has passed since the last one it took, turns the orientation by <rpyOffset> (offset *
@@ -25,82 +26,23 @@
 // step); after reset_simulation the plugin's rate starts again from time 0.
 #include <cstdint>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 #include <sensor_msgs/Imu.h>
 #include <tinyxml2.h>
 
-#include "imu_measurement.h"
 #include "imu_message.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "sensor_noise.h"
 #include "sensor_plugin.h"
+#include "sensors/imu_measurement.h"
+#include "sensors/sensor_noise.h"
 
 namespace onedof_sim::plugins {
 namespace {
-
-// The sensor's noise models, one a component: rates x, y, z, then accelerations x, y, z.
-struct ImuNoiseParams {
-  NoiseParams rate[3], acceleration[3];
-  bool any() const {
-    for (int i = 0; i < 3; ++i)
-      if (rate[i].on || acceleration[i].on) return true;
-    return false;
-  }
-};
-
-// The sensor's <imu> noise elements. SDF 1.4's <imu><noise> (<type>, <rate> and <accel> with
-// mean, stddev, bias_mean, bias_stddev) stands for the same noise on each axis, as sdformat's
-// conversion makes it; the per-axis elements, when there are any, win.
-bool readImuNoise(const std::string& sensor_xml, ImuNoiseParams* params, std::string* error) {
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(sensor_xml.c_str(), sensor_xml.size()) != tinyxml2::XML_SUCCESS) {
-    *error = "the <sensor> is not XML";
-    return false;
-  }
-  *params = {};
-  const tinyxml2::XMLElement* imu = doc.RootElement()->FirstChildElement("imu");
-  if (!imu) return true;
-  if (const tinyxml2::XMLElement* old = imu->FirstChildElement("noise")) {
-    // <type> applies to both groups: copy it into each as the converted SDF has it.
-    const tinyxml2::XMLElement* type = old->FirstChildElement("type");
-    const std::string type_text = type && type->GetText() ? type->GetText() : "gaussian";
-    for (const auto& [group, out] : {std::pair{"rate", params->rate},
-                                     std::pair{"accel", params->acceleration}}) {
-      tinyxml2::XMLDocument copy;
-      tinyxml2::XMLElement* noise = copy.NewElement("noise");
-      copy.InsertEndChild(noise);
-      noise->SetAttribute("type", type_text.c_str());
-      if (const tinyxml2::XMLElement* values = old->FirstChildElement(group))
-        for (auto* child = values->FirstChildElement(); child; child = child->NextSiblingElement())
-          noise->InsertEndChild(child->DeepClone(&copy));
-      NoiseParams axis;
-      if (!readNoise(noise, "<imu><noise><" + std::string(group) + ">", &axis, error))
-        return false;
-      for (int i = 0; i < 3; ++i) out[i] = axis;
-    }
-  }
-  const char* axes[3] = {"x", "y", "z"};
-  for (const auto& [group, out] : {std::pair{"angular_velocity", params->rate},
-                                   std::pair{"linear_acceleration", params->acceleration}}) {
-    const tinyxml2::XMLElement* element = imu->FirstChildElement(group);
-    if (!element) continue;
-    for (int i = 0; i < 3; ++i) {
-      const tinyxml2::XMLElement* axis = element->FirstChildElement(axes[i]);
-      const tinyxml2::XMLElement* noise = axis ? axis->FirstChildElement("noise") : nullptr;
-      if (!noise) continue;
-      if (!readNoise(noise, "<imu><" + std::string(group) + "><" + axes[i] + "><noise>", &out[i],
-                     error))
-        return false;
-    }
-  }
-  return true;
-}
 
 struct ImuSensorParams {
   std::string robot_namespace;  // "/" when it names none
@@ -121,18 +63,18 @@ class GazeboRosImuSensor : public ModelPlugin {
                context.plugin.model + "')"),
         gate_(context.sensor.update_rate),
         imu_(context.plugin.model + "::" + context.sensor.link, context.sensor.pose),
-        random_(seedOf(context.plugin.model + "::" + context.sensor.link + "::" +
-                       context.sensor.name)),
-        white_(params.gaussian_noise),
+        random_(sensorSeed(context)),
+        white_(whiteNoise(params.gaussian_noise), random_),
         node_(params.robot_namespace) {
     for (int i = 0; i < 3; ++i) {
-      rate_noise_[i] = Noise(params_.noise.rate[i], random_);
-      acceleration_noise_[i] = Noise(params_.noise.acceleration[i], random_);
+      rate_noise_[i] = NoiseModel(params_.noise.rate[i], random_);
+      acceleration_noise_[i] = NoiseModel(params_.noise.acceleration[i], random_);
     }
     {
       std::unique_lock<std::mutex> lock = context.plugin.lock_world();
       const World& world = *context.plugin.world;
       imu_.restart(world, world.timeNs());
+      last_measured_ns_ = world.timeNs();
       ImuReading now;
       if (params_.initial_orientation_as_reference && imu_.measure(world, world.timeNs(), &now))
         reference_ = now.orientation;
@@ -144,6 +86,10 @@ class GazeboRosImuSensor : public ModelPlugin {
       ROS_INFO_STREAM(label_ << ": its Gaussian noise is drawn from a generator seeded with the "
                       << "sensor's name (Gazebo seeds it at random), so runs repeat their "
                       << "numbers");
+    if (params_.noise.drifts())
+      ROS_INFO_STREAM(label_ << ": the bias of its noise drifts by <dynamic_bias_stddev> and "
+                      << "<dynamic_bias_correlation_time>, as SDF describes them and gz-sensors "
+                      << "applies them (Gazebo classic reads them and applies nothing)");
     if (params_.update_rate <= 0)
       ROS_INFO_STREAM(label_ << ": <updateRateHZ> " << params_.update_rate << ": each "
                       << "measurement is published once (Gazebo's plugin publishes the last one "
@@ -158,13 +104,18 @@ class GazeboRosImuSensor : public ModelPlugin {
       failed_ = true;
       return;
     }
-    // The sensor's own noise, at every measurement, as Gazebo's ImuSensor adds it.
+    // The sensor's own noise, at every measurement, as Gazebo's ImuSensor adds it; a dynamic
+    // bias drifts over the sim time since the last measurement.
+    const double elapsed_s = 1e-9 * static_cast<double>(at.time_ns - last_measured_ns_);
+    last_measured_ns_ = at.time_ns;
     Vec3& w = reading.angular_velocity;
     Vec3& a = reading.linear_acceleration;
-    w = {rate_noise_[0].apply(w.x, random_), rate_noise_[1].apply(w.y, random_),
-         rate_noise_[2].apply(w.z, random_)};
-    a = {acceleration_noise_[0].apply(a.x, random_), acceleration_noise_[1].apply(a.y, random_),
-         acceleration_noise_[2].apply(a.z, random_)};
+    w = {rate_noise_[0].apply(w.x, random_, elapsed_s),
+         rate_noise_[1].apply(w.y, random_, elapsed_s),
+         rate_noise_[2].apply(w.z, random_, elapsed_s)};
+    a = {acceleration_noise_[0].apply(a.x, random_, elapsed_s),
+         acceleration_noise_[1].apply(a.y, random_, elapsed_s),
+         acceleration_noise_[2].apply(a.z, random_, elapsed_s)};
 
     if (at.time_ns < last_published_ns_) last_published_ns_ = 0;
     if (params_.update_rate > 0 &&
@@ -173,9 +124,7 @@ class GazeboRosImuSensor : public ModelPlugin {
     last_published_ns_ = at.time_ns;
 
     const Quat o =
-        product(params_.rpy_offset,
-                product({reference_.w, -reference_.x, -reference_.y, -reference_.z},
-                        reading.orientation));
+        multiply(params_.rpy_offset, multiply(conjugate(reference_), reading.orientation));
     // Gazebo's plugin adds its <gaussianNoise> to the orientation (x, y, z, w), then to the
     // accelerations, then to the rates.
     ImuReading noisy;
@@ -196,6 +145,7 @@ class GazeboRosImuSensor : public ModelPlugin {
   void reset(World& world) override {
     gate_.reset();
     imu_.restart(world, world.timeNs());
+    last_measured_ns_ = world.timeNs();
   }
 
   std::vector<Publication> takePublications() override { return publications_.take(); }
@@ -206,9 +156,10 @@ class GazeboRosImuSensor : public ModelPlugin {
   SensorGate gate_;
   ImuMeasurement imu_;
   Quat reference_;  // the world's orientation the published one is relative to
-  std::mt19937_64 random_;
-  Noise rate_noise_[3], acceleration_noise_[3];
-  WhiteNoise white_;
+  NoiseRandom random_;
+  NoiseModel white_;  // <gaussianNoise>
+  NoiseModel rate_noise_[3], acceleration_noise_[3];
+  int64_t last_measured_ns_ = 0;  // the sim time a dynamic bias drifts from
   int64_t last_published_ns_ = 0;
   ros::NodeHandle node_;
   ros::Publisher publisher_;

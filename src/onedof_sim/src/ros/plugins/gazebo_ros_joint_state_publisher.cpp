@@ -11,7 +11,7 @@
 
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "update_gate.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {

@@ -19,9 +19,9 @@
 
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "ray_sensor.h"
-#include "sensor_noise.h"
 #include "sensor_plugin.h"
+#include "sensors/ray_sensor.h"
+#include "sensors/sensor_noise.h"
 
 namespace onedof_sim::plugins {
 namespace {

@@ -23,11 +23,11 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
-#include "camera_sensor.h"
 #include "camera_utils.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
 #include "sensor_plugin.h"
+#include "sensors/camera_sensor.h"
 
 namespace onedof_sim::plugins {
 namespace {

@@ -4,16 +4,19 @@
 // Gaussian noise of <gaussianNoise> (standard deviation), at <updateRate> of sim time (0: every
 // step), stamped in sim time, while anyone subscribes. Relative to a link, pose and twist are as
 // get_link_state gives them in that link's frame.
-#include <random>
-
+//
+// Where it differs from Gazebo: the noise comes from a generator seeded with the plugin's name
+// (pluginSeed; Gazebo's seeds it at random), so that two runs in lock-step publish the same
+// numbers.
 #include <nav_msgs/Odometry.h>
+#include <onedof_sim/pose_math.h>
 #include <ros/console.h>
 
 #include "conversions.h"
 #include "model_plugin.h"
 #include "plugin_params.h"
-#include "pose_ops.h"
-#include "update_gate.h"
+#include "sensors/sensor_noise.h"
+#include "sensors/update_gate.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -32,7 +35,11 @@ struct P3dParams {
 class GazeboRosP3d : public ModelPlugin {
  public:
   GazeboRosP3d(const ModelPluginContext& context, const P3dParams& params)
-      : model_(context.model), params_(params), node_(context.node), noise_(0.0, 1.0) {
+      : model_(context.model),
+        params_(params),
+        node_(context.node),
+        random_(pluginSeed(context)),
+        noise_(whiteNoise(params.gaussian_noise), random_) {
     frame_id_ = resolveTfFrame(tfPrefix(node_), params_.frame);
     {
       std::unique_lock<std::mutex> lock = context.lock_world();
@@ -49,20 +56,19 @@ class GazeboRosP3d : public ModelPlugin {
       return;
     pose.position = {pose.position.x + params_.xyz_offset.x, pose.position.y + params_.xyz_offset.y,
                      pose.position.z + params_.xyz_offset.z};
-    pose.orientation = product(params_.rpy_offset, pose.orientation);
+    pose.orientation = multiply(params_.rpy_offset, pose.orientation);
     nav_msgs::Odometry msg;
     msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
     msg.header.frame_id = frame_id_;
     msg.child_frame_id = params_.body;
     msg.pose.pose = toMsg(pose);
     const double sigma = params_.gaussian_noise;
-    auto noisy = [&](double value) { return sigma > 0 ? value + sigma * noise_(random_) : value; };
-    msg.twist.twist.linear.x = noisy(twist.linear.x);
-    msg.twist.twist.linear.y = noisy(twist.linear.y);
-    msg.twist.twist.linear.z = noisy(twist.linear.z);
-    msg.twist.twist.angular.x = noisy(twist.angular.x);
-    msg.twist.twist.angular.y = noisy(twist.angular.y);
-    msg.twist.twist.angular.z = noisy(twist.angular.z);
+    msg.twist.twist.linear.x = noise_.apply(twist.linear.x, random_);
+    msg.twist.twist.linear.y = noise_.apply(twist.linear.y, random_);
+    msg.twist.twist.linear.z = noise_.apply(twist.linear.z, random_);
+    msg.twist.twist.angular.x = noise_.apply(twist.angular.x, random_);
+    msg.twist.twist.angular.y = noise_.apply(twist.angular.y, random_);
+    msg.twist.twist.angular.z = noise_.apply(twist.angular.z, random_);
     for (int i : {0, 7, 14, 21, 28, 35})
       msg.pose.covariance[i] = msg.twist.covariance[i] = sigma * sigma;
     publications_.add(publisher_, msg);
@@ -77,8 +83,8 @@ class GazeboRosP3d : public ModelPlugin {
   std::string frame_id_;
   ros::Publisher publisher_;
   UpdateGate update_gate_;
-  std::mt19937 random_{std::random_device{}()};
-  std::normal_distribution<double> noise_;
+  NoiseRandom random_;
+  NoiseModel noise_;  // <gaussianNoise>
   PublicationQueue publications_;
 };
 
@@ -105,6 +111,10 @@ std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext& context,
       !params.number("gaussianNoise", 0, &p.gaussian_noise, error) ||
       !params.number("updateRate", 0, &p.update_rate, error))
     return nullptr;
+  if (p.gaussian_noise < 0) {
+    *error = "<gaussianNoise> is negative";
+    return nullptr;
+  }
   p.rpy_offset = fromRpy(rpy);
   const bool world_frame =
       p.frame == "world" || p.frame == "/world" || p.frame == "map" || p.frame == "/map";

@@ -9,7 +9,7 @@
 #include <sensor_msgs/Imu.h>
 
 #include "conversions.h"
-#include "imu_measurement.h"
+#include "sensors/imu_measurement.h"
 
 namespace onedof_sim::plugins {
 

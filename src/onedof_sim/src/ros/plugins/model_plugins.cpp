@@ -1,17 +1,16 @@
 #include "model_plugins.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <set>
-#include <sstream>
 #include <utility>
 
+#include <onedof_sim/trim.h>
 #include <ros/console.h>
 #include <tinyxml2.h>
 
-#include "pose_ops.h"
+#include "sensors/sensor_xml.h"
 
 namespace onedof_sim::plugins {
 namespace {
@@ -56,13 +55,6 @@ void addPlugins(const tinyxml2::XMLElement* parent, std::vector<PluginElement>* 
     out->push_back(toPluginElement(plugin));
 }
 
-std::string trimmed(std::string text) {
-  const auto space = [](unsigned char c) { return std::isspace(c); };
-  text.erase(text.begin(), std::find_if_not(text.begin(), text.end(), space));
-  text.erase(std::find_if_not(text.rbegin(), text.rend(), space).base(), text.end());
-  return text;
-}
-
 // An SDF boolean as sdformat reads it: true/false/1/0.
 bool readFlag(const std::string& text, bool* value) {
   const bool is_true = text == "true" || text == "1";
@@ -89,14 +81,7 @@ SensorElement toSensorElement(const tinyxml2::XMLElement* sensor, const std::str
   if (link.empty()) fail("it is on no link (a <gazebo> without reference)");
   if (sensor->FirstChildElement("pose")) {
     const std::string text = trimmed(childText(sensor, "pose"));
-    std::istringstream in(text);
-    Vec3 xyz, rpy;
-    std::string rest;
-    if (!(in >> xyz.x >> xyz.y >> xyz.z >> rpy.x >> rpy.y >> rpy.z) || (in >> rest) ||
-        !std::isfinite(xyz.x + xyz.y + xyz.z + rpy.x + rpy.y + rpy.z))
-      fail("<pose> is '" + text + "', not six numbers");
-    else
-      element.pose = {xyz, fromRpy(rpy)};
+    if (!readPoseText(text, &element.pose)) fail("<pose> is '" + text + "', not six numbers");
   }
   if (sensor->FirstChildElement("update_rate")) {
     const std::string text = trimmed(childText(sensor, "update_rate"));

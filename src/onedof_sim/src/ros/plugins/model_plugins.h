@@ -15,7 +15,7 @@ namespace onedof_sim::plugins {
 std::vector<PluginElement> findModelPlugins(const std::string& model_xml, ModelFormat format);
 
 // The sensors a URDF (<gazebo reference="link"><sensor>) or an SDF (<model><link><sensor>) names,
-// in document order, each with its plugins (sensors.cpp).
+// in document order, each with its plugins.
 std::vector<SensorElement> findSensors(const std::string& model_xml, ModelFormat format);
 
 // The model description with `robot_namespace` as the <robotNamespace> of every <plugin> that

@@ -6,18 +6,13 @@
 #include <cstdlib>
 #include <sstream>
 
+#include <onedof_sim/trim.h>
 #include <ros/console.h>
+
+#include "sensors/sensor_noise.h"
 
 namespace onedof_sim::plugins {
 namespace {
-
-std::string trimmed(const char* text) {
-  std::string value = text ? text : "";
-  const auto space = [](unsigned char c) { return std::isspace(c); };
-  value.erase(value.begin(), std::find_if_not(value.begin(), value.end(), space));
-  value.erase(std::find_if_not(value.rbegin(), value.rend(), space).base(), value.end());
-  return value;
-}
 
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),
@@ -125,6 +120,10 @@ bool jointLinks(const ModelPluginContext& context, const std::string& joint, std
     return !parent->empty() && !child->empty();
   }
   return false;
+}
+
+uint64_t pluginSeed(const ModelPluginContext& context) {
+  return seedOf(context.model + "::" + context.name + "::" + context.filename);
 }
 
 void applyRosDebugLevel(const std::string& level) {

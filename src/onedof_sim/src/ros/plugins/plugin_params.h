@@ -2,6 +2,7 @@
 // getParameter and getParameterBoolean), and the URDF or SDF facts they look up in the model.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include <tinyxml2.h>
@@ -44,6 +45,12 @@ std::string tfPrefix(ros::NodeHandle& node);
 // has no such joint.
 bool jointLinks(const ModelPluginContext& context, const std::string& joint, std::string* parent,
                 std::string* child);
+
+// The seed of a model plugin's noise generator: seedOf its model, name and filename
+// ("model::name::libgazebo_ros_xxx.so"), the same on every run and machine (Gazebo's plugins
+// seed theirs at random), so that runs in lock-step repeat their noise and no two plugins of a
+// model draw the same.
+uint64_t pluginSeed(const ModelPluginContext& context);
 
 // Sets the level of roscpp's default logger as gazebo_ros's <rosDebugLevel> does (Debug, Info,
 // Warn, Error, Fatal; anything else leaves it).

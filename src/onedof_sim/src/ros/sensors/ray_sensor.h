@@ -4,21 +4,14 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <vector>
 
 #include <onedof_sim/world.h>
 
-namespace onedof_sim::plugins {
+#include "sensor_noise.h"
 
-// <ray><noise>: Gaussian noise as Gazebo's GaussianNoiseModel adds it.
-struct RayNoise {
-  bool on = false;  // <noise type="gaussian">
-  double mean = 0, stddev = 0;          // drawn for each range
-  double bias_mean = 0, bias_stddev = 0;  // one bias, drawn once, of either sign
-  double precision = 0;                   // > 0: ranges rounded to multiples of it
-};
+namespace onedof_sim::plugins {
 
 // <ray>: the scan's rays and their range, with SDF's defaults.
 struct RayConfig {
@@ -30,7 +23,7 @@ struct RayConfig {
   double vertical_min_angle = 0, vertical_max_angle = 0;  // rad, up from the x-y plane
   double range_min = 0, range_max = 0;  // <range><min>, <max>, m
   double range_resolution = 0;  // <range><resolution>: read, not applied, as in Gazebo
-  RayNoise noise;
+  NoiseParams noise;  // <noise>: added to each range (sensor_noise.h), then held within the range
 
   int rangeCount() const;          // ranges per row: samples * resolution
   int verticalRangeCount() const;  // rows
@@ -65,8 +58,8 @@ class RayScanner {
   std::vector<Vec3> directions_;  // each ray's, in the sensor frame
   std::vector<Ray> rays_;
   std::vector<double> hits_;
-  std::mt19937_64 random_;
-  double bias_ = 0;
+  NoiseRandom random_;
+  NoiseModel noise_;  // drawn from random_
 };
 
 }  // namespace onedof_sim::plugins

@@ -10,6 +10,7 @@
 #include <onedof_sim/world.h>
 
 #include "renderer.h"
+#include "sensor_noise.h"
 
 namespace onedof_sim::plugins {
 
@@ -21,7 +22,9 @@ struct CameraConfig {
   bool bgr = false;               // the format's bytes are blue, green, red (B8G8R8)
   double near_clip = 0.1, far_clip = 100;  // <clip>
   Pose pose;  // <camera><pose>, on the sensor's
-  double noise_mean = 0, noise_stddev = 0;  // <noise type="gaussian">, in [0, 1] of a channel
+  // <noise>, in [0, 1] of a channel: its mean and stddev, as Gazebo's image noise takes them
+  // (no bias nor precision).
+  NoiseParams noise;
 };
 
 // Reads the <camera> of a <sensor> element (its XML text); false, with *error naming what is
@@ -54,10 +57,11 @@ class CameraView {
   render::CameraSpec spec_;
   render::Frame frame_;  // reused: the renderer resizes it only when the size changes
   bool failed_ = false;  // logged once
-  // Gazebo's image noise: one value a pixel a frame, mean + stddev N(0, 1), added to its three
+  // Gazebo's image noise: one value a pixel a frame, N(mean, stddev), added to its three
   // channels and clamped, as Gazebo's GaussianNoise compositor adds it. Drawn from a table of
-  // normal deviates made once from the seed (in channel units), indexed by a xorshift generator:
-  // a table lookup a pixel, where drawing each afresh would cost more than the frame.
+  // deviates the noise model (NoiseModel::white) makes once from the seed (in channel units),
+  // indexed by a xorshift generator: a table lookup a pixel, where drawing each afresh would
+  // cost more than the frame.
   std::vector<float> noise_table_;
   uint64_t noise_state_ = 0;
   void addNoise();

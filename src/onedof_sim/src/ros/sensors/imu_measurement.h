@@ -15,6 +15,8 @@
 
 #include <onedof_sim/world.h>
 
+#include "sensor_noise.h"
+
 namespace onedof_sim::plugins {
 
 struct ImuReading {
@@ -51,5 +53,19 @@ class ImuMeasurement {
   Vec3 last_velocity_;
   Vec3 acceleration_;
 };
+
+// The `imu` sensor's noise, one model a component: rates x, y, z, then accelerations x, y, z.
+struct ImuNoiseParams {
+  NoiseParams rate[3], acceleration[3];
+  bool any() const;
+  bool drifts() const;  // any has a dynamic bias
+};
+
+// Reads the noise of the <imu> of a <sensor> element (its XML text): <angular_velocity> and
+// <linear_acceleration> <x>/<y>/<z> <noise>, and SDF 1.4's <imu><noise> (<type>, <rate> and
+// <accel> with mean, stddev, bias_mean, bias_stddev), which stands for the same noise on each
+// axis as sdformat's conversion makes it (the per-axis elements, when there are any, win). No
+// <imu>: no noise. False, with *error naming the element, when one is malformed.
+bool readImuNoise(const std::string& sensor_xml, ImuNoiseParams* params, std::string* error);
 
 }  // namespace onedof_sim::plugins

@@ -1,5 +1,6 @@
-// Rigid-transform arithmetic on the public Vec3/Quat/Pose types, shared by the loader and the
-// world. Private to the core.
+// Rigid-transform arithmetic on the public Vec3/Quat/Pose types: the one pose library of the
+// core, the renderer's callers and the ROS layer. Quaternions are w first; the functions that
+// take a rotation expect a unit quaternion.
 #pragma once
 
 #include <cmath>
@@ -7,7 +8,6 @@
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
-namespace core {
 
 inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
@@ -20,6 +20,7 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 // Without overflow: |(1e200, 0, 0)| is 1e200, where sqrt(dot) gives infinity.
 inline double norm(const Vec3& a) { return std::hypot(a.x, a.y, a.z); }
 
+// The Hamilton product a b: the turn b, then a.
 inline Quat multiply(const Quat& a, const Quat& b) {
   return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
           a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
@@ -34,21 +35,31 @@ inline Quat normalized(const Quat& q) {
   const double n = quatNorm(q);
   return {q.w / n, q.x / n, q.y / n, q.z / n};
 }
+// v turned by q.
 inline Vec3 rotate(const Quat& q, const Vec3& v) {
   const Vec3 u{q.x, q.y, q.z};
   const Vec3 t = 2.0 * cross(u, v);
   return v + q.w * t + cross(u, t);
 }
+// v, given in the parent frame, in the axes of a frame turned by q.
+inline Vec3 inFrame(const Quat& q, const Vec3& v) { return rotate(conjugate(q), v); }
 inline Quat axisAngle(const Vec3& unit_axis, double angle) {
   const double s = std::sin(angle / 2);
   return {std::cos(angle / 2), s * unit_axis.x, s * unit_axis.y, s * unit_axis.z};
 }
-// Fixed-axis roll, pitch, yaw (URDF and SDF): R = Rz(yaw) Ry(pitch) Rx(roll).
+// Fixed-axis roll, pitch, yaw, as URDF (urdfdom's Rotation::setFromRPY), SDF and Gazebo
+// (ignition::math::Quaternion(roll, pitch, yaw)) read a pose: about x, then the fixed y, then
+// the fixed z, R = Rz(yaw) Ry(pitch) Rx(roll); their closed form, normalised as they normalise it.
 inline Quat fromRpy(double roll, double pitch, double yaw) {
-  return multiply(multiply(axisAngle({0, 0, 1}, yaw), axisAngle({0, 1, 0}, pitch)),
-                  axisAngle({1, 0, 0}, roll));
+  const double cr = std::cos(roll / 2), sr = std::sin(roll / 2);
+  const double cp = std::cos(pitch / 2), sp = std::sin(pitch / 2);
+  const double cy = std::cos(yaw / 2), sy = std::sin(yaw / 2);
+  return normalized({cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy});
 }
+inline Quat fromRpy(const Vec3& rpy) { return fromRpy(rpy.x, rpy.y, rpy.z); }
 
+// The pose b, given in the frame a, in a's parent frame.
 inline Pose compose(const Pose& a, const Pose& b) {
   return {a.position + rotate(a.orientation, b.position),
           normalized(multiply(a.orientation, b.orientation))};
@@ -69,5 +80,4 @@ inline bool isFinite(const Quat& q) {
 }
 inline bool isFinite(const Pose& p) { return isFinite(p.position) && isFinite(p.orientation); }
 
-}  // namespace core
 }  // namespace onedof_sim

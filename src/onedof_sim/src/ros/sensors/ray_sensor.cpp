@@ -7,9 +7,9 @@
 #include <sstream>
 #include <utility>
 
+#include <onedof_sim/pose_math.h>
 #include <tinyxml2.h>
 
-#include "pose_ops.h"
 #include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
@@ -47,15 +47,8 @@ double RayConfig::angleIncrement() const { return (max_angle - min_angle) / (ran
 
 bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string* error) {
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(sensor_xml.c_str(), sensor_xml.size()) != tinyxml2::XML_SUCCESS) {
-    *error = "the <sensor> is not XML";
-    return false;
-  }
-  const tinyxml2::XMLElement* ray = sensorPath(doc.RootElement(), {"ray"});
-  if (!ray) {
-    *error = "it has no <ray>";
-    return false;
-  }
+  const tinyxml2::XMLElement* ray = requiredSensorChild(sensor_xml, "ray", &doc, error);
+  if (!ray) return false;
   RayConfig c;
   const auto* horizontal = sensorPath(ray, {"scan", "horizontal"});
   const auto* vertical = sensorPath(ray, {"scan", "vertical"});
@@ -85,30 +78,7 @@ bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string
              std::to_string(c.range_max) + ": it needs 0 <= min < max";
     return false;
   }
-  if (const auto* noise = ray->FirstChildElement("noise")) {
-    const char* type_text = noise->Attribute("type");
-    std::string type = type_text ? type_text : "";
-    if (type.empty()) {  // SDF 1.4 and earlier: <type> inside
-      const auto* type_element = noise->FirstChildElement("type");
-      if (type_element && type_element->GetText()) type = type_element->GetText();
-    }
-    if (type == "gaussian" || type == "gaussian_quantized") {
-      c.noise.on = true;
-      if (!readSensorNumber(noise, "mean", "noise", &c.noise.mean, error) ||
-          !readSensorNumber(noise, "stddev", "noise", &c.noise.stddev, error) ||
-          !readSensorNumber(noise, "bias_mean", "noise", &c.noise.bias_mean, error) ||
-          !readSensorNumber(noise, "bias_stddev", "noise", &c.noise.bias_stddev, error) ||
-          !readSensorNumber(noise, "precision", "noise", &c.noise.precision, error))
-        return false;
-      if (c.noise.stddev < 0 || c.noise.bias_stddev < 0 || c.noise.precision < 0) {
-        *error = "<noise> has a negative stddev, bias_stddev or precision";
-        return false;
-      }
-    } else if (type != "none") {
-      *error = "<noise type=\"" + type + "\">: only gaussian (and none) is simulated";
-      return false;
-    }
-  }
+  if (!readNoise(ray->FirstChildElement("noise"), "<ray><noise>", &c.noise, error)) return false;
   *config = c;
   return true;
 }
@@ -132,11 +102,7 @@ RayScanner::RayScanner(const RayConfig& config, std::string link, const Pose& po
     }
   }
   rays_.resize(directions_.size());
-  if (c.noise.on && (c.noise.bias_mean != 0 || c.noise.bias_stddev > 0)) {
-    std::normal_distribution<double> bias(c.noise.bias_mean, c.noise.bias_stddev);
-    bias_ = bias(random_);
-    if (std::uniform_real_distribution<double>(0, 1)(random_) < 0.5) bias_ = -bias_;
-  }
+  noise_ = NoiseModel(c.noise, random_);
 }
 
 bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why) {
@@ -168,7 +134,6 @@ bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why
   };
   const int columns = c.rangeCount(), rows = c.verticalRangeCount();
   const bool interpolate = columns != c.samples || rows != c.vertical_samples;
-  std::normal_distribution<double> white(c.noise.mean, c.noise.stddev);
   ranges->resize(static_cast<size_t>(columns) * rows);
   for (int j = 0; j < rows; ++j) {
     // Gazebo's bilinear interpolation between the four rays around each range.
@@ -193,11 +158,8 @@ bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why
         range = std::numeric_limits<double>::infinity();
       } else if (range <= c.range_min) {
         range = -std::numeric_limits<double>::infinity();
-      } else if (c.noise.on) {
-        range += bias_ + (c.noise.stddev > 0 ? white(random_) : c.noise.mean);
-        if (c.noise.precision > 0)
-          range = std::round(range / c.noise.precision) * c.noise.precision;
-        range = std::clamp(range, c.range_min, c.range_max);
+      } else if (noise_.on()) {
+        range = std::clamp(noise_.apply(range, random_), c.range_min, c.range_max);
       }
       (*ranges)[static_cast<size_t>(j) * columns + i] = static_cast<float>(range);
     }

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <random>
 #include <sstream>
 #include <utility>
 
+#include <onedof_sim/pose_math.h>
+#include <onedof_sim/trim.h>
 #include <ros/console.h>
 #include <tinyxml2.h>
 
-#include "pose_ops.h"
 #include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
@@ -24,10 +24,7 @@ constexpr int kNoiseBits = 16;
 constexpr size_t kNoiseTable = size_t{1} << kNoiseBits;
 
 std::string text(const tinyxml2::XMLElement* element) {
-  std::string value = element && element->GetText() ? element->GetText() : "";
-  value.erase(0, value.find_first_not_of(" \t\r\n"));
-  value.erase(value.find_last_not_of(" \t\r\n") + 1);
-  return value;
+  return trimmed(element ? element->GetText() : nullptr);
 }
 
 bool readSize(const tinyxml2::XMLElement* image, const char* tag, int* value, std::string* error) {
@@ -65,15 +62,8 @@ render::Renderer* sharedRenderer() {
 
 bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::string* error) {
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(sensor_xml.c_str(), sensor_xml.size()) != tinyxml2::XML_SUCCESS) {
-    *error = "the <sensor> is not XML";
-    return false;
-  }
-  const tinyxml2::XMLElement* camera = sensorPath(doc.RootElement(), {"camera"});
-  if (!camera) {
-    *error = "it has no <camera>";
-    return false;
-  }
+  const tinyxml2::XMLElement* camera = requiredSensorChild(sensor_xml, "camera", &doc, error);
+  if (!camera) return false;
   CameraConfig c;
   const auto* image = camera->FirstChildElement("image");
   const auto* clip = camera->FirstChildElement("clip");
@@ -106,28 +96,13 @@ bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::
     return false;
   }
   if (const auto* pose = camera->FirstChildElement("pose")) {
-    std::istringstream in(text(pose));
-    Vec3 xyz, rpy;
-    std::string rest;
-    if (!(in >> xyz.x >> xyz.y >> xyz.z >> rpy.x >> rpy.y >> rpy.z) || (in >> rest) ||
-        !std::isfinite(xyz.x + xyz.y + xyz.z + rpy.x + rpy.y + rpy.z)) {
+    if (!readPoseText(text(pose), &c.pose)) {
       *error = "<camera><pose> is '" + text(pose) + "', not six numbers";
       return false;
     }
-    c.pose = {xyz, fromRpy(rpy)};
   }
-  if (const auto* noise = camera->FirstChildElement("noise")) {
-    std::string type = noise->Attribute("type") ? noise->Attribute("type") : "";
-    if (type.empty()) type = text(noise->FirstChildElement("type"));
-    if (type == "gaussian" &&
-        (!readSensorNumber(noise, "mean", "noise", &c.noise_mean, error) ||
-         !readSensorNumber(noise, "stddev", "noise", &c.noise_stddev, error)))
-      return false;
-    if (c.noise_stddev < 0) {
-      *error = "<noise><stddev> is negative";
-      return false;
-    }
-  }
+  if (!readNoise(camera->FirstChildElement("noise"), "<camera><noise>", &c.noise, error))
+    return false;
   *config = c;
   return true;
 }
@@ -141,12 +116,11 @@ CameraView::CameraView(const CameraConfig& config, std::string link, const Pose&
   spec_.height = config.height;
   spec_.near_clip = config.near_clip;
   spec_.far_clip = config.far_clip;
-  if (config.noise_stddev > 0 || config.noise_mean != 0) {
-    std::mt19937_64 random(seed);
-    std::normal_distribution<float> normal(static_cast<float>(config.noise_mean * 255),
-                                           static_cast<float>(config.noise_stddev * 255));
+  if (config.noise.on && (config.noise.stddev > 0 || config.noise.mean != 0)) {
+    NoiseRandom random(seed);
+    NoiseModel noise(config.noise, random);
     noise_table_.resize(kNoiseTable);
-    for (float& value : noise_table_) value = normal(random);
+    for (float& value : noise_table_) value = static_cast<float>(noise.white(random) * 255);
     ROS_INFO_STREAM(label_ << ": its image noise is drawn from a generator seeded with the "
                     << "sensor's name (Gazebo seeds it at random), so runs repeat their images");
   }
