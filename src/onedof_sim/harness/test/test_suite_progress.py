@@ -1,0 +1,99 @@
+"""The suite's progress lines (onedof_harness.suite_progress): how many tests of how many are done
+with their outcomes so far, the time so far and about how long is left, from the process that
+hears every result, as `make test` runs the suite (xdist workers, each test forked); pytest's
+closing summary stays."""
+import os
+import re
+import subprocess
+import sys
+import textwrap
+from types import SimpleNamespace
+
+from onedof_harness.suite_progress import SuiteProgress, duration_text
+
+TESTS = textwrap.dedent('''
+    import pytest
+
+    def test_passes():
+        pass
+
+    def test_passes_too():
+        pass
+
+    def test_fails():
+        assert False
+
+    def test_skips():
+        pytest.skip('not here')
+
+    @pytest.fixture
+    def broken():
+        raise RuntimeError('set-up fails')
+
+    def test_errors(broken):
+        pass
+''')
+
+
+def run_suite(tmp_path, *args):
+    (tmp_path / 'test_sample.py').write_text(TESTS)
+    return subprocess.run(
+        [sys.executable, '-m', 'pytest', '-p', 'no:cacheprovider', '-p',
+         'onedof_harness.suite_progress'] + list(args) + [str(tmp_path)],
+        capture_output=True, text=True, cwd=str(tmp_path), timeout=600,
+        env=dict(os.environ, SUITE_PROGRESS_SECONDS='0'))
+
+
+def progress_lines(stdout):
+    return [line for line in stdout.splitlines() if line.startswith('progress: ')]
+
+
+def test_each_line_says_how_far_the_forked_suite_on_workers_is_and_the_summary_stays(tmp_path):
+    result = run_suite(tmp_path, '-n', '2', '--forked')
+    lines = progress_lines(result.stdout)
+    # Every test's end gives a line here (a line at most every 0 s).
+    assert len(lines) == 5, result.stdout
+    for done, line in enumerate(lines, 1):
+        assert re.fullmatch(r'progress: %d/5 tests done \((\d+ \w+)(, \d+ \w+)*\), \d+ s so far'
+                            r'(, about \d+ s left)?' % done, line), line
+        assert ('about' in line) == (done < 5), line
+    assert lines[-1].startswith(
+        'progress: 5/5 tests done (2 passed, 1 failed, 1 error, 1 skipped), ')
+    assert re.search(r'=+ 1 failed, 2 passed, 1 skipped, 1 error in [\d.]+s', result.stdout), \
+        result.stdout
+
+
+def test_without_workers_too(tmp_path):
+    result = run_suite(tmp_path)
+    lines = progress_lines(result.stdout)
+    assert len(lines) == 5, result.stdout
+    assert lines[-1].startswith(
+        'progress: 5/5 tests done (2 passed, 1 failed, 1 error, 1 skipped), ')
+
+
+def report(nodeid, when, outcome='passed'):
+    return SimpleNamespace(nodeid=nodeid, when=when, failed=outcome == 'failed',
+                           skipped=outcome == 'skipped', passed=outcome == 'passed')
+
+
+def test_a_line_at_most_every_interval_with_the_time_left_at_the_pace_so_far():
+    written, now = [], [0.0]
+    progress = SuiteProgress(SimpleNamespace(write_line=written.append), 60,
+                             clock=lambda: now[0])
+    progress.total = 10
+    for k, at in enumerate((30, 59, 61, 100, 110), 1):
+        now[0] = at
+        for when in ('setup', 'call', 'teardown'):
+            progress.pytest_runtest_logreport(report('t%d' % k, when))
+    # A crashed forked test: one report, failed.
+    now[0] = 300
+    progress.pytest_runtest_logreport(report('t6', '???', 'failed'))
+    assert written == ['progress: 3/10 tests done (3 passed), 1 min 1 s so far, '
+                       'about 2 min 22 s left',
+                       'progress: 6/10 tests done (5 passed, 1 failed), 5 min 0 s so far, '
+                       'about 3 min 20 s left']
+
+
+def test_durations_read_as_minutes_and_seconds():
+    assert [duration_text(s) for s in (0, 59.4, 60, 3725)] == ['0 s', '59 s', '1 min 0 s',
+                                                                '62 min 5 s']
