@@ -97,7 +97,7 @@ deps:
 	  total=$$(apt-get install -s --no-install-recommends $$missing 2>/dev/null | grep -c '^Inst ') \
 	    || total=""; \
 	  what="$${total:-the} Debian packages ($$named named here and what they need"; \
-	  $(STEP) "deps: installing $$what; their names: $(SETUP_LOG:$(WS)/%=%))" \
+	  $(STEP) "deps: installing $$what, the names in $(SETUP_LOG:$(WS)/%=%))" \
 	    $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
 	fi
 
