@@ -86,7 +86,11 @@ class TwoHosts:
     def enter(self, netns):
         """Moves this (single-threaded, forked) process into netns."""
         libc = ctypes.CDLL(None, use_errno=True)
-        with open('/run/netns/' + netns) as handle:
+        try:
+            handle = open('/run/netns/' + netns)
+        except OSError as error:
+            raise HostsUnavailable('open /run/netns/%s: %s' % (netns, error.strerror))
+        with handle:
             if libc.setns(handle.fileno(), CLONE_NEWNET) != 0:
                 error = ctypes.get_errno()
                 raise HostsUnavailable('setns %s: %s' % (netns, os.strerror(error)))
