@@ -96,7 +96,7 @@ deps:
 	  named=$$(wc -w <<< "$$missing"); \
 	  total=$$(apt-get install -s --no-install-recommends $$missing 2>/dev/null | grep -c '^Inst ') \
 	    || total=""; \
-	  what="$${total:-the} Debian packages ($$named named here and what they need"; \
+	  what="$${total:-the} Debian packages (the workspace's $$named and what they depend on"; \
 	  $(STEP) "deps: installing $$what, the names in $(SETUP_LOG:$(WS)/%=%))" \
 	    $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
 	fi

@@ -130,7 +130,8 @@ def test_the_deps_step_says_how_many_packages_apt_installs_and_logs_their_names(
     assert result.returncode == 0, result.stdout + result.stderr
     install_line = [line for line in result.stdout.splitlines() if 'deps: installing' in line]
     assert install_line == [
-        'deps: installing %d Debian packages (%d named here and what they need, the names in %s) '
+        "deps: installing %d Debian packages (the workspace's %d and what they depend on, the "
+        'names in %s) '
         '... done in %s' % (len(set(packages)) + 5, len(set(packages)), log,
                             install_line[0].split(' done in ')[-1])], result.stdout
     assert not any(package in result.stdout for package in ('libode-dev', 'python3-rospy'))
