@@ -53,8 +53,10 @@ SETUP_LOG := $(WS)/.make/setup.log
 STEP := $(WS)/scripts/step $(SETUP_LOG)
 # The suite, as `make test` and `make test-under-load` run it. Six workers on two cores: much of a
 # test's wall time is spent waiting (nodes starting, sim time passing, replies), not computing;
-# with four, a quiet machine's cores stood idle a quarter of the run.
-PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -n 6 --forked --timeout=900 $(PYTEST_ARGS) tests src
+# with four, a quiet machine's cores stood idle a quarter of the run. Every minute a line says how
+# far the suite is (onedof_harness/suite_progress.py).
+PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -p onedof_harness.suite_progress -n 6 \
+  --forked --timeout=900 $(PYTEST_ARGS) tests src
 # test-under-load: this many CPU spinners beside the suite, stopped after it (bounded anyway).
 LOAD_PROCESSES ?= 8
 LOAD_MAX_SECONDS ?= 3600
@@ -83,13 +85,19 @@ commands: | deps venv build
 	  echo "set-up: these commands are missing (from $(REQUIRED_COMMANDS)):"; echo "$$missing"; exit 1; fi
 
 # Installs the Debian packages only when one is missing (dpkg-query answers in well under a second).
+# The step says how many packages apt installs (a simulated install counts them: those named here
+# and what they depend on, which depends on what the machine has); the names go to the log.
 deps:
 	@missing=$$( { dpkg-query -W -f='$${Package} $${db:Status-Status}\n' $(APT_PACKAGES) 2>/dev/null || true; } \
 	  | awk '$$2 == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(APT_PACKAGES)" | grep . | sort)); \
 	if [ -n "$$missing" ]; then \
 	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo=sudo; \
 	  $(STEP) "deps: apt-get update" $$sudo apt-get update; \
-	  $(STEP) "deps: installing $$(wc -w <<< "$$missing") Debian packages ($$(echo $$missing))" \
+	  named=$$(wc -w <<< "$$missing"); \
+	  total=$$(apt-get install -s --no-install-recommends $$missing 2>/dev/null | grep -c '^Inst ') \
+	    || total=""; \
+	  what="$${total:-the} Debian packages (the workspace's $$named and what they depend on"; \
+	  $(STEP) "deps: installing $$what, the names in $(SETUP_LOG:$(WS)/%=%))" \
 	    $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
 	fi
 
@@ -107,8 +115,7 @@ build: $(STAMPS)/build
 $(STAMPS)/build: $(SOURCES) $(WS)/Makefile | deps venv
 	@$(STEP) "build: catkin_make (the nodes, messages and gtests, into $(BUILD)/ and $(DEVEL)/)" \
 	  env -u PYTHONPATH -C $(WS) catkin_make -j2 --build $(BUILD) -DCATKIN_DEVEL_PREFIX=$(WS)/$(DEVEL) \
-	  -DPYTHON_EXECUTABLE=$(SYSTEM_PYTHON) -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON \
-	  all tests
+	  -DPYTHON_EXECUTABLE=$(SYSTEM_PYTHON) -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON
 	@mkdir -p $(STAMPS) && touch $@
 
 # The main job: the whole tutorial, headless, into $(OUTPUT).

@@ -6,7 +6,6 @@ each test the world is reset to the tutorial robot alone with the default physic
 """
 import os
 import threading
-import time
 
 import pytest
 
@@ -123,12 +122,11 @@ def free_box_urdf(side, mass, solid_fraction):
 
 def test_a_body_whose_inertia_is_far_below_its_shape_is_refused_and_the_node_lives_on(api):
     """A 0.2 m box of 1 g with a millionth of its solid moments aborted ODE's contact solver
-    once it touched the ground; it is refused at once, naming the link and the least moment, and
-    the same box with its solid moments spawns and comes to rest."""
+    once it touched the ground; the spawn itself refuses it, naming the link and the least moment,
+    before any step (the world, paused, is as it was: its time too), and the same box with its
+    solid moments spawns and comes to rest."""
     before = world_state(api)
-    started = time.monotonic()
     res = spawn_urdf(api, 'hollow_box', free_box_urdf(0.2, 0.001, 1e-6), z=0.3)
-    assert time.monotonic() - started < 1.0
     assert_refused(res, "SpawnModel: link 'body'", 'too small for its collision shape',
                    'at least 3e-08 kg m^2')
     assert world_state(api) == before

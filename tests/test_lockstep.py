@@ -163,23 +163,25 @@ def test_lockstep_wakes_a_controller_that_slept_past_the_stop(ros, engine, api, 
     from rosgraph_msgs.msg import Clock
     clock_ns = []
     rospy_client.Subscriber('/clock', Clock, lambda msg: clock_ns.append(msg.clock.to_nsec()))
-    sim = start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
+    start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
     api.spawn_robot()
     period_ns = 10 * STEP_NS
 
     def run(overslept=None):
         """A PD controller in the book's shape (10 ms jobs starting now), from 0.010 s for PERIODS
         periods, sleeping through the period `overslept`; returns the joint where its last job
-        ends."""
+        ends, and at each wake-up how far the clock it woke on was ahead of the world."""
         api.reset_simulation()
         start_ns = api.step_simulation(10).sim_time.to_nsec()
         # The run starts on this run's clock, not the last one's still on its way.
         wait_until(lambda: clock_ns and clock_ns[-1] == start_ns, 30, interval=0.001,
                    what='the clock at %.3f s' % (start_ns * 1e-9))
+        ahead = []
         for k in range(PERIODS):
             wake_ns = start_ns + (k + (k == overslept)) * period_ns
             wait_until(lambda: clock_ns and clock_ns[-1] >= wake_ns, 30, interval=0.001,
                        what='the clock at %.3f s' % (wake_ns * 1e-9))
+            ahead.append(clock_ns[-1] - api.sim_time_ns())
             q, rate = api.joint()
             now = rospy_client.Time(0, clock_ns[-1] if start == 'clock' else 0)
             res = api.apply_joint_effort('joint1', 10.0 * (1.0 - q) - 3.0 * rate, now,
@@ -191,11 +193,15 @@ def test_lockstep_wakes_a_controller_that_slept_past_the_stop(ros, engine, api, 
         joint = api.joint()
         assert api.sim_time_ns() == start_ns + PERIODS * period_ns
         api.pause_physics()
-        return joint
+        return joint, ahead
 
-    on_time = run()
-    assert run(overslept=OVERSLEPT) == on_time
-    assert 'the world waited' not in ros.log_text(sim)
+    on_time, on_time_ahead = run()
+    late, late_ahead = run(overslept=OVERSLEPT)
+    assert late == on_time
+    # The late controller was woken by the clock shown a period ahead while the world stood at
+    # the stop (it had not given up on the controller and gone on); on time, never.
+    assert late_ahead == [period_ns if k == OVERSLEPT else 0 for k in range(PERIODS)]
+    assert on_time_ahead == [0] * PERIODS
 
 
 def test_lockstep_holds_a_stop_clock_while_its_controller_is_between_two_readings(
@@ -210,7 +216,7 @@ def test_lockstep_holds_a_stop_clock_while_its_controller_is_between_two_reading
     from rosgraph_msgs.msg import Clock
     clock_ns = []
     rospy_client.Subscriber('/clock', Clock, lambda msg: clock_ns.append(msg.clock.to_nsec()))
-    sim = start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
+    start_sim(ros, engine, ['_paused:=true', '_lockstep:=true', '_lockstep_timeout:=60'])
     api.spawn_robot()
     period_ns = 10 * STEP_NS
     start_ns = api.step_simulation(10).sim_time.to_nsec()
@@ -235,7 +241,8 @@ def test_lockstep_holds_a_stop_clock_while_its_controller_is_between_two_reading
         wait_until(lambda: clock_ns[-1] >= wake_ns, 30, interval=0.001,
                    what='the clock at %.3f s' % (wake_ns * 1e-9))
     assert woke == [(start_ns + k * period_ns,) * 2 for k in range(PERIODS)]
-    assert 'the world waited' not in ros.log_text(sim)
+    # And the world waits for the controller where its last job ended: it never gave up on it.
+    assert api.sim_time_ns() == start_ns + PERIODS * period_ns
 
 
 def test_lockstep_a_period_already_over_applies_nothing_and_the_world_waits_on_its_grid(

@@ -9,6 +9,8 @@ import subprocess
 from conftest import WORKSPACE
 
 STEP = os.path.join(WORKSPACE, 'scripts', 'step')
+# Only a bound against a hang (s).
+HANG_SECONDS = 300
 
 
 def step(log, what, *command):
@@ -48,7 +50,9 @@ def test_every_install_and_build_command_of_the_set_up_is_a_step():
     commands = [command for line in plan.replace('\\\n', ' ').splitlines()
                 for command in line.split(';')]
     for tool in ('apt-get update', 'apt-get install', 'pip install', 'catkin_make'):
-        runs = [command for command in commands if tool in command]
+        # A simulated install (-s: how many packages an install brings) installs nothing.
+        runs = [command for command in commands
+                if tool in command and 'apt-get install -s ' not in command]
         assert runs, tool
         for command in runs:
             assert 'scripts/step ' in command.split(tool)[0], command
@@ -56,33 +60,34 @@ def test_every_install_and_build_command_of_the_set_up_is_a_step():
 
 def progress_step(tmp_path, what, script):
     """Runs a step with a 1 s progress interval whose command is `script` (sh) and which may call
-    `wait_for_progress TEXT`: it returns once the step has printed TEXT (bounded at 60 s), so
+    `wait_for_progress TEXT`: it returns once the step has printed TEXT (bounded against a hang), so
     the command stays alive exactly until the progress line it waits for is out."""
     log, shown = tmp_path / 'setup.log', tmp_path / 'stdout'
     helper = ('wait_for_progress() { i=0; until grep -q "$1" %s; do i=$((i+1)); '
-              '[ $i -gt 600 ] && exit 9; sleep 0.1; done; }; ' % shown)
+              '[ $i -gt %d ] && exit 9; sleep 0.1; done; }; ' % (shown, HANG_SECONDS * 10))
     with open(shown, 'w') as out:
         result = subprocess.run([STEP, str(log), what, 'sh', '-c', helper + script],
                                 stdout=out, stderr=subprocess.STDOUT, text=True, cwd=str(tmp_path),
-                                env=dict(os.environ, STEP_PROGRESS_SECONDS='1'), timeout=120)
+                                env=dict(os.environ, STEP_PROGRESS_SECONDS='1'),
+                                timeout=4 * HANG_SECONDS)
     return result.returncode, shown.read_text(), log.read_text()
 
 
 def test_a_long_package_install_shows_how_many_packages_are_downloaded_unpacked_and_set_up(tmp_path):
-    status, shown, log = progress_step(tmp_path, 'deps: installing 3 Debian packages (a b c)', (
+    status, shown, log = progress_step(tmp_path, 'deps: installing 3 Debian packages (2 named)', (
         'echo "0 upgraded, 3 newly installed, 0 to remove"; echo "Get:1 http://deb a"; '
-        'wait_for_progress "3 packages: 1 downloaded, 0 unpacked, 0 set up"; '
+        'wait_for_progress "1 of 3 downloaded, 0 unpacked, 0 set up"; '
         'echo "Get:2 http://deb b"; echo "Unpacking a"; echo "Unpacking b"; '
-        'wait_for_progress "3 packages: 2 downloaded, 2 unpacked, 0 set up"; '
-        'echo "Setting up a"; wait_for_progress "3 packages: 2 downloaded, 2 unpacked, 1 set up"'))
+        'wait_for_progress "2 of 3 downloaded, 2 unpacked, 0 set up"; '
+        'echo "Setting up a"; wait_for_progress "2 of 3 downloaded, 2 unpacked, 1 set up"'))
     assert status == 0, shown
     lines = shown.splitlines()
-    assert lines[0] == 'deps: installing 3 Debian packages (a b c) ... '
-    assert re.fullmatch(r'deps: installing 3 Debian packages \(a b c\) \.\.\. done in \d+ s '
+    assert lines[0] == 'deps: installing 3 Debian packages (2 named) ... '
+    assert re.fullmatch(r'deps: installing 3 Debian packages \(2 named\) \.\.\. done in \d+ s '
                         r'\(full output: setup\.log\)', lines[-1])
     progress = lines[1:-1]
-    assert progress and all(re.fullmatch(r'  deps: installing 3 Debian packages: 3 packages: '
-                                         r'\d downloaded, \d unpacked, \d set up \(\d+ s\)',
+    assert progress and all(re.fullmatch(r'  deps: installing 3 Debian packages: \d of 3 '
+                                         r'downloaded, \d unpacked, \d set up \(\d+ s\)',
                                          line) for line in progress), progress
     assert 'Setting up a' in log
 
@@ -96,3 +101,38 @@ def test_a_long_build_shows_its_percentage_and_logs_as_it_goes(tmp_path):
     assert status == 0, shown
     assert '  build: catkin_make: [ 42%] Building CXX object onedof_sim/CMakeFiles/world.cpp.o (' \
         in shown
+
+
+def test_the_deps_step_says_how_many_packages_apt_installs_and_logs_their_names(tmp_path):
+    """With every package missing (a fake dpkg-query knows none) and a fake apt-get whose simulated
+    install brings 5 more than it is given: the step's line counts them; the names are in the log
+    only."""
+    fake = tmp_path / 'bin'
+    fake.mkdir()
+    (fake / 'dpkg-query').write_text('#!/bin/sh\nexit 1\n')
+    (fake / 'apt-get').write_text(
+        '#!/bin/sh\n'
+        'case "$*" in\n'
+        '  *" -s "*) shift 3; for p in "$@" extra1 extra2 extra3 extra4 extra5; do\n'
+        '              echo "Inst $p (1.0 Debian:12/stable [amd64])"; done;;\n'
+        '  *install*) echo "Setting up everything";;\n'
+        'esac\n')
+    (fake / 'sudo').write_text('#!/bin/sh\nexec "$@"\n')
+    for tool in fake.iterdir():
+        tool.chmod(0o755)
+    log = tmp_path / 'setup.log'
+    plan = subprocess.run(['make', '-s', '-C', WORKSPACE, '-p', '-n', 'deps'], capture_output=True,
+                          text=True).stdout
+    packages = re.search(r'^APT_PACKAGES := (.*)$', plan, re.M).group(1).split()
+    result = subprocess.run(['make', '-s', '-C', WORKSPACE, 'deps', 'SETUP_LOG=%s' % log],
+                            capture_output=True, text=True, timeout=HANG_SECONDS,
+                            env=dict(os.environ, PATH='%s:%s' % (fake, os.environ['PATH'])))
+    assert result.returncode == 0, result.stdout + result.stderr
+    install_line = [line for line in result.stdout.splitlines() if 'deps: installing' in line]
+    assert install_line == [
+        "deps: installing %d Debian packages (the workspace's %d and what they depend on, the "
+        'names in %s) '
+        '... done in %s' % (len(set(packages)) + 5, len(set(packages)), log,
+                            install_line[0].split(' done in ')[-1])], result.stdout
+    assert not any(package in result.stdout for package in ('libode-dev', 'python3-rospy'))
+    assert 'libode-dev' in log.read_text() and 'Setting up everything' in log.read_text()

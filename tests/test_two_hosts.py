@@ -36,13 +36,17 @@ TOLERANCE = 0.02
 
 
 def ip(*args):
-    return subprocess.run(['ip'] + list(args), capture_output=True, text=True, timeout=30)
+    return subprocess.run(['ip'] + list(args), capture_output=True, text=True, timeout=60)
+
+
+class HostsUnavailable(Exception):
+    """The two hosts cannot be made on this machine: the step that failed, and why."""
 
 
 def run_ip(*args):
     result = ip(*args)
     if result.returncode != 0:
-        raise RuntimeError('ip %s: %s' % (' '.join(args), result.stderr.strip()))
+        raise HostsUnavailable('ip %s: %s' % (' '.join(args), result.stderr.strip()))
 
 
 class TwoHosts:
@@ -56,11 +60,11 @@ class TwoHosts:
                       self.controller: ('odc' + tag, CONTROLLER_ADDRESS)}
 
     def create(self):
-        added = ip('netns', 'add', self.sim)
-        if added.returncode != 0:
-            pytest.skip('network namespaces are not permitted here (ip netns add: %s)'
-                        % added.stderr.strip())
-        run_ip('netns', 'add', self.controller)
+        """Makes both hosts, or raises HostsUnavailable at the first step that fails: namespaces
+        may be added where they cannot be entered (a chroot or a container, whose / is no mount
+        point that `ip -n` and `ip netns exec` can make a slave)."""
+        for netns in self.links:
+            run_ip('netns', 'add', netns)
         (sim_link, _), (controller_link, _) = self.links.values()
         run_ip('link', 'add', sim_link, 'type', 'veth', 'peer', 'name', controller_link)
         for netns, (link, address) in self.links.items():
@@ -68,19 +72,28 @@ class TwoHosts:
             run_ip('-n', netns, 'addr', 'add', '%s/%d' % (address, PREFIX_LENGTH), 'dev', link)
             run_ip('-n', netns, 'link', 'set', link, 'up')
             run_ip('-n', netns, 'link', 'set', 'lo', 'up')
+            # How the test starts the controller host's programs.
+            run_ip('netns', 'exec', netns, 'true')
 
     def remove(self):
-        # Deleting a namespace deletes its end of the veth pair, and with it the other end.
+        """Removes whatever create() made, also when it stopped half-way."""
+        # Deleting a namespace deletes its end of the veth pair, and with it the other end; a
+        # pair not yet moved into them is deleted where it is.
+        ip('link', 'delete', self.links[self.sim][0])
         for netns in self.links:
             ip('netns', 'delete', netns)
 
     def enter(self, netns):
         """Moves this (single-threaded, forked) process into netns."""
         libc = ctypes.CDLL(None, use_errno=True)
-        with open('/run/netns/' + netns) as handle:
+        try:
+            handle = open('/run/netns/' + netns)
+        except OSError as error:
+            raise HostsUnavailable('open /run/netns/%s: %s' % (netns, error.strerror))
+        with handle:
             if libc.setns(handle.fileno(), CLONE_NEWNET) != 0:
                 error = ctypes.get_errno()
-                raise OSError(error, 'setns %s: %s' % (netns, os.strerror(error)))
+                raise HostsUnavailable('setns %s: %s' % (netns, os.strerror(error)))
 
 
 @pytest.fixture
@@ -91,7 +104,11 @@ def two_hosts(request):
         pytest.skip('needs --forked: the test moves its own process into the sim host')
     hosts = TwoHosts()
     try:
-        hosts.create()
+        try:
+            hosts.create()
+            hosts.enter(hosts.sim)
+        except HostsUnavailable as reason:
+            pytest.skip('the two hosts (network namespaces) cannot be made here: %s' % reason)
         yield hosts
     finally:
         hosts.remove()
@@ -100,7 +117,6 @@ def two_hosts(request):
 @pytest.fixture
 def ros(request, tmp_path, two_hosts):
     """The sim host's roscore, with this process on the sim host (rospy_client joins it)."""
-    two_hosts.enter(two_hosts.sim)
     graph = PrivateRos(log_dir=str(tmp_path / 'ros'), use_sim_time=True, address=SIM_ADDRESS)
     yield from running_graph(request, graph)
 

@@ -88,6 +88,9 @@ BIND_LIBRARY = 'libonedof_bind_to_ros_ip.so'
 # loaded machine; a port held by a program that never answers must not hang us.
 MASTER_TIMEOUT = 60
 ANSWER_TIMEOUT = 2  # per try while waiting for our roscore to answer: the wait retries
+# How long our rosmaster may take to answer at all before its port counts as lost to another
+# program (s): a second on a quiet machine, many on a busy one; only a bound on a hang.
+MASTER_START_TIMEOUT = 60
 
 
 class ProcessExited(RuntimeError):
@@ -203,7 +206,8 @@ class PrivateRos:
         self.roscore = self.start(['rosmaster', '--core', '-p', str(self.port), '-w', '3'],
                                   name='roscore')
         try:
-            wait_until(self._our_master_answers, 20, what='roscore on port %d' % self.port)
+            wait_until(self._our_master_answers, MASTER_START_TIMEOUT,
+                       what='roscore on port %d' % self.port)
         except (PortTaken, TimeoutError):
             # Killed: a master that found the port taken has nothing to save.
             self.kill(self.roscore)

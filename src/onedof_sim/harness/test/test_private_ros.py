@@ -172,7 +172,7 @@ def test_stop_leaves_no_process_of_the_graph(tmp_path):
     started += [child for proc in list(started) for child in proc.children(recursive=True)]
     assert master_pid in [p.pid for p in started]
     graph.stop()
-    _, alive = psutil.wait_procs(started, timeout=10)
+    _, alive = psutil.wait_procs(started, timeout=60)
     assert not alive, alive
 
 
@@ -193,7 +193,7 @@ def test_restart_master_starts_an_empty_master_on_the_same_port_and_keeps_the_no
         code, _, pid = graph.master().getPid('/test')
         assert code == 1 and pid != old_pid and is_descendant(pid, graph.roscore.pid)
         assert not graph.master().hasParam('/test', '/use_sim_time')[2]
-        _, alive = psutil.wait_procs(old_core, timeout=10)
+        _, alive = psutil.wait_procs(old_core, timeout=60)
         assert not alive, alive
         assert node.poll() is None
         assert graph.processes.count(graph.roscore) == 1 and old_roscore not in graph.processes

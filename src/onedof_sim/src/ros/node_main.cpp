@@ -3,6 +3,7 @@
 #include "node_main.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -38,6 +39,10 @@ std::vector<std::string> modelPath() {
 
 int runSimulatorNode(int argc, char** argv,
                      std::vector<onedof_sim::plugins::ModelPluginType> plugin_types) {
+  // Each line of the log (rosconsole writes INFO to stdout) reaches a file or pipe as it is
+  // written, as on a terminal: stdout into a file is otherwise flushed only when its buffer fills
+  // or the node exits. Before anything is written.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   if (argc == 2 && std::string(argv[1]) == "--list-physics") {
     // The engine registry, for the tools and tests that run one simulator per engine; before
     // ros::init, so that it needs no roscore.
