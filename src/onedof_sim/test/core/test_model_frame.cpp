@@ -17,12 +17,6 @@
 namespace onedof_sim {
 namespace {
 
-using core::compose;
-using core::cross;
-using core::norm;
-using core::operator+;
-using core::operator-;
-
 constexpr double kRoundTrip = 1e-9;
 constexpr double kStep = 0.001;
 
