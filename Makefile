@@ -54,9 +54,13 @@ STEP := $(WS)/scripts/step $(SETUP_LOG)
 # The suite, as `make test` and `make test-under-load` run it. Six workers on two cores: much of a
 # test's wall time is spent waiting (nodes starting, sim time passing, replies), not computing;
 # with four, a quiet machine's cores stood idle a quarter of the run. Every minute a line says how
-# far the suite is (onedof_harness/suite_progress.py).
-PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -p onedof_harness.suite_progress -n 6 \
-  --forked --timeout=900 $(PYTEST_ARGS) tests src
+# far the suite is (onedof_harness/suite_progress.py). A test still running after 900 s (a hang)
+# fails and the suite goes on to its summary (onedof_harness/forked_timeout.py): pytest-timeout's
+# signal method would raise in the worker, outside the forked test, and end the whole session with
+# an internal error and no summary of the tests that ran.
+PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -p onedof_harness.suite_progress \
+  -p onedof_harness.forked_timeout -n 6 --forked --timeout=900 --timeout-method=thread \
+  $(PYTEST_ARGS) tests src
 # test-under-load: this many CPU spinners beside the suite, stopped after it (bounded anyway).
 LOAD_PROCESSES ?= 8
 LOAD_MAX_SECONDS ?= 3600

@@ -8,6 +8,7 @@ import subprocess
 import pytest
 
 from conftest import ENGINES, session_folder
+from onedof_harness.bounded_run import run_bounded
 
 PNG_MAGIC = b'\x89PNG\r\n\x1a\n'
 
@@ -22,8 +23,9 @@ def table_rows(text):
 # every row takes minutes on a busy machine. Each run costs a roscore and the benchmark's own
 # start beside its rows.
 ROW_GROUPS = ('1,2,3,4,5,6,7', '8,9,10,11')
-# Each group's run is stopped well before pytest's own timeout would end the whole worker.
-RUN_TIMEOUT = 600
+# Only a bound on a hang: each group's run is stopped (onedof_harness.bounded_run) before
+# pytest's own timeout (900 s) would end the test's worker.
+RUN_TIMEOUT = 780
 # The aims, each reported met or not (the Bullet node's against bare pybullet
 # among them), by the rows that carry them.
 AIMS = {'1': '>= 0.5', '2': '>= 0.3', '3': 'p50 <= 1.3x', '4': '0 missed', '5': 'within 1 %',
@@ -37,13 +39,13 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_
     output = tmp_path / 'bench'
     # Without profiles: an aim missed only because the machine is busy must not send this test
     # down another path (the profilers are tested on their own, test_profilers.py).
-    result = subprocess.run(['rosrun', 'onedof_sim', 'benchmark', '--quick', '--no-profiles',
-                             '--items', rows, '--output', str(output),
-                             '--engines', ','.join(ENGINES),
-                             # The book-shaped client's build of test_book_cpp_client.py.
-                             '--book-client-overlay',
-                             str(session_folder(tmp_path_factory, 'book_cpp_client'))],
-                            capture_output=True, text=True, timeout=RUN_TIMEOUT)
+    result = run_bounded(['rosrun', 'onedof_sim', 'benchmark', '--quick', '--no-profiles',
+                          '--items', rows, '--output', str(output),
+                          '--engines', ','.join(ENGINES),
+                          # The book-shaped client's build of test_book_cpp_client.py.
+                          '--book-client-overlay',
+                          str(session_folder(tmp_path_factory, 'book_cpp_client'))],
+                         RUN_TIMEOUT)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     items = rows.split(',')
 

@@ -6,11 +6,10 @@ through the in-simulator PID (the book's YAML): it settles at the commands, and 
 import fcntl
 import json
 import os
-import signal
-import subprocess
 
 import pytest
 
+from onedof_harness.bounded_run import run_bounded
 from onedof_harness.busy import busy_processes
 from onedof_sim.tutorial import physics
 from onedof_sim.tutorial.player import job_outputs
@@ -24,8 +23,9 @@ SAME = 1e-6  # rad: lock-step runs agree to this, whatever the machine is doing
 # the whole suite, this test included, beside 8 and 20).
 BUSY_PROCESSES = os.cpu_count()
 # Only a bound against a hang, not a speed test: a run takes minutes on a busy machine. Below the
-# suite's per-test timeout (900 s), so that a hang fails with the player's output.
-HANG_SECONDS = 840
+# suite's per-test timeout (900 s) with the time to stop it, so that a hang fails with the
+# player's output.
+HANG_SECONDS = 780
 OUTPUTS = ('phase1_command_1.0.png', 'phase2_command_2.0.png', 'phase3_upright_0.0.png',
            'phase4_table_2.5.png', 'tutorial.png', 'samples.csv', 'rviz_final.png', 'summary.md',
            'summary.json', 'phase1_command_1.0_pd_vs_pid.png', 'phase2_command_2.0_pd_vs_pid.png',
@@ -36,23 +36,10 @@ OUTPUTS = ('phase1_command_1.0.png', 'phase2_command_2.0.png', 'phase3_upright_0
 def play_tutorial(output, *args):
     env = dict(os.environ)
     env.pop('DISPLAY', None)  # headless: the player brings its own Xvfb
-    command = ['rosrun', 'onedof_sim', 'play_tutorial', '--output', str(output),
-               '--phase-duration', str(PHASE_DURATION)] + list(args)
-    player = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                              env=env, start_new_session=True)
-    try:
-        stdout, stderr = player.communicate(timeout=HANG_SECONDS)
-    except subprocess.TimeoutExpired:
-        # Ctrl-C, as a user would: the player stops its roscore and nodes; then whatever is left.
-        os.killpg(player.pid, signal.SIGINT)
-        try:
-            stdout, stderr = player.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            os.killpg(player.pid, signal.SIGKILL)
-            stdout, stderr = player.communicate()
-        return dict(returncode='none: still running after %d s (a hang)' % HANG_SECONDS,
-                    stdout=stdout, stderr=stderr)
-    return dict(returncode=player.returncode, stdout=stdout, stderr=stderr)
+    result = run_bounded(['rosrun', 'onedof_sim', 'play_tutorial', '--output', str(output),
+                          '--phase-duration', str(PHASE_DURATION)] + list(args), HANG_SECONDS,
+                         env=env)
+    return dict(returncode=result.returncode, stdout=result.stdout, stderr=result.stderr)
 
 
 @pytest.fixture

@@ -32,6 +32,8 @@ PAGE = os.path.join(WORKSPACE, 'docs', 'tutorial.md')
 REST_TOLERANCE = 0.05  # rad
 SETTLE_WINDOW = 1.0    # s of sim time within SETTLE_BAND
 SETTLE_BAND = 0.01
+# Only a bound on a hang, for a command or a wait: spawning takes over a minute on a busy machine.
+HANG_SECONDS = 300
 TABLE_X = 0.85         # the page's table command
 
 
@@ -76,7 +78,7 @@ class Session:
         self.terminals = []
         self.count = 0
 
-    def run(self, command, timeout=60):
+    def run(self, command, timeout=HANG_SECONDS):
         result = subprocess.run(['bash', '-c', command], cwd=self.cwd, env=self.env,
                                 stdin=subprocess.DEVNULL, capture_output=True, text=True,
                                 timeout=timeout)
@@ -147,7 +149,7 @@ class Checks:
             return
         if words[:2] == ['rosrun', 'minimal_joint_controller']:
             self.controller = self.s.start(command)
-            wait_until(lambda: self.s.alive(self.controller) or self.jnt_pos.samples, 60,
+            wait_until(lambda: self.s.alive(self.controller) or self.jnt_pos.samples, HANG_SECONDS,
                        what='the controller to publish jnt_pos')
             return
         if words[:3] == ['rostopic', 'pub', 'pos_cmd']:
@@ -162,7 +164,7 @@ class Checks:
             return self.robot_launch(command)
         if words[:2] == ['rosrun', 'robot_state_publisher']:
             self.s.start(command)
-            result = self.ok('rostopic echo -n 1 /tf', timeout=120)
+            result = self.ok('rostopic echo -n 1 /tf')
             assert 'child_frame_id: "link2"' in result.stdout, result.shown
             return
         if words == ['rviz']:
@@ -183,14 +185,14 @@ class Checks:
             return self.echo(command, words)
         pytest.fail('the page has a command this test does not know: %s' % command)
 
-    def ok(self, command, timeout=60):
+    def ok(self, command, timeout=HANG_SECONDS):
         result = self.s.run(command, timeout=timeout)
         assert result.returncode == 0, result.shown
         return result
 
     def serving(self, proc):
         wait_until(lambda: self.s.alive(proc) or self.s.ros.has_service('/gazebo/unpause_physics'),
-                   60, what='`%s` to serve /gazebo' % proc.command)
+                   HANG_SECONDS, what='`%s` to serve /gazebo' % proc.command)
 
     def spawn(self, command, words):
         model = words[words.index('-model') + 1]
@@ -209,7 +211,7 @@ class Checks:
         # Settled only after the controller has the command: a slow `rostopic pub` would
         # otherwise find the link at rest where the last command left it.
         wait_until(lambda: self.s.alive(self.pub) or self.s.alive(self.controller)
-                   or self.s.ros.log_text(self.controller).count(heard) > said_before, 60,
+                   or self.s.ros.log_text(self.controller).count(heard) > said_before, HANG_SECONDS,
                    what='the controller to log "%s"' % heard)
         q = self.settled_since(self.s.rospy.get_time())
         if self.table and value > physics.table_contact_angle(TABLE_X):
@@ -257,7 +259,7 @@ class Checks:
         assert state.success and (state.pose.position.z > 1.0), state
 
     def echo(self, command, words):
-        result = self.ok(command + ' -n 1', timeout=120)
+        result = self.ok(command + ' -n 1')
         names = yaml.safe_load(result.stdout.split('\n---')[0])['name']
         if words[2].endswith('model_states'):
             assert names == [ROBOT, 'box'], result.shown

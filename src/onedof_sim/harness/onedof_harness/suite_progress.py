@@ -1,7 +1,8 @@
 """A pytest plugin that says how far a long run is, for a person watching it: `make test` loads it
 (-p onedof_harness.suite_progress). About once a minute a line such as
 
-    progress: 312/874 tests done (309 passed, 1 failed, 2 skipped), 6 running, 5 min 10 s so far, about 9 min left
+    progress: 312/874 tests done (309 passed, 1 failed, 2 skipped), 6 running, 5 min 10 s so far,
+    about 9 min 0 s left (on one line)
 
 between pytest's own dots (SUITE_PROGRESS_SECONDS in the environment sets how often, 60 by
 default; 0: after every test), also while no test ends (the long ones, handed out first, take
