@@ -82,6 +82,9 @@ constexpr size_t kMaxModelMeshTriangles = 50000;
 // somewhat less.
 constexpr size_t kMaxMeshFileBytes = 20000000;
 
+// Sim time ends where ROS time does (32-bit seconds): /clock and every stamp would overflow.
+constexpr int64_t kEndOfTimeNs = int64_t(0xffffffff) * 1000000000;
+
 struct CollisionDescription {
   std::string name;
   GeometryShape shape = GeometryShape::Box;
