@@ -258,6 +258,9 @@ class PreparedModel {
   const Status& status() const;
   // Its bodies of implausible inertia, which it is spawned with.
   const std::vector<InertiaWarning>& warnings() const;
+  // The collisions it is spawned without, as Gazebo spawns a model without a collision mesh it
+  // cannot find: why, for each ("link 'l': collision 'c' is the mesh 'm', which is not found ...").
+  const std::vector<std::string>& leftOut() const;
 
  private:
   friend class World;

@@ -139,6 +139,8 @@ struct ModelDescription {
   std::vector<LinkDescription> links;  // parents before children
   std::vector<JointDescription> joints;
   std::string canonical_link;
+  // The collisions left out, as Gazebo leaves out a mesh it cannot find: why, for each.
+  std::vector<std::string> left_out;
 };
 
 // A model the world cannot build, and why (the reason names the link, joint or parser error).

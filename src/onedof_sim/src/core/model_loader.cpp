@@ -178,18 +178,22 @@ std::string joinedPath(const std::vector<std::string>& folders) {
   return text.empty() ? "(empty)" : text;
 }
 
-// A mesh collision: the file its URI names (resolveMeshUri), read and scaled.
+// A mesh collision: the file its URI names (resolveMeshUri), read and scaled. A mesh found
+// nowhere leaves the collision out, as Gazebo leaves out a mesh it cannot load: *left_out says
+// why, and *c is not made.
 Status meshCollision(const std::string& uri, const Vec3& scale, const std::string& relative_to,
                      const std::vector<std::string>& model_path, MeshReader* meshes,
-                     const std::string& link, CollisionDescription* c) {
+                     const std::string& link, CollisionDescription* c, std::string* left_out) {
   const std::string where =
       "link '" + link + "': collision '" + c->name + "' is the mesh '" + uri + "'";
   if (!isFinite(scale) || scale.x == 0 || scale.y == 0 || scale.z == 0)
     return rejected(where + " with a zero or non-finite scale");
   const std::string file = resolveMeshUri(uri, model_path, relative_to);
-  if (file.empty())
-    return rejected(where + ", which is not found (model:// and package:// URIs are looked up in " +
-                    joinedPath(model_path) + ")");
+  if (file.empty()) {
+    *left_out = where + ", which is not found (model:// and package:// URIs are looked up in " +
+                joinedPath(model_path) + ")";
+    return {};
+  }
   c->shape = GeometryShape::Mesh;
   c->size = scale;
   Status status = meshes->read(file, scale, &c->mesh);
@@ -197,9 +201,10 @@ Status meshCollision(const std::string& uri, const Vec3& scale, const std::strin
   return {};
 }
 
+// Adds the collision to link, or its reason to *left_out (a mesh found nowhere).
 Status addUrdfCollision(const urdf::Collision& collision, size_t index,
                         const std::vector<std::string>& model_path, MeshReader* meshes,
-                        LinkDescription* link) {
+                        LinkDescription* link, std::vector<std::string>* left_out) {
   CollisionDescription out;
   out.name = collisionName(collision.name, link->name, index);
   out.pose = toPose(collision.origin);
@@ -224,9 +229,14 @@ Status addUrdfCollision(const urdf::Collision& collision, size_t index,
     }
     case urdf::Geometry::MESH: {
       const auto& mesh = static_cast<const urdf::Mesh&>(*collision.geometry);
+      std::string missing;
       Status status = meshCollision(mesh.filename, {mesh.scale.x, mesh.scale.y, mesh.scale.z}, "",
-                                    model_path, meshes, link->name, &out);
+                                    model_path, meshes, link->name, &out, &missing);
       if (!status.ok()) return status;
+      if (!missing.empty()) {
+        left_out->push_back(missing);
+        return {};
+      }
       break;
     }
     default:
@@ -274,8 +284,10 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose,
     std::vector<urdf::CollisionSharedPtr> collisions = link.collision_array;
     if (collisions.empty() && link.collision) collisions.push_back(link.collision);
     for (size_t i = 0; i < collisions.size(); ++i) {
-      Status status = addUrdfCollision(*collisions[i], i, model_path, meshes, &desc);
+      const size_t made = desc.collisions.size();
+      Status status = addUrdfCollision(*collisions[i], i, model_path, meshes, &desc, &out->left_out);
       if (!status.ok()) return status;
+      if (desc.collisions.size() == made) continue;
       status = checkShape(desc.collisions.back(), desc.name);
       if (!status.ok()) return status;
     }
@@ -470,9 +482,14 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
       const ignition::math::Vector3d& scale = mesh.Scale();
       const std::string folder =
           mesh.FilePath().empty() ? "" : std::filesystem::path(mesh.FilePath()).parent_path();
+      std::string missing;
       Status status = meshCollision(mesh.Uri(), {scale.X(), scale.Y(), scale.Z()}, folder,
-                                    model_path, meshes, desc.name, &c);
+                                    model_path, meshes, desc.name, &c, &missing);
       if (!status.ok()) return status;
+      if (!missing.empty()) {
+        out->left_out.push_back(missing);
+        continue;
+      }
     } else if (geometry.Type() == sdf::GeometryType::PLANE) {
       planeCollision(*geometry.PlaneShape(), &c);
     } else {

@@ -9,22 +9,19 @@ namespace onedof_sim {
 namespace core {
 namespace {
 
-// libsdformat 12's schema bounds Gazebo's friction coefficients below by 0 and refuses the whole
-// document for a negative one; Gazebo 11's libsdformat had no bounds, and Gazebo reads a negative
-// coefficient as unbounded friction. The schema's descriptions of those elements lose their
-// bounds here, before the document is read against them.
-void unboundFrictionCoefficients(const sdf::ElementPtr& description, const std::string& parent,
-                                 std::set<const sdf::Element*>* seen) {
+// libsdformat 12 checks two things Gazebo 11's libsdformat (9) did not, and refuses the whole
+// document for either: a value outside the bounds its schema gives (a negative friction
+// coefficient, which Gazebo reads as unbounded friction), and an element of a required value left
+// empty (a contact sensor's <collision name="..."/> of SDF 1.3), which libsdformat 9 left at its
+// default. The schema's descriptions lose both here, before the document is read against them.
+// An <include>d file and a nested model are read against a schema of their own, which keeps them.
+void relaxAsLibsdformat9(const sdf::ElementPtr& description, std::set<const sdf::Element*>* seen) {
   if (!description || !seen->insert(description.get()).second) return;
-  static const std::set<std::string> kCoefficients = {"mu", "mu2", "friction", "friction2"};
-  const sdf::ParamPtr value = description->GetValue();
-  if ((parent == "ode" || parent == "bullet") && kCoefficients.count(description->GetName()) &&
-      value)
-    description->AddValue(value->GetTypeName(), value->GetDefaultAsString(), value->GetRequired(),
-                          "", "", value->GetDescription());
+  if (const sdf::ParamPtr value = description->GetValue())
+    description->AddValue(value->GetTypeName(), value->GetDefaultAsString(), false, "", "",
+                          value->GetDescription());
   for (size_t i = 0; i < description->GetElementDescriptionCount(); ++i)
-    unboundFrictionCoefficients(description->GetElementDescription(i), description->GetName(),
-                                seen);
+    relaxAsLibsdformat9(description->GetElementDescription(i), seen);
 }
 
 // Whether a DOM error is one this simulator refuses a document for: two models, links or joints
@@ -52,7 +49,7 @@ void readSdfDocument(const std::string& source, SdfSource kind,
   out->elements.reset(new sdf::SDF());
   sdf::init(out->elements);
   std::set<const sdf::Element*> seen;
-  unboundFrictionCoefficients(out->elements->Root(), "", &seen);
+  relaxAsLibsdformat9(out->elements->Root(), &seen);
   const sdf::ParserConfig config = modelPathConfig(model_path, &out->missing);
   sdf::Errors errors;
   bool read = false;

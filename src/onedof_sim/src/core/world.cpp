@@ -237,6 +237,7 @@ PreparedModel::PreparedModel(PreparedModel&&) noexcept = default;
 PreparedModel& PreparedModel::operator=(PreparedModel&&) noexcept = default;
 const Status& PreparedModel::status() const { return content_->status; }
 const std::vector<InertiaWarning>& PreparedModel::warnings() const { return content_->warnings; }
+const std::vector<std::string>& PreparedModel::leftOut() const { return content_->left_out; }
 
 Status World::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                     const Pose& pose, const std::string& reference_frame) {
@@ -272,6 +273,7 @@ PreparedModel World::prepare(const std::string& xml, ModelFormat format,
   content.status = format == ModelFormat::Urdf ? parseUrdf(xml, model_path, &desc)
                                                : parseSdf(xml, model_path, &desc);
   if (!content.status.ok()) return prepared;
+  content.left_out = desc.left_out;
   content.record.is_static = desc.is_static;
   content.status = planModel(desc, &content.record, &content.spec, &content.warnings);
   return prepared;

@@ -220,6 +220,7 @@ struct PreparedModel::Content {
   core::ModelRecord record;
   core::ModelSpec spec;
   std::vector<InertiaWarning> warnings;
+  std::vector<std::string> left_out;
 };
 
 // World's parts are written against the core's private types (every file that includes this

@@ -370,6 +370,7 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
                         std::string* warnings) {
   std::vector<std::string> model_path;
   std::vector<InertiaWarning> implausible;
+  std::vector<std::string> left_out;
   Status spawned = loop_.withWorld([&](World& world) {
     model_path = world.modelPath();
     return world.checkSpawn(name, pose, reference_frame);
@@ -378,6 +379,7 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
     PreparedModel prepared = World::prepare(xml, format, model_path);
     spawned = prepared.status();
     implausible = prepared.warnings();
+    left_out = prepared.leftOut();
     if (spawned.ok())
       spawned = loop_.withWorld([&](World& world) {
         return world.spawn(name, std::move(prepared), pose, reference_frame);
@@ -389,6 +391,11 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
     for (const InertiaWarning& warning : implausible) {
       ROS_WARN_STREAM("model '" << name << "': " << inertiaWarningText(warning));
       if (warnings) *warnings += "; warning: " + inertiaWarningText(warning);
+    }
+    // As Gazebo's "Unable to load mesh": an error, and the model goes on without the collision.
+    for (const std::string& reason : left_out) {
+      ROS_ERROR_STREAM("model '" << name << "': " << reason << ": the collision is left out");
+      if (warnings) *warnings += "; warning: " + reason + ": the collision is left out";
     }
     loop_.attachPlugins(
         name, plugins::createModelPlugins(plugin_types_, plugins::sensorPluginRegistry(), name,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include <ros/package.h>
@@ -80,6 +81,11 @@ std::string whyNotLoaded(const WorldFileStatus& status,
   return "unknown error";
 }
 
+// gazebo_ros' system plugins, which some worlds load as world plugins: what they serve, the node
+// serves.
+const std::set<std::string> kRosApiPlugins = {"libgazebo_ros_api_plugin.so",
+                                              "libgazebo_ros_paths_plugin.so"};
+
 // One line per kind of element the world holds that is not simulated: what Gazebo would only
 // show or render is said at INFO; a world plugin, which Gazebo would run, is an error as Gazebo
 // logs a plugin it cannot load.
@@ -88,6 +94,9 @@ void logIgnored(const WorldFile& world) {
   for (const WorldFileIgnored& element : world.ignored) {
     if (element.element == "light") {
       lights.push_back("'" + element.name + "'");
+    } else if (element.element == "plugin" && kRosApiPlugins.count(element.filename)) {
+      ROS_INFO_STREAM("world '" << world.name << "': plugin '" << element.name << "' ("
+                      << element.filename << "): gazebo_ros' API is this simulator's own");
     } else if (element.element == "plugin") {
       ROS_ERROR_STREAM("world '" << world.name << "': Failed to load plugin " << element.filename
                        << " (plugin '" << element.name << "'): this simulator runs no world "

@@ -363,7 +363,8 @@ TEST_P(MeshCollisions, CollisionShapesNameTheFileAndScale) {
 }
 
 // model:// and package:// (which Gazebo's URDF conversion reads as model://) look in the model
-// path; a mesh found nowhere is refused naming the URI and the folders searched.
+// path; a mesh found nowhere leaves its collision out, as Gazebo does, naming the URI and the
+// folders searched.
 TEST_P(MeshCollisions, UrisResolveThroughTheModelPath) {
   MeshFolder folder;
   folder.write("blocks/meshes/block.stl", boxStl(kBlockLo, kBlockHi));
@@ -375,14 +376,20 @@ TEST_P(MeshCollisions, UrisResolveThroughTheModelPath) {
                     ModelFormat::Urdf, Pose());
     EXPECT_TRUE(status.ok()) << status;
   }
-  const Status missing = world.spawn(
-      "missing", staticMeshUrdf("model://blocks/meshes/gone.stl", {1, 1, 1}), ModelFormat::Urdf,
-      Pose());
-  EXPECT_EQ(missing.code, StatusCode::ModelRejected);
-  EXPECT_NE(missing.subject.find("'model://blocks/meshes/gone.stl', which is not found"),
-            std::string::npos) << missing;
-  EXPECT_NE(missing.subject.find("/nonexistent, " + folder.root()), std::string::npos) << missing;
-  EXPECT_EQ(world.modelNames().size(), 2u);
+  PreparedModel missing = World::prepare(
+      staticMeshUrdf("model://blocks/meshes/gone.stl", {1, 1, 1}), ModelFormat::Urdf,
+      world.modelPath());
+  ASSERT_TRUE(missing.status().ok()) << missing.status();
+  ASSERT_EQ(missing.leftOut().size(), 1u);
+  const std::string& why = missing.leftOut()[0];
+  EXPECT_NE(why.find("'model://blocks/meshes/gone.stl', which is not found"), std::string::npos)
+      << why;
+  EXPECT_NE(why.find("/nonexistent, " + folder.root()), std::string::npos) << why;
+  ASSERT_TRUE(world.spawn("missing", std::move(missing), Pose()).ok());
+  ModelInfo info;
+  ASSERT_TRUE(world.modelProperties("missing", &info).ok());
+  EXPECT_TRUE(info.geoms.empty());
+  EXPECT_EQ(world.modelNames().size(), 3u);
 }
 
 TEST_P(MeshCollisions, UnreadableMeshIsRefusedNamingTheFile) {

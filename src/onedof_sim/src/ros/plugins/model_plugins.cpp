@@ -11,6 +11,7 @@
 #include <ros/console.h>
 #include <tinyxml2.h>
 
+#include "plugin_params.h"
 #include "pose_ops.h"
 
 namespace onedof_sim::plugins {
@@ -61,14 +62,6 @@ std::string trimmed(std::string text) {
   text.erase(text.begin(), std::find_if_not(text.begin(), text.end(), space));
   text.erase(std::find_if_not(text.rbegin(), text.rend(), space).base(), text.end());
   return text;
-}
-
-// An SDF boolean as sdformat reads it: true/false/1/0.
-bool readFlag(const std::string& text, bool* value) {
-  const bool is_true = text == "true" || text == "1";
-  if (!is_true && text != "false" && text != "0") return false;
-  *value = is_true;
-  return true;
 }
 
 // A <sensor> element and what it says, or why it is malformed (SensorElement::error).
@@ -195,9 +188,9 @@ struct Unknowns {
   std::set<std::string> plugins, sensor_types;
   void plugin(const std::string& model, const PluginElement& element, const std::string& where) {
     if (plugins.insert(element.filename).second)
-      ROS_WARN_STREAM("model '" << model << "': plugin '" << element.name << "' ("
-                      << element.filename << ")" << where << " is not simulated here and is "
-                      << "ignored; the model works without it");
+      ROS_ERROR_STREAM("model '" << model << "': Failed to load plugin " << element.filename
+                       << " (plugin '" << element.name << "'" << where
+                       << "): this simulator has no such plugin; the model works without it");
   }
 };
 
