@@ -92,7 +92,7 @@ def static_mesh_urdf(filename):
             '<geometry><mesh filename="%s"/></geometry></collision></link></robot>' % filename)
 
 
-def test_meshes_past_the_limit_missing_unreadable_or_unknown_are_refused(api, tmp_path):
+def test_meshes_past_the_limit_unreadable_or_unknown_are_refused_missing_left_out(api, tmp_path):
     def refused(filename):
         res = api.spawn_urdf_model('floor', static_mesh_urdf(filename), '', pose(), '')
         assert not res.success, res.status_message
@@ -103,11 +103,19 @@ def test_meshes_past_the_limit_missing_unreadable_or_unknown_are_refused(api, tm
     assert ('the mesh file %s has 20001 triangles; at most 20000 are accepted per mesh' % past
             in refused('file://%s' % past))
 
-    assert ("the mesh '%s/meshes/gone.stl', which is not found" % MODEL
-            in refused('package://onedof_mesh_block/meshes/gone.stl'))
-    assert ("the mesh 'model://onedof_mesh_block/meshes/gone.dae', which is not found "
-            "(model:// and package:// URIs are looked up in " in
-            refused('model://onedof_mesh_block/meshes/gone.dae'))
+    # A mesh found nowhere: the model is spawned without that collision, as Gazebo spawns it.
+    for name, filename, text in (
+            ('gone_stl', 'package://onedof_mesh_block/meshes/gone.stl',
+             "the mesh '%s/meshes/gone.stl', which is not found" % MODEL),
+            ('gone_dae', 'model://onedof_mesh_block/meshes/gone.dae',
+             "the mesh 'model://onedof_mesh_block/meshes/gone.dae', which is not found "
+             "(model:// and package:// URIs are looked up in ")):
+        res = api.spawn_urdf_model(name, static_mesh_urdf(filename), '', pose(), '')
+        assert res.success, res.status_message
+        assert 'SpawnModel: Successfully spawned entity; warning: link ' in res.status_message
+        assert text in res.status_message and 'the collision is left out' in res.status_message
+        assert api.get_model_properties(name).geom_names == []
+        assert api.delete_model(name).success
 
     broken = tmp_path / 'broken.dae'
     broken.write_text('<COLLADA/>')

@@ -1,9 +1,13 @@
 """World files, as Gazebo users start them: `roslaunch gazebo_ros empty_world.launch
 world_name:=FILE`, `rosrun gazebo_ros gazebo FILE` and gzserver. The world's physics and gravity,
 its models and its includes of model://NAME (this package's models/ and GAZEBO_MODEL_PATH) with
-<name>, <pose> and <static> over the included model's; lights accepted and said once; scene and
-world plugins said to be ignored; a world that cannot be loaded ends the simulator naming why."""
+<name>, <pose> and <static> over the included model's; lights accepted and said once; scene said
+to be not simulated, a world plugin logged as Gazebo logs one it cannot load; a world that cannot
+be loaded ends the simulator naming why. Worlds are read as Gazebo reads them: a world saved by
+Gazebo 11 and worlds in the shapes of gazebo_ros_pkgs' test worlds (tests/worlds/) load, with the
+warnings Gazebo gives and the errors it logs for plugins and meshes it cannot load."""
 import math
+import os
 
 import pytest
 
@@ -200,8 +204,9 @@ def test_models_inline_and_from_gazebo_model_path_and_what_is_ignored_is_said(
     assert (post.x, post.y, post.z) == (0, 3, 0.5)
     log = ros.log_text(gzserver)
     assert "world 'mixed': light 'lamp' accepted, not simulated" in log, log
-    assert "ignoring world plugin 'world_ticker' (libworld_ticker.so)" in log, log
-    assert 'ignoring <scene>' in log, log
+    assert ("world 'mixed': Failed to load plugin libworld_ticker.so (plugin 'world_ticker')"
+            in log), log
+    assert "world 'mixed': not simulated: <scene>" in log, log
     # What a physics parameter is not given keeps the node's default.
     assert api.get_physics_properties().time_step == 0.001
 
@@ -238,11 +243,15 @@ REFUSED = {
                       '<inertial><mass>1e9</mass></inertial></link></model></world></sdf>',
                       "world 'w': model 'heavy' cannot be spawned: SpawnModel: link 'l' has a "
                       "mass of 1e+09 kg"),
+    'gazebo_1_format': ('<gazebo version="1.0"><world name="w"/></gazebo>',
+                        'cannot be loaded: its root element is <gazebo version="1.0">, Gazebo 1\'s '
+                        'world format from before SDF, which libsdformat (and so Gazebo 11) no '
+                        'longer reads'),
 }
 
 
 # Refused while the file is read, before the simulator makes its world and engine.
-READ_REFUSED = ('bad_xml', 'missing_include', 'negative_count', 'no_world')
+READ_REFUSED = ('bad_xml', 'gazebo_1_format', 'missing_include', 'negative_count', 'no_world')
 # Refused by the world of the engine asked for: its physics, a model's spawn.
 WORLD_REFUSED = ('model_refused', 'step_out_of_range')
 
@@ -286,3 +295,103 @@ def test_world_file_found_in_gazebo_resource_path(ros, rospy_client, tmp_path):
     start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-u', 'worlds/one_block.world'],
                   'gzserver', env={'GAZEBO_RESOURCE_PATH': str(tmp_path)})
     assert GazeboApi(rospy_client).get_world_properties().model_names == ['toy_block']
+
+
+WORLDS = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'worlds')
+# What the node logs at WARN and above, and what libsdformat prints as a warning or an error.
+COMPLAINT_MARKS = ('[ WARN]', '[ERROR]', '[FATAL]', 'Warning [', 'Error [')
+
+
+def assert_complaints(log, expected):
+    """The complaints in the log are exactly those with the expected fragments, each present."""
+    lines = [line for line in log.splitlines() if any(mark in line for mark in COMPLAINT_MARKS)]
+    for fragment in expected:
+        assert any(fragment in line for line in lines), (fragment, lines)
+    assert [line for line in lines if not any(fragment in line for fragment in expected)] == [], \
+        lines
+
+
+def start_world(ros, engine, world):
+    return start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-u', '-e', engine,
+                               os.path.join(WORLDS, world)], 'gzserver')
+
+
+def yaw(orientation):
+    return 2 * math.atan2(orientation.z, orientation.w)
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_a_world_saved_by_gazebo_11_loads_as_gazebo_loads_it(ros, rospy_client, engine):
+    """Its <plane> ground, <script> materials, light, GUI camera and the rest load without a
+    warning, as under Gazebo; its <state> places each model and sets the clock, as Gazebo's
+    World::Load applies it."""
+    gzserver = start_world(ros, engine, 'gazebo11_saved.world')
+    api = GazeboApi(rospy_client)
+    world = api.get_world_properties()
+    assert world.model_names == ['ground_plane', 'unit_box', 'cafe_table', 'one_DOF_robot']
+    assert world.sim_time == pytest.approx(91.335, abs=1e-9)
+    box = api.get_model_state('unit_box', '').pose
+    assert (box.position.x, box.position.y, box.position.z) == \
+        pytest.approx((2.5, -1.5, 0.499995), abs=1e-9)
+    assert yaw(box.orientation) == pytest.approx(1.2, abs=1e-9)
+    assert api.get_model_properties('cafe_table').is_static
+    assert api.get_joint_properties('joint1').success
+
+    stepped = api.step_simulation(1000)
+    assert stepped.success, stepped.status_message
+    assert (stepped.sim_time.to_nsec(), stepped.iterations) == (92335000000, 92335)
+    box = api.get_model_state('unit_box', '')
+    assert (box.pose.position.x, box.pose.position.z) == pytest.approx((2.5, 0.5), abs=2e-3)
+    assert abs(box.twist.linear.z) < 1e-3
+    log = ros.log_text(gzserver)
+    assert "world 'default': saved <state> applied: sim time 91.335 s, iteration 91335" in log, log
+    assert_complaints(log, [])
+
+
+# Worlds in the shapes of gazebo_ros_pkgs' test worlds: each world's models, and the complaints
+# it draws: libsdformat's warnings (Gazebo's libsdformat gives them too), the errors Gazebo logs
+# for a plugin or a mesh it cannot load, and, where this simulator does not simulate a sensor
+# type Gazebo does, the warning that says so.
+UPSTREAM_SHAPES = {
+    'camera_test_shape.world': (['ground_plane', 'ball', 'pole'], []),
+    'sensor_test_shape.world': (
+        ['sonar_post', 'profiler', 'slope', 'gripper_finger'],
+        ['XML Attribute[cast_shadows] in element[light] not defined in SDF',
+         'XML Attribute[display] in element[scan] not defined in SDF',
+         'XML Attribute[near] in element[clip] not defined in SDF',
+         'XML Attribute[far] in element[clip] not defined in SDF',
+         "Failed to load plugin libgazebo_ros_range.so (plugin 'sonar_controller' of sensor "
+         "'sonar')",
+         "Failed to load plugin libgazebo_ros_block_laser.so (plugin 'profile_controller' of "
+         "sensor 'profile')",
+         "model 'gripper_finger': link 'link': collision 'finger_mesh' is the mesh "
+         "'pr2/gripper/finger_tip.stl', which is not found"]),
+    'old_sdf_test_shape.world': (
+        ['floor', 'crate', 'lift'],
+        ['XML Attribute[name] in element[collision] not defined in SDF',
+         'Non-unique name[door] detected 2 times in XML children of model with name[lift]',
+         'Joint with name [door] in model with name [lift] has a name collision',
+         "sensor 'bumper' (type contact) on link 'body': sensors of type contact are not "
+         "simulated here"]),
+    'p2dx_test_shape.world': (
+        ['ground_plane', 'two_wheeler'],
+        ["model 'two_wheeler': Failed to load plugin libDiffDrivePlugin.so (plugin "
+         "'diff_drive')"]),
+}
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+@pytest.mark.parametrize('world', sorted(UPSTREAM_SHAPES))
+def test_worlds_in_the_shapes_of_gazebos_test_worlds_load(ros, rospy_client, engine, world):
+    gzserver = start_world(ros, engine, world)
+    api = GazeboApi(rospy_client)
+    models, expected = UPSTREAM_SHAPES[world]
+    assert api.get_world_properties().model_names == models
+    api.run_for(5 * 10 ** 8)
+    for name in models:
+        for body in api.get_model_properties(name).body_names:
+            state = api.get_link_state(name + '::' + body, '').link_state
+            position = state.pose.position
+            assert all(math.isfinite(v) for v in (position.x, position.y, position.z)), \
+                (name, body, state)
+    assert_complaints(ros.log_text(gzserver), expected)

@@ -72,6 +72,17 @@ inline Vec3 transformPoint(const Pose& a, const Vec3& p) {
   return a.position + rotate(a.orientation, p);
 }
 
+// The rotation that takes +z to `normal` (a plane's <normal>); the identity for a zero normal.
+inline Quat zTo(const Vec3& normal) {
+  const double length = norm(normal);
+  if (!(length > 0)) return {};
+  const Vec3 n = (1.0 / length) * normal;
+  const Vec3 z{0, 0, 1};
+  if (dot(z, n) < -1 + 1e-12) return {0, 1, 0, 0};  // half a turn about x
+  const Vec3 axis = cross(z, n);
+  return normalized({1 + dot(z, n), axis.x, axis.y, axis.z});
+}
+
 inline bool isFinite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

@@ -233,6 +233,18 @@ struct Ray {
   double length = 0;
 };
 
+// A moving body the world takes though its inertia is implausible for its collision shapes: a
+// push across a corner of a shape's bounding box turns that corner more than 1000 times as fast
+// as it moves the body (uniform solids: 2 to 8). Gazebo spawns such bodies, and so does the world;
+// an engine may fail on one (ODE's contact solver, from about 5e5) or let it sink through the
+// ground (Bullet, from about 5e4), which the world contains as it contains any engine failure
+// (see step). The owner tells its user.
+struct InertiaWarning {
+  std::string link;             // the body's reference link (bare name)
+  double smallest_moment = 0;   // its smallest principal moment, kg m^2
+  double least_moment = 0;      // the least its shapes make plausible, kg m^2
+};
+
 // A model read from its XML and checked against every limit that does not depend on a world
 // (World::prepare), for World::spawn to add to one. Self-contained: made without a world, it can
 // be parsed on one thread while another steps the world.
@@ -244,6 +256,11 @@ class PreparedModel {
   PreparedModel& operator=(PreparedModel&&) noexcept;
   // Ok, or why the XML makes no model (ModelRejected with the reason).
   const Status& status() const;
+  // Its bodies of implausible inertia, which it is spawned with.
+  const std::vector<InertiaWarning>& warnings() const;
+  // The collisions it is spawned without, as Gazebo spawns a model without a collision mesh it
+  // cannot find: why, for each ("link 'l': collision 'c' is the mesh 'm', which is not found ...").
+  const std::vector<std::string>& leftOut() const;
 
  private:
   friend class World;
@@ -278,6 +295,10 @@ class World {
   int64_t timeNs() const;
   double time() const;  // seconds
   uint64_t stepCount() const;
+  // Sets the clock, as a saved world's <state> gives it (its <sim_time> and <iterations>) and
+  // Gazebo's world takes it at load; reset_simulation takes it back to 0. Refuses (OutOfRange
+  // "sim_time", [0, the end of ROS time] in s) a time the clock cannot show.
+  Status setClock(int64_t time_ns, uint64_t step_count);
 
   const std::string& engineName() const;
   const PhysicsParams& params() const;
@@ -371,9 +392,10 @@ class World {
   // "inertia"), a zero com orientation (ZeroQuaternion), and (InvalidParameter) a negative mass
   // or a moving body left without mass ("mass"), an inertia no rigid body has ("inertia"), a
   // gravity mode that differs from the other links welded into its body ("gravity_mode"), and
-  // (OutOfRange "inertia", [min, max] in kg m^2) principal moments out of the Limits or, the
-  // least, below what the body's mass at the reach of its collision shapes needs.
-  Status setLinkProperties(const std::string& scoped_link, const LinkInfo& properties);
+  // (OutOfRange "inertia", [min, max] in kg m^2) principal moments out of the Limits. An inertia
+  // implausible for the body's collision shapes is taken, and *warning (optional) says so.
+  Status setLinkProperties(const std::string& scoped_link, const LinkInfo& properties,
+                           std::optional<InertiaWarning>* warning = nullptr);
 
   // --- joints (name bare or scoped "model::joint"; the first model that has it wins) ---------
   Status jointInfo(const std::string& joint, JointInfo* out) const;

@@ -1,8 +1,11 @@
 // An SDF <world> file read into what the simulator makes of it, free of ROS: its name, its
 // physics and gravity, the models it places (its <model>s and its <include>s of model://NAME,
-// each one SDF document for World::prepare) and the elements the simulator does not act on.
+// each one SDF document for World::prepare), a saved world's <state> and the elements the
+// simulator does not act on. It is read as Gazebo classic reads it (libsdformat's element API;
+// see src/core/sdf_parsing.h).
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -27,6 +30,15 @@ struct WorldFileIgnored {
   std::string filename;  // a <plugin>'s filename
 };
 
+// A saved world's first <state> (what Gazebo's "Save World" writes), as Gazebo's World::Load
+// applies it: its clock, for World::setClock; its models' poses are the models' `pose` already.
+struct WorldFileState {
+  int64_t sim_time_ns = 0;
+  uint64_t iterations = 0;
+  std::vector<std::string> unknown_models;  // named by the state, not placed by the world
+  std::vector<std::string> not_applied;     // "insertions", "deletions"
+};
+
 struct WorldFile {
   std::string name;          // <world name>
   std::string physics_type;  // <physics type> ("ode", "bullet", ...); empty without <physics>
@@ -37,6 +49,7 @@ struct WorldFile {
   std::map<std::string, PhysicsParams> physics;
   std::optional<double> real_time_update_rate;  // steps per wall second, when the file sets it
   std::vector<WorldFileModel> models;           // in file order
+  std::optional<WorldFileState> state;
   std::vector<WorldFileIgnored> ignored;
 };
 
@@ -46,7 +59,9 @@ enum class WorldFileCode {
   Unreadable,       // subject: the path; it exists but cannot be read
   TooLarge,         // subject: the path; max: the most bytes a world file may have
   InvalidXml,       // subject: why the XML is not well-formed (tinyxml2's words, with the line)
+  NotSdf,           // subject: the root element (<gazebo version="1.0">: Gazebo 1's format)
   InvalidSdf,       // subject: why libsdformat refuses the document
+  InvalidState,     // subject: the <state> element that is not a state (a <sim_time> past ROS time)
   NoWorld,          // subject: the root's content; the document has no <world>
   NegativeCount,    // subject: the <physics> element (iters, precon_iters, max_contacts) < 0
   IncludeNotFound,  // subject: the <include>'s URI, found in no folder of the model path

@@ -33,7 +33,8 @@ class EngineFault : public std::runtime_error {
 };
 
 struct ShapeSpec {
-  // Box, Cylinder (along z), Sphere or Mesh; never Plane (the ground is addGroundPlane).
+  // Box, Cylinder (along z), Sphere or Mesh; Plane (the plane z = 0 of its pose) only among a
+  // model's anchored shapes (the world's ground is addGroundPlane).
   GeometryShape shape = GeometryShape::Box;
   Vec3 size;   // as CollisionShape::size
   Pose pose;   // in the body frame; for an anchored shape, set by setAnchoredShapePose

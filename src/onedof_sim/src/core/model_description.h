@@ -82,6 +82,9 @@ constexpr size_t kMaxModelMeshTriangles = 50000;
 // somewhat less.
 constexpr size_t kMaxMeshFileBytes = 20000000;
 
+// Sim time ends where ROS time does (32-bit seconds): /clock and every stamp would overflow.
+constexpr int64_t kEndOfTimeNs = int64_t(0xffffffff) * 1000000000;
+
 struct CollisionDescription {
   std::string name;
   GeometryShape shape = GeometryShape::Box;
@@ -140,6 +143,8 @@ struct ModelDescription {
   std::vector<LinkDescription> links;  // parents before children
   std::vector<JointDescription> joints;
   std::string canonical_link;
+  // The collisions left out, as Gazebo leaves out a mesh it cannot find: why, for each.
+  std::vector<std::string> left_out;
 };
 
 // A model the world cannot build, and why (the reason names the link, joint or parser error).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <ignition/math/Pose3.hh>
 #include <map>
 #include <mutex>
@@ -96,11 +97,13 @@ Status checkLimits(const ModelDescription& model) {
       if (!withinPosition(collision.pose.position))
         return rejected(what + ": collision '" + collision.name + "' lies" + position_range);
       const TriangleMesh* mesh = collision.mesh.get();
+      // A plane is unbounded whatever its <size>, which only a visual shows.
       const bool too_large =
           mesh ? std::max({std::abs(mesh->min.x), std::abs(mesh->min.y), std::abs(mesh->min.z),
                            std::abs(mesh->max.x), std::abs(mesh->max.y),
                            std::abs(mesh->max.z)}) > kMaxShapeSize / 2
-               : std::max({size.x, size.y, size.z}) > kMaxShapeSize;
+               : collision.shape != GeometryShape::Plane &&
+                     std::max({size.x, size.y, size.z}) > kMaxShapeSize;
       if (too_large)
         return rejected(what + ": collision '" + collision.name + "' is larger than " +
                         formatNumber(kMaxShapeSize) + " m" +
@@ -175,18 +178,22 @@ std::string joinedPath(const std::vector<std::string>& folders) {
   return text.empty() ? "(empty)" : text;
 }
 
-// A mesh collision: the file its URI names (resolveMeshUri), read and scaled.
+// A mesh collision: the file its URI names (resolveMeshUri), read and scaled. A mesh found
+// nowhere leaves the collision out, as Gazebo leaves out a mesh it cannot load: *left_out says
+// why, and *c is not made.
 Status meshCollision(const std::string& uri, const Vec3& scale, const std::string& relative_to,
                      const std::vector<std::string>& model_path, MeshReader* meshes,
-                     const std::string& link, CollisionDescription* c) {
+                     const std::string& link, CollisionDescription* c, std::string* left_out) {
   const std::string where =
       "link '" + link + "': collision '" + c->name + "' is the mesh '" + uri + "'";
   if (!isFinite(scale) || scale.x == 0 || scale.y == 0 || scale.z == 0)
     return rejected(where + " with a zero or non-finite scale");
   const std::string file = resolveMeshUri(uri, model_path, relative_to);
-  if (file.empty())
-    return rejected(where + ", which is not found (model:// and package:// URIs are looked up in " +
-                    joinedPath(model_path) + ")");
+  if (file.empty()) {
+    *left_out = where + ", which is not found (model:// and package:// URIs are looked up in " +
+                joinedPath(model_path) + ")";
+    return {};
+  }
   c->shape = GeometryShape::Mesh;
   c->size = scale;
   Status status = meshes->read(file, scale, &c->mesh);
@@ -194,9 +201,10 @@ Status meshCollision(const std::string& uri, const Vec3& scale, const std::strin
   return {};
 }
 
+// Adds the collision to link, or its reason to *left_out (a mesh found nowhere).
 Status addUrdfCollision(const urdf::Collision& collision, size_t index,
                         const std::vector<std::string>& model_path, MeshReader* meshes,
-                        LinkDescription* link) {
+                        LinkDescription* link, std::vector<std::string>* left_out) {
   CollisionDescription out;
   out.name = collisionName(collision.name, link->name, index);
   out.pose = toPose(collision.origin);
@@ -221,9 +229,14 @@ Status addUrdfCollision(const urdf::Collision& collision, size_t index,
     }
     case urdf::Geometry::MESH: {
       const auto& mesh = static_cast<const urdf::Mesh&>(*collision.geometry);
+      std::string missing;
       Status status = meshCollision(mesh.filename, {mesh.scale.x, mesh.scale.y, mesh.scale.z}, "",
-                                    model_path, meshes, link->name, &out);
+                                    model_path, meshes, link->name, &out, &missing);
       if (!status.ok()) return status;
+      if (!missing.empty()) {
+        left_out->push_back(missing);
+        return {};
+      }
       break;
     }
     default:
@@ -239,6 +252,7 @@ Status checkShape(const CollisionDescription& collision, const std::string& link
   const bool ok = collision.shape == GeometryShape::Box ? (s.x > 0 && s.y > 0 && s.z > 0)
                   : collision.shape == GeometryShape::Cylinder ? (s.x > 0 && s.z > 0)
                   : collision.shape == GeometryShape::Mesh     ? collision.mesh != nullptr
+                  : collision.shape == GeometryShape::Plane    ? (s.x >= 0 && s.y >= 0)
                                                                : s.x > 0;
   if (ok && isFinite(s) && isFinite(collision.pose)) return {};
   return rejected("link '" + link + "': collision '" + collision.name +
@@ -270,8 +284,10 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose,
     std::vector<urdf::CollisionSharedPtr> collisions = link.collision_array;
     if (collisions.empty() && link.collision) collisions.push_back(link.collision);
     for (size_t i = 0; i < collisions.size(); ++i) {
-      Status status = addUrdfCollision(*collisions[i], i, model_path, meshes, &desc);
+      const size_t made = desc.collisions.size();
+      Status status = addUrdfCollision(*collisions[i], i, model_path, meshes, &desc, &out->left_out);
       if (!status.ok()) return status;
+      if (desc.collisions.size() == made) continue;
       status = checkShape(desc.collisions.back(), desc.name);
       if (!status.ok()) return status;
     }
@@ -406,8 +422,23 @@ void readSdfFriction(const sdf::Collision& collision, CollisionDescription* out)
     if (!element || !element->HasElement(name)) return;
     element = element->GetElement(name);
   }
-  if (element->HasElement("mu")) out->mu = element->Get<double>("mu");
-  if (element->HasElement("mu2")) out->mu2 = element->Get<double>("mu2");
+  // Gazebo reads a negative coefficient as unbounded friction: the largest float.
+  const auto coefficient = [&](const char* name) {
+    const double mu = element->Get<double>(name);
+    return mu < 0 ? double(std::numeric_limits<float>::max()) : mu;
+  };
+  if (element->HasElement("mu")) out->mu = coefficient("mu");
+  if (element->HasElement("mu2")) out->mu2 = coefficient("mu2");
+}
+
+// A <plane>: the plane z = 0 of the collision's frame, its <normal> turned into that frame's z;
+// its <size> only says how much of it a visual shows.
+void planeCollision(const sdf::Plane& plane, CollisionDescription* c) {
+  const ignition::math::Vector3d& normal = plane.Normal();
+  c->shape = GeometryShape::Plane;
+  c->size = {plane.Size().X(), plane.Size().Y(), 0};
+  c->pose.orientation =
+      multiply(c->pose.orientation, zTo({normal.X(), normal.Y(), normal.Z()}));
 }
 
 Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::string& prefix,
@@ -451,12 +482,19 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
       const ignition::math::Vector3d& scale = mesh.Scale();
       const std::string folder =
           mesh.FilePath().empty() ? "" : std::filesystem::path(mesh.FilePath()).parent_path();
+      std::string missing;
       Status status = meshCollision(mesh.Uri(), {scale.X(), scale.Y(), scale.Z()}, folder,
-                                    model_path, meshes, desc.name, &c);
+                                    model_path, meshes, desc.name, &c, &missing);
       if (!status.ok()) return status;
+      if (!missing.empty()) {
+        out->left_out.push_back(missing);
+        continue;
+      }
+    } else if (geometry.Type() == sdf::GeometryType::PLANE) {
+      planeCollision(*geometry.PlaneShape(), &c);
     } else {
       return rejected("link '" + desc.name +
-                      "': only box, cylinder, sphere and mesh collisions are supported");
+                      "': only box, cylinder, sphere, plane and mesh collisions are supported");
     }
     readSdfFriction(collision, &c);
     Status status = checkShape(c, desc.name);
@@ -469,10 +507,18 @@ Status addSdfLink(const sdf::Link& link, const Pose& model_pose, const std::stri
   return {};
 }
 
+// The joint's name as the file gives it: libsdformat 12 renames a joint that shares its name
+// with a link ("door" to "door_joint"), where Gazebo keeps it.
+std::string givenName(const sdf::Joint& joint) {
+  const sdf::ElementPtr element = joint.Element();
+  return element && element->HasAttribute("name") ? element->Get<std::string>("name")
+                                                   : joint.Name();
+}
+
 Status addSdfJoint(const sdf::Joint& joint, const Pose& model_pose, const std::string& prefix,
                    ModelDescription* out) {
   JointDescription desc;
-  desc.name = prefix + joint.Name();
+  desc.name = prefix + givenName(joint);
   switch (joint.Type()) {
     case sdf::JointType::REVOLUTE: desc.type = JointType::Revolute; break;
     case sdf::JointType::CONTINUOUS: desc.type = JointType::Continuous; break;
@@ -576,20 +622,14 @@ Status checkSdfVersion(const sdf::Root& root) {
 
 Status parseSdf(const std::string& xml, const std::vector<std::string>& model_path,
                 ModelDescription* out) {
-  sdf::Root root;
-  std::vector<std::string> missing;
-  sdf::Errors errors;
+  SdfDocument document;
   const std::lock_guard<std::mutex> one_parser(parserMutex());
-  try {
-    errors = root.LoadSdfString(xml, modelPathConfig(model_path, &missing));
-  } catch (const std::exception& e) {
-    // libsdformat 12 throws std::invalid_argument ("stoi") on a version like "abc".
-    return rejected(std::string("invalid SDF: ") + e.what());
-  }
-  if (!missing.empty())
-    return rejected(missing.front() + " is not in the model path (" + joinedPath(model_path) +
-                    ")");
-  if (!errors.empty()) return rejected("invalid SDF: " + joinErrors(errors));
+  readSdfDocument(xml, SdfSource::String, model_path, &document);
+  if (!document.missing.empty())
+    return rejected(document.missing.front() + " is not in the model path (" +
+                    joinedPath(model_path) + ")");
+  if (!document.error.empty()) return rejected("invalid SDF: " + document.error);
+  const sdf::Root& root = document.root;
   const Status version = checkSdfVersion(root);
   if (!version.ok()) return version;
   // What gazebo_ros' spawn_model sends for -database: <world><include><uri>model://NAME, which

@@ -25,17 +25,6 @@ Pose urdfPose(const urdf::Pose& p) {
           normalized({p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z})};
 }
 
-// The rotation that takes +z to `normal` (a plane's <normal>); the identity for a zero normal.
-Quat zTo(const Vec3& normal) {
-  const double length = norm(normal);
-  if (!(length > 0)) return {};
-  const Vec3 n = (1.0 / length) * normal;
-  const Vec3 z{0, 0, 1};
-  if (dot(z, n) < -1 + 1e-12) return {0, 1, 0, 0};  // half a turn about x
-  const Vec3 axis = cross(z, n);
-  return normalized({1 + dot(z, n), axis.x, axis.y, axis.z});
-}
-
 Color toColor(const ignition::math::Color& c) { return {c.R(), c.G(), c.B(), c.A()}; }
 
 }  // namespace

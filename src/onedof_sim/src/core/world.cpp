@@ -200,6 +200,14 @@ Status World::step() { return impl_->step(); }
 int64_t World::timeNs() const { return impl_->time_ns; }
 double World::time() const { return impl_->time_ns * 1e-9; }
 uint64_t World::stepCount() const { return impl_->steps; }
+
+Status World::setClock(int64_t time_ns, uint64_t step_count) {
+  if (time_ns < 0 || time_ns > kEndOfTimeNs) return outOfRange("sim_time", 0, kEndOfTimeNs * 1e-9);
+  impl_->time_ns = time_ns;
+  impl_->steps = step_count;
+  impl_->time_ended = false;
+  return {};
+}
 const std::string& World::engineName() const { return impl_->engine_name; }
 const PhysicsParams& World::params() const { return impl_->params; }
 
@@ -228,6 +236,8 @@ PreparedModel::~PreparedModel() = default;
 PreparedModel::PreparedModel(PreparedModel&&) noexcept = default;
 PreparedModel& PreparedModel::operator=(PreparedModel&&) noexcept = default;
 const Status& PreparedModel::status() const { return content_->status; }
+const std::vector<InertiaWarning>& PreparedModel::warnings() const { return content_->warnings; }
+const std::vector<std::string>& PreparedModel::leftOut() const { return content_->left_out; }
 
 Status World::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                     const Pose& pose, const std::string& reference_frame) {
@@ -269,9 +279,10 @@ PreparedModel World::prepare(const std::string& xml, ModelFormat format,
     content.status = rejected(why.str());
     return prepared;
   }
+  content.left_out = desc.left_out;
   content.record.is_static = desc.is_static;
   content.model_pose = desc.pose;
-  content.status = planModel(desc, &content.record, &content.spec);
+  content.status = planModel(desc, &content.record, &content.spec, &content.warnings);
   return prepared;
 }
 

@@ -1,9 +1,12 @@
 // SDF world files (libsdformat 12) to WorldFile.
 #include "onedof_sim/world_file.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include <ignition/math/Pose3.hh>
 #include <tinyxml2.h>
@@ -14,11 +17,12 @@
 namespace onedof_sim {
 namespace {
 
+using core::kEndOfTimeNs;
 using core::kMaxModelXmlBytes;
 using core::kMaxWorldModels;
 
 // The world's own children the simulator acts on: the rest is listed as ignored.
-const std::set<std::string> kActedOn = {"physics", "gravity", "model", "frame"};
+const std::set<std::string> kActedOn = {"physics", "gravity", "model", "frame", "state"};
 
 // The child `name` of parent when the file sets it (libsdformat adds the required ones it does
 // not set, with their defaults, which must not override the base).
@@ -102,12 +106,24 @@ WorldFileStatus readPhysics(const sdf::World& world, const PhysicsParams& base, 
 }
 
 // The model alone: its element without its <pose>, which is the world's business (it may be
-// relative to the world's frames), as an SDF document of this libsdformat's version.
+// relative to the world's frames), as an SDF document. Its elements are in this libsdformat's
+// version already; the document says the version its file gave, which converts to them
+// unchanged, so that it is read again with that version's leniency (libsdformat 12 renames a
+// joint named as a link in a file older than 1.8, and refuses it in a newer one).
 std::string modelDocument(const sdf::Model& model) {
   sdf::ElementPtr element = model.Element()->Clone();
   while (element->HasElement("pose")) element->RemoveChild(element->GetElement("pose"));
-  return "<?xml version=\"1.0\"?>\n<sdf version=\"" + sdf::SDF::Version() + "\">\n" +
+  const std::string& original = model.Element()->OriginalVersion();
+  const std::string version = original.empty() ? sdf::SDF::Version() : original;
+  return "<?xml version=\"1.0\"?>\n<sdf version=\"" + version + "\">\n" +
          element->ToString("") + "</sdf>\n";
+}
+
+// A root element other than <sdf>, with its version attribute if it has one.
+std::string rootDescription(const tinyxml2::XMLElement& root) {
+  const char* version = root.Attribute("version");
+  return "<" + std::string(root.Name()) +
+         (version ? " version=\"" + std::string(version) + "\"" : "") + ">";
 }
 
 // The models the file's first <world> places, its <model>s and <include>s, counted on the XML so
@@ -134,6 +150,46 @@ WorldFileStatus readModels(const sdf::World& world, WorldFile* out) {
               "model '" + model.Name() + "': " + core::joinErrors(errors)};
     out->models.push_back({model.Name(), modelDocument(model), core::toPose(pose)});
   }
+  return {};
+}
+
+// SDF's time, "sec nsec" (or "sec"), in nanoseconds; false for text that is not one.
+bool readTime(const std::string& text, int64_t* time_ns) {
+  std::istringstream in(text);
+  double sec = 0, nsec = 0;
+  if (!(in >> sec)) return false;
+  if (!(in >> nsec)) nsec = 0;
+  const double total = sec * 1e9 + nsec;
+  if (!std::isfinite(total) || total < 0 || total >= double(kEndOfTimeNs)) return false;
+  *time_ns = int64_t(std::llround(total));
+  return true;
+}
+
+// The first <state> of a saved world, as Gazebo's World::Load applies it: the clock, and each
+// model where the state puts it (its <pose>, the model frame in the world).
+WorldFileStatus readState(const sdf::ElementPtr& world, WorldFile* out) {
+  const sdf::ElementPtr state = setInFile(world, "state");
+  if (!state) return {};
+  WorldFileState applied;
+  if (const sdf::ElementPtr time = setInFile(state, "sim_time"))
+    if (!readTime(time->GetValue()->GetAsString(), &applied.sim_time_ns))
+      return {WorldFileCode::InvalidState, "<sim_time> " + time->GetValue()->GetAsString()};
+  if (const sdf::ElementPtr iterations = setInFile(state, "iterations"))
+    applied.iterations = iterations->Get<uint64_t>();
+  for (sdf::ElementPtr model = state->HasElement("model") ? state->GetElement("model") : nullptr;
+       model; model = model->GetNextElement("model")) {
+    const std::string name = model->Get<std::string>("name");
+    auto placed = std::find_if(out->models.begin(), out->models.end(),
+                               [&](const WorldFileModel& m) { return m.name == name; });
+    if (placed == out->models.end()) {
+      applied.unknown_models.push_back(name);
+      continue;
+    }
+    if (setInFile(model, "pose")) placed->pose = core::toPose(model->Get<ignition::math::Pose3d>("pose"));
+  }
+  for (const char* change : {"insertions", "deletions"})
+    if (setInFile(state, change)) applied.not_applied.push_back(change);
+  out->state = applied;
   return {};
 }
 
@@ -166,22 +222,22 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
     const char* reason = xml.ErrorStr();
     return {WorldFileCode::InvalidXml, reason ? reason : "parse error"};
   }
+  // libsdformat would read any other root as a URDF and say only that it has no <robot>.
+  const tinyxml2::XMLElement* root_xml = xml.RootElement();
+  if (root_xml && std::string(root_xml->Name()) != "sdf")
+    return {WorldFileCode::NotSdf, rootDescription(*root_xml)};
   const size_t placed = placedModels(xml);
   if (placed > kMaxWorldModels)
     return {WorldFileCode::TooManyModels, std::to_string(placed), double(kMaxWorldModels)};
-  sdf::Root root;
-  std::vector<std::string> missing;
-  sdf::Errors errors;
+  core::SdfDocument document;
   {
     const std::lock_guard<std::mutex> one_parser(core::parserMutex());
-    try {
-      errors = root.Load(path, core::modelPathConfig(model_path, &missing));
-    } catch (const std::exception& e) {
-      return {WorldFileCode::InvalidSdf, e.what()};
-    }
+    core::readSdfDocument(fs::absolute(path).string(), core::SdfSource::File, model_path,
+                          &document);
   }
-  if (!missing.empty()) return {WorldFileCode::IncludeNotFound, missing.front()};
-  if (!errors.empty()) return {WorldFileCode::InvalidSdf, core::joinErrors(errors)};
+  if (!document.missing.empty()) return {WorldFileCode::IncludeNotFound, document.missing.front()};
+  if (!document.error.empty()) return {WorldFileCode::InvalidSdf, document.error};
+  const sdf::Root& root = document.root;
   const Status version = core::checkSdfVersion(root);
   if (!version.ok()) return {WorldFileCode::InvalidSdf, version.subject};
   if (root.WorldCount() == 0) {
@@ -195,6 +251,8 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
   WorldFileStatus status = readPhysics(world, base, &file);
   if (!status.ok()) return status;
   status = readModels(world, &file);
+  if (!status.ok()) return status;
+  status = readState(world.Element(), &file);
   if (!status.ok()) return status;
   listIgnored(world, &file);
   *out = std::move(file);

@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,8 +59,6 @@ constexpr size_t kMaxWarnings = 100;
 // no robot has; above 0.1 s the angular speed cap (0.1 rad per step) falls to 1 rad/s, too slow
 // for the tutorial's pendulum to swing.
 constexpr double kMinStep = 1e-6, kMaxStep = 0.1;  // s
-// Sim time ends where ROS time does (32-bit seconds): /clock and every stamp would overflow.
-constexpr int64_t kEndOfTimeNs = int64_t(0xffffffff) * 1000000000;
 // Pending effort jobs per joint and wrench jobs per link. A controller keeps one or two pending
 // (the book's: 10 ms jobs at 100 Hz); 1000 leave room for a queued sequence, while each step
 // looks at every job, so an endless queue (50000 jobs: real-time factor 0.59) slows the world.
@@ -83,7 +82,7 @@ struct LinkRecord {
   bool sets_body_pose = false;    // the reference link of its body: the one that places it
   Pose link_in_body;              // exact link frame in the body (COM) frame
   Pose anchored_pose;             // world pose, when anchored
-  int first_anchored_shape = -1;  // its collisions' index in ModelSpec::anchored_shapes
+  int first_anchored_shape = -1;  // its anchored collisions' index in ModelSpec::anchored_shapes
 };
 
 struct JointRecord {
@@ -166,10 +165,15 @@ const EngineEntry& findEngine(const std::string& name);
 // --- world_models.cpp ------------------------------------------------------------------------
 
 ShapeSpec shapeSpec(const CollisionDescription& collision);
+// Whether a link's collision stays on the static environment: every collision of an anchored
+// link, and a plane on any link (a plane is not placed on a body: it stays where its link was put,
+// as in Gazebo).
+bool isAnchored(const LinkRecord& link, const CollisionDescription& collision);
 // Everything about a model that can fail, checked before any engine sees it (so that a refused
 // spawn leaves the world as it was) and without a world: fills the link and joint records and the
-// engine's spec.
-Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec);
+// engine's spec, and *warnings with its bodies of implausible inertia.
+Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec,
+                 std::vector<InertiaWarning>* warnings);
 // The link that places a moving body: the first of the links welded into it.
 const LinkRecord& referenceLink(const ModelRecord& model, int body);
 
@@ -178,21 +182,25 @@ const LinkRecord& referenceLink(const ModelRecord& model, int body);
 // u^T I u for a unit axis u given in the tensor's frame.
 double momentAbout(const BodySpec& body, const Vec3& u);
 
-// Why the links welded into a body make no rigid body, or none the engines can step (Limits).
-// InertiaBelowShape: a moment far below what its collision shapes imply (kMaxLeverRatio).
-enum class LumpFault { None, NoMass, NotPositiveDefinite, MomentOutOfRange, InertiaBelowShape };
+// Why the links welded into a body make no rigid body (Limits).
+enum class LumpFault { None, NoMass, NotPositiveDefinite, MomentOutOfRange };
 
-// The body's smallest principal moment and the range it had to be in (MomentOutOfRange,
-// InertiaBelowShape), kg m^2.
+// The body's smallest principal moment and the range it had to be in (MomentOutOfRange), kg m^2;
+// and, where its collision shapes make it implausible (kMaxLeverRatio), the least moment they
+// imply (else 0).
 struct MomentBounds {
   double smallest = 0, min = 0, max = 0;
+  double least_for_shapes = 0;
 };
 
 // One body from the inertials of the links welded into it: the lumped mass, the inertia about the
 // lumped centre of mass in the reference link's axes, the reference link's gravity mode and every
-// link's collisions. On success, also places each of its links in the new body frame
+// link's collisions on it. On success, also places each of its links in the new body frame
 // (link_in_body); on a fault, changes nothing but *bounds (optional).
 LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out, MomentBounds* bounds = nullptr);
+// What a lumped body's bounds say of it, when its inertia is implausible for its shapes.
+std::optional<InertiaWarning> inertiaWarning(const ModelRecord& model, int body,
+                                             const MomentBounds& bounds);
 
 // --- world_validation.cpp --------------------------------------------------------------------
 
@@ -218,6 +226,8 @@ struct PreparedModel::Content {
   core::ModelRecord record;
   core::ModelSpec spec;
   Pose model_pose;  // ModelDescription::pose: the model frame in the spawn pose's frame
+  std::vector<InertiaWarning> warnings;
+  std::vector<std::string> left_out;
 };
 
 // World's parts are written against the core's private types (every file that includes this
@@ -341,8 +351,10 @@ struct World::Impl {
   std::vector<Pose> currentLinkPoses(const ModelRecord& model) const;
 
   // Gives a moving link a new inertial and its body the new lump; the links keep their poses and
-  // velocities, the body frame (at the new centre of mass) moves under them.
-  Status reweighLink(ModelRecord* model, size_t index, const LinkDescription& desc);
+  // velocities, the body frame (at the new centre of mass) moves under them. *warning: set when
+  // the new lump's inertia is implausible for its shapes, else reset.
+  Status reweighLink(ModelRecord* model, size_t index, const LinkDescription& desc,
+                     std::optional<InertiaWarning>* warning);
   std::vector<double> currentPositions(const ModelRecord& model) const;
   void resetModel(ModelRecord* model);
 

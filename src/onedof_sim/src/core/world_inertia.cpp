@@ -176,6 +176,7 @@ LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out, MomentBounds* bo
     const Pose link_in_reference = compose(reference_inverse, link.desc.pose);
     link.link_in_body = {link_in_reference.position - com, link_in_reference.orientation};
     for (const CollisionDescription& collision : link.desc.collisions) {
+      if (isAnchored(link, collision)) continue;
       ShapeSpec shape = shapeSpec(collision);
       shape.pose = compose(link.link_in_body, collision.pose);
       spec.shapes.push_back(shape);
@@ -184,12 +185,16 @@ LumpFault lumpBody(ModelRecord* model, int body, BodySpec* out, MomentBounds* bo
   // Scaling the tensor by s scales every lever ratio by 1/s: the smallest moment that brings the
   // largest ratio down to kMaxLeverRatio is the present one times their quotient.
   const double lever = largestLeverRatio(spec, inertia);
-  if (lever > kMaxLeverRatio) {
-    if (bounds) bounds->min = smallest * lever / kMaxLeverRatio;
-    return LumpFault::InertiaBelowShape;
-  }
+  if (bounds && lever > kMaxLeverRatio) bounds->least_for_shapes = smallest * lever / kMaxLeverRatio;
   *out = spec;
   return LumpFault::None;
+}
+
+std::optional<InertiaWarning> inertiaWarning(const ModelRecord& model, int body,
+                                             const MomentBounds& bounds) {
+  if (!(bounds.least_for_shapes > 0)) return std::nullopt;
+  return InertiaWarning{referenceLink(model, body).desc.name, bounds.smallest,
+                        bounds.least_for_shapes};
 }
 
 }  // namespace core

@@ -36,13 +36,18 @@ ShapeSpec shapeSpec(const CollisionDescription& collision) {
           collision.mesh};
 }
 
+bool isAnchored(const LinkRecord& link, const CollisionDescription& collision) {
+  return link.body < 0 || collision.shape == GeometryShape::Plane;
+}
+
 const LinkRecord& referenceLink(const ModelRecord& model, int body) {
   for (const LinkRecord& link : model.links)
     if (link.body == body && link.sets_body_pose) return link;
   throw std::logic_error("body without a reference link");
 }
 
-Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec) {
+Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* spec,
+                 std::vector<InertiaWarning>* warnings) {
   std::map<std::string, int> index;
   for (const LinkDescription& link : desc.links) {
     index[link.name] = static_cast<int>(model->links.size());
@@ -95,22 +100,14 @@ Status planModel(const ModelDescription& desc, ModelRecord* model, ModelSpec* sp
           << "inertia outside [" << kMinMoment << ", " << kMaxMoment << "] kg m^2";
       return rejected(why.str());
     }
-    if (fault == LumpFault::InertiaBelowShape) {
-      std::ostringstream why;
-      why << "link '" << name << "' (with the links welded to it) has a smallest principal moment "
-          << "of inertia of " << bounds.smallest << " kg m^2, too small for its collision shape: "
-          << "at least " << bounds.min << " kg m^2 (or a smaller shape); the engines cannot step a "
-          << "body whose edge a push turns more than " << kMaxLeverRatio
-          << " times as fast as it moves it (give the link realistic inertia)";
-      return rejected(why.str());
-    }
+    if (const std::optional<InertiaWarning> warning = inertiaWarning(*model, body, bounds))
+      warnings->push_back(*warning);
     spec->bodies.push_back(spec_body);
   }
   for (LinkRecord& link : model->links) {
-    if (link.body >= 0) continue;
     link.first_anchored_shape = static_cast<int>(spec->anchored_shapes.size());
     for (const CollisionDescription& collision : link.desc.collisions)
-      spec->anchored_shapes.push_back(shapeSpec(collision));
+      if (isAnchored(link, collision)) spec->anchored_shapes.push_back(shapeSpec(collision));
   }
   for (JointRecord& joint : model->joints) {
     const int child_body = model->links[joint.child].body;
@@ -164,14 +161,12 @@ std::vector<Pose> World::Impl::placeLinks(ModelRecord* model, const std::vector<
   std::vector<Pose> body_poses(model->bodies.size());
   for (size_t i = 0; i < model->links.size(); ++i) {
     LinkRecord& link = model->links[i];
-    if (link.body >= 0) {
-      if (link.sets_body_pose) body_poses[link.body] = compose(poses[i], inverse(link.link_in_body));
-      continue;
-    }
-    link.anchored_pose = poses[i];
-    for (size_t c = 0; c < link.desc.collisions.size(); ++c)
-      model->engine_model->setAnchoredShapePose(link.first_anchored_shape + static_cast<int>(c),
-                                                compose(poses[i], link.desc.collisions[c].pose));
+    int shape = link.first_anchored_shape;
+    for (const CollisionDescription& collision : link.desc.collisions)
+      if (isAnchored(link, collision))
+        model->engine_model->setAnchoredShapePose(shape++, compose(poses[i], collision.pose));
+    if (link.body < 0) link.anchored_pose = poses[i];
+    else if (link.sets_body_pose) body_poses[link.body] = compose(poses[i], inverse(link.link_in_body));
   }
   return body_poses;
 }
@@ -211,7 +206,8 @@ std::vector<Pose> World::Impl::currentLinkPoses(const ModelRecord& model) const 
   return poses;
 }
 
-Status World::Impl::reweighLink(ModelRecord* model, size_t index, const LinkDescription& desc) {
+Status World::Impl::reweighLink(ModelRecord* model, size_t index, const LinkDescription& desc,
+                                std::optional<InertiaWarning>* warning) {
   LinkRecord& link = model->links[index];
   const int body = link.body;
   const std::vector<Pose> poses = currentLinkPoses(*model);
@@ -225,10 +221,10 @@ Status World::Impl::reweighLink(ModelRecord* model, size_t index, const LinkDesc
   const LumpFault fault = lumpBody(model, body, &spec, &bounds);
   if (fault != LumpFault::None) {
     link.desc = previous;
-    if (fault == LumpFault::MomentOutOfRange || fault == LumpFault::InertiaBelowShape)
-      return outOfRange("inertia", bounds.min, bounds.max);
+    if (fault == LumpFault::MomentOutOfRange) return outOfRange("inertia", bounds.min, bounds.max);
     return {StatusCode::InvalidParameter, fault == LumpFault::NoMass ? "mass" : "inertia"};
   }
+  *warning = inertiaWarning(*model, body, bounds);
   model->bodies[body] = spec;
   model->engine_model->setBodyMass(body, spec);
   placeModel(model, model->frame_pose, poses, q);

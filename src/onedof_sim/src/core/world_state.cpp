@@ -254,7 +254,11 @@ Status World::setLinkState(const std::string& scoped_link, const Pose& pose, con
   return {};
 }
 
-Status World::setLinkProperties(const std::string& scoped_link, const LinkInfo& properties) {
+Status World::setLinkProperties(const std::string& scoped_link, const LinkInfo& properties,
+                                std::optional<InertiaWarning>* warning) {
+  std::optional<InertiaWarning> unused;
+  if (!warning) warning = &unused;
+  warning->reset();
   const Status com = checkPose(properties.com);
   if (!com.ok()) return {com.code, "com"};
   if (!std::isfinite(properties.mass)) return {StatusCode::NotFinite, "mass"};
@@ -289,7 +293,7 @@ Status World::setLinkProperties(const std::string& scoped_link, const LinkInfo& 
   for (const LinkRecord& other : model->links)
     if (&other != &link && other.body == link.body && other.desc.gravity != desc.gravity)
       return {StatusCode::InvalidParameter, "gravity_mode"};
-  return impl_->reweighLink(model, index, desc);
+  return impl_->reweighLink(model, index, desc, warning);
 }
 
 std::vector<std::string> World::linkNames() const {

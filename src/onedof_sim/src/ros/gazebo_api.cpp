@@ -308,9 +308,15 @@ bool GazeboApi::setLinkProperties(gazebo_msgs::SetLinkProperties::Request& req,
   link.ixx = req.ixx, link.ixy = req.ixy, link.ixz = req.ixz;
   link.iyy = req.iyy, link.iyz = req.iyz, link.izz = req.izz;
   link.gravity_mode = req.gravity_mode;
-  const Status set =
-      loop_.withWorld([&](World& world) { return world.setLinkProperties(req.link_name, link); });
-  return answer(res, set, statusText(kSetLinkProperties, set));
+  std::optional<InertiaWarning> warning;
+  const Status set = loop_.withWorld(
+      [&](World& world) { return world.setLinkProperties(req.link_name, link, &warning); });
+  std::string text = statusText(kSetLinkProperties, set);
+  if (set.ok() && warning) {
+    text += "; warning: " + inertiaWarningText(*warning);
+    ROS_WARN_STREAM("SetLinkProperties '" << req.link_name << "': " << inertiaWarningText(*warning));
+  }
+  return answer(res, set, text);
 }
 
 // --- lights ---------------------------------------------------------------------------------
@@ -356,9 +362,10 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
   if (format == ModelFormat::Urdf && !resolvePackageUris(&req.model_xml, &missing_package))
     return refuse(res, "urdf reference package name does not exist: " + missing_package);
   const std::string via = requested == ModelFormat::Urdf ? "spawn_urdf_model" : "spawn_sdf_model";
+  std::string warnings;
   const Status spawned = spawn(req.model_name, req.model_xml, format, toCore(req.initial_pose),
-                               req.reference_frame, req.robot_namespace, via);
-  return answer(res, spawned, statusText(kSpawnModel, spawned));
+                               req.reference_frame, req.robot_namespace, via, &warnings);
+  return answer(res, spawned, statusText(kSpawnModel, spawned) + warnings);
 }
 
 // The model is parsed and checked unlocked (a thousand SDF links take seconds), between two
@@ -367,8 +374,11 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
 // loop if the model is still there; robot_namespace is theirs where they name none.
 Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                         const Pose& pose, const std::string& reference_frame,
-                        const std::string& robot_namespace, const std::string& via) {
+                        const std::string& robot_namespace, const std::string& via,
+                        std::string* warnings) {
   std::vector<std::string> model_path;
+  std::vector<InertiaWarning> implausible;
+  std::vector<std::string> left_out;
   Status spawned = loop_.withWorld([&](World& world) {
     model_path = world.modelPath();
     return world.checkSpawn(name, pose, reference_frame);
@@ -376,6 +386,8 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
   if (spawned.ok()) {
     PreparedModel prepared = World::prepare(xml, format, model_path);
     spawned = prepared.status();
+    implausible = prepared.warnings();
+    left_out = prepared.leftOut();
     if (spawned.ok())
       spawned = loop_.withWorld([&](World& world) {
         return world.spawn(name, std::move(prepared), pose, reference_frame);
@@ -384,6 +396,15 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
   if (spawned.ok()) {
     ROS_INFO_STREAM("spawned model '" << name << "' ("
                     << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via " << via);
+    for (const InertiaWarning& warning : implausible) {
+      ROS_WARN_STREAM("model '" << name << "': " << inertiaWarningText(warning));
+      if (warnings) *warnings += "; warning: " + inertiaWarningText(warning);
+    }
+    // As Gazebo's "Unable to load mesh": an error, and the model goes on without the collision.
+    for (const std::string& reason : left_out) {
+      ROS_ERROR_STREAM("model '" << name << "': " << reason << ": the collision is left out");
+      if (warnings) *warnings += "; warning: " + reason + ": the collision is left out";
+    }
     loop_.attachPlugins(
         name, plugins::createModelPlugins(plugin_types_, plugins::sensorPluginRegistry(), name,
                                           xml, format, robot_namespace, loop_.world(),
@@ -399,6 +420,16 @@ void GazeboApi::spawnWorldModels(const WorldFile& world) {
     if (!spawned.ok())
       throw WorldModelRefused("world '" + world.name + "': model '" + model.name +
                               "' cannot be spawned: " + statusText(kSpawnModel, spawned));
+  }
+  if (world.state) {
+    const Status clock = loop_.withWorld([&](World& w) {
+      return w.setClock(world.state->sim_time_ns, world.state->iterations);
+    });
+    if (!clock.ok()) {
+      std::ostringstream why;
+      why << "world '" << world.name << "': its <state>'s <sim_time> cannot be taken: " << clock;
+      throw WorldModelRefused(why.str());
+    }
   }
 }
 

@@ -103,10 +103,12 @@ class GazeboApi {
   bool spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Request& req, gazebo_msgs::SpawnModel::Response& res);
   // What both spawn services and the world file do with a model: check, prepare unlocked,
   // spawn, create its plugins (robot_namespace for those that name none); `via` names the way it
-  // came in the log line.
+  // came in the log line. A body of implausible inertia is logged, and its warning appended to
+  // *warnings (optional) for the reply.
   Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
                const Pose& pose, const std::string& reference_frame,
-               const std::string& robot_namespace, const std::string& via);
+               const std::string& robot_namespace, const std::string& via,
+               std::string* warnings = nullptr);
   void spawnWorldModels(const WorldFile& world);
   bool deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res);
   bool getModelState(gazebo_msgs::GetModelState::Request& req, gazebo_msgs::GetModelState::Response& res);

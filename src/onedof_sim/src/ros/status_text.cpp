@@ -38,7 +38,7 @@ std::string outOfRangeText(const Status& status) {
   } else if (field == "inertia") {
     text << "the principal moments of inertia of the link's body must be in ";
     range();
-    text << " kg m^2 (the least: what its mass at the reach of its collision shapes needs)";
+    text << " kg m^2";
   } else {
     text << field << " must be in ";
     range();
@@ -59,6 +59,18 @@ std::string parameterRange(const std::string& field) {
 }
 
 }  // namespace
+
+std::string inertiaWarningText(const InertiaWarning& warning) {
+  std::ostringstream text;
+  text << "link '" << warning.link << "' (with the links welded to it) has a smallest principal "
+       << "moment of inertia of " << warning.smallest_moment << " kg m^2, implausibly small for "
+       << "its collision shape (realistic: at least " << warning.least_moment
+       << " kg m^2): a push at its edge turns it more than 1000 times as fast as it moves it, "
+          "which a physics engine may fail on (ODE) or let sink through the ground (Bullet); a "
+          "step that fails is taken again, and failing that the model is removed (give the link "
+          "realistic inertia)";
+  return text.str();
+}
 
 std::string statusText(const Wording& wording, const Status& status) {
   const std::string& subject = status.subject;

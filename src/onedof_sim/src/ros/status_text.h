@@ -71,6 +71,9 @@ inline const char* const kNotUrdfOrSdf =
     "converted to Gazebo compatible format.";
 
 std::string statusText(const Wording& wording, const Status& status);
+// A body taken with an inertia implausible for its shapes (spawn, set_link_properties): the
+// warning the reply carries after its success text and the node logs.
+std::string inertiaWarningText(const InertiaWarning& warning);
 // ApplyBodyWrench calls a link a body.
 std::string wrenchText(const Status& status);
 // Gazebo sets the joints it finds and ignores the others; we refuse, naming the joint.

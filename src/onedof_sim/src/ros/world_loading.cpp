@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include <ros/package.h>
@@ -53,7 +54,15 @@ std::string whyNotLoaded(const WorldFileStatus& status,
       return text.str();
     }
     case WorldFileCode::InvalidXml: return "not well-formed XML: " + status.subject;
+    case WorldFileCode::NotSdf:
+      if (status.subject.rfind("<gazebo", 0) == 0)
+        return "its root element is " + status.subject + ", Gazebo 1's world format from before "
+               "SDF, which libsdformat (and so Gazebo 11) no longer reads; an SDF world's root is "
+               "<sdf version=\"...\">";
+      return "its root element is " + status.subject + ", not <sdf>";
     case WorldFileCode::InvalidSdf: return "invalid SDF: " + status.subject;
+    case WorldFileCode::InvalidState:
+      return "<state>: " + status.subject + " is not a time within [0, 2^32) s";
     case WorldFileCode::NoWorld:
       return "the file has " + status.subject + ", no <world> (spawn a model file with "
              "rosrun gazebo_ros spawn_model)";
@@ -72,15 +81,26 @@ std::string whyNotLoaded(const WorldFileStatus& status,
   return "unknown error";
 }
 
-// One line per kind of element the world holds that is not simulated.
-void logIgnored(const WorldFile& world, const std::string& path) {
+// gazebo_ros' system plugins, which some worlds load as world plugins: what they serve, the node
+// serves.
+const std::set<std::string> kRosApiPlugins = {"libgazebo_ros_api_plugin.so",
+                                              "libgazebo_ros_paths_plugin.so"};
+
+// One line per kind of element the world holds that is not simulated: what Gazebo would only
+// show or render is said at INFO; a world plugin, which Gazebo would run, is an error as Gazebo
+// logs a plugin it cannot load.
+void logIgnored(const WorldFile& world) {
   std::vector<std::string> lights, others;
   for (const WorldFileIgnored& element : world.ignored) {
     if (element.element == "light") {
       lights.push_back("'" + element.name + "'");
+    } else if (element.element == "plugin" && kRosApiPlugins.count(element.filename)) {
+      ROS_INFO_STREAM("world '" << world.name << "': plugin '" << element.name << "' ("
+                      << element.filename << "): gazebo_ros' API is this simulator's own");
     } else if (element.element == "plugin") {
-      ROS_WARN_STREAM("world '" << world.name << "': ignoring world plugin '" << element.name
-                      << "' (" << element.filename << "): this simulator runs no world plugins");
+      ROS_ERROR_STREAM("world '" << world.name << "': Failed to load plugin " << element.filename
+                       << " (plugin '" << element.name << "'): this simulator runs no world "
+                       "plugins; the world loads without it");
     } else if (std::find(others.begin(), others.end(), "<" + element.element + ">") ==
                others.end()) {
       others.push_back("<" + element.element + ">");
@@ -90,9 +110,27 @@ void logIgnored(const WorldFile& world, const std::string& path) {
     ROS_INFO_STREAM("world '" << world.name << "': light" << (lights.size() > 1 ? "s " : " ")
                     << joined(lights) << " accepted, not simulated: there is no renderer");
   if (!others.empty())
-    ROS_WARN_STREAM("world '" << world.name << "' (" << path << "): ignoring " << joined(others)
-                    << ": this simulator has no renderer nor GUI, and simulates no atmosphere, "
-                       "wind, actors or saved states");
+    ROS_INFO_STREAM("world '" << world.name << "': not simulated: " << joined(others)
+                    << " (no renderer nor GUI; no atmosphere, wind, magnetic field, audio or "
+                       "actors)");
+}
+
+// The saved <state>, as Gazebo's World::Load applies it; a model it names that the world does
+// not place is an error, as Gazebo logs it.
+void logState(const WorldFile& world) {
+  if (!world.state) return;
+  const WorldFileState& state = *world.state;
+  for (const std::string& name : state.unknown_models)
+    ROS_ERROR_STREAM("world '" << world.name << "': <state>: Unable to find model[" << name
+                     << "]");
+  for (const std::string& change : state.not_applied)
+    ROS_WARN_STREAM("world '" << world.name << "': <state>: its <" << change
+                    << "> are not applied (this simulator does not play logs)");
+  std::ostringstream time;
+  time << state.sim_time_ns * 1e-9;
+  ROS_INFO_STREAM("world '" << world.name << "': saved <state> applied: sim time " << time.str()
+                  << " s, iteration " << state.iterations
+                  << ", each model where the state puts it");
 }
 
 }  // namespace
@@ -115,7 +153,8 @@ bool loadWorldFile(const std::string& given, const std::vector<std::string>& mod
       out->physics_type.empty() ? "" : ", <physics type='" + out->physics_type + "'>";
   ROS_INFO_STREAM("world '" << out->name << "' from " << path << ": " << out->models.size()
                   << " model" << (out->models.size() == 1 ? "" : "s") << physics);
-  logIgnored(*out, path);
+  logIgnored(*out);
+  logState(*out);
   return true;
 }
 

@@ -363,7 +363,8 @@ TEST_P(MeshCollisions, CollisionShapesNameTheFileAndScale) {
 }
 
 // model:// and package:// (which Gazebo's URDF conversion reads as model://) look in the model
-// path; a mesh found nowhere is refused naming the URI and the folders searched.
+// path; a mesh found nowhere leaves its collision out, as Gazebo does, naming the URI and the
+// folders searched.
 TEST_P(MeshCollisions, UrisResolveThroughTheModelPath) {
   MeshFolder folder;
   folder.write("blocks/meshes/block.stl", boxStl(kBlockLo, kBlockHi));
@@ -375,14 +376,20 @@ TEST_P(MeshCollisions, UrisResolveThroughTheModelPath) {
                     ModelFormat::Urdf, Pose());
     EXPECT_TRUE(status.ok()) << status;
   }
-  const Status missing = world.spawn(
-      "missing", staticMeshUrdf("model://blocks/meshes/gone.stl", {1, 1, 1}), ModelFormat::Urdf,
-      Pose());
-  EXPECT_EQ(missing.code, StatusCode::ModelRejected);
-  EXPECT_NE(missing.subject.find("'model://blocks/meshes/gone.stl', which is not found"),
-            std::string::npos) << missing;
-  EXPECT_NE(missing.subject.find("/nonexistent, " + folder.root()), std::string::npos) << missing;
-  EXPECT_EQ(world.modelNames().size(), 2u);
+  PreparedModel missing = World::prepare(
+      staticMeshUrdf("model://blocks/meshes/gone.stl", {1, 1, 1}), ModelFormat::Urdf,
+      world.modelPath());
+  ASSERT_TRUE(missing.status().ok()) << missing.status();
+  ASSERT_EQ(missing.leftOut().size(), 1u);
+  const std::string& why = missing.leftOut()[0];
+  EXPECT_NE(why.find("'model://blocks/meshes/gone.stl', which is not found"), std::string::npos)
+      << why;
+  EXPECT_NE(why.find("/nonexistent, " + folder.root()), std::string::npos) << why;
+  ASSERT_TRUE(world.spawn("missing", std::move(missing), Pose()).ok());
+  ModelInfo info;
+  ASSERT_TRUE(world.modelProperties("missing", &info).ok());
+  EXPECT_TRUE(info.geoms.empty());
+  EXPECT_EQ(world.modelNames().size(), 3u);
 }
 
 TEST_P(MeshCollisions, UnreadableMeshIsRefusedNamingTheFile) {
@@ -432,21 +439,25 @@ TEST_P(MeshCollisions, TriangleLimitsAreRefusedNamingTheLimit) {
 }
 
 // The inertia check covers a mesh through the box bounding its vertices: a 1 m block on a body
-// of 1 kg with a solid 1 cm cube's moments is refused as a 1 m box would be, and taken with a
-// solid 1 m cube's.
+// of 1 kg with a solid 1 cm cube's moments is warned of as a 1 m box would be, and spawned; one
+// with a solid 1 m cube's moments is not warned of.
 TEST_P(MeshCollisions, InertiaIsCheckedAgainstTheMeshBounds) {
   MeshFolder folder;
   const std::string stl = folder.write("block.stl", boxStl(kBlockLo, kBlockHi));
   World world(GetParam());
-  const Status thin = world.spawn(
-      "thin", movingMeshUrdf(stl, {1, 1, 1}, {0.01, 0.01, 0.01}, 0.5), ModelFormat::Urdf,
-      at(0, 0, 1));
-  EXPECT_EQ(thin.code, StatusCode::ModelRejected);
-  EXPECT_NE(thin.subject.find("too small for its collision shape"), std::string::npos) << thin;
-  const Status solid =
-      world.spawn("solid", movingMeshUrdf(stl, {1, 1, 1}, {1, 1, 1}, 0.5), ModelFormat::Urdf,
-                  at(0, 0, 1));
-  EXPECT_TRUE(solid.ok()) << solid;
+  PreparedModel thin = World::prepare(movingMeshUrdf(stl, {1, 1, 1}, {0.01, 0.01, 0.01}, 0.5),
+                                      ModelFormat::Urdf, {});
+  ASSERT_TRUE(thin.status().ok()) << thin.status();
+  ASSERT_EQ(thin.warnings().size(), 1u);
+  EXPECT_EQ(thin.warnings()[0].link, "body");
+  EXPECT_NEAR(thin.warnings()[0].smallest_moment, 0.0002 / 12, 1e-9);
+  EXPECT_GT(thin.warnings()[0].least_moment, 10 * thin.warnings()[0].smallest_moment);
+  EXPECT_TRUE(world.spawn("thin", std::move(thin), at(0, 0, 1)).ok());
+  PreparedModel solid =
+      World::prepare(movingMeshUrdf(stl, {1, 1, 1}, {1, 1, 1}, 0.5), ModelFormat::Urdf, {});
+  ASSERT_TRUE(solid.status().ok()) << solid.status();
+  EXPECT_TRUE(solid.warnings().empty());
+  EXPECT_TRUE(world.spawn("solid", std::move(solid), at(3, 0, 1)).ok());
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, MeshCollisions, ::testing::ValuesIn(World::engineNames()),

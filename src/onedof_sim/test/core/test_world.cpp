@@ -730,8 +730,13 @@ TEST_P(Errors, UnsupportedContentIsRefused) {
   const std::string mesh =
       "<robot name=\"r\"><link name=\"a\">" + inertial(1, 1, 1, 1) +
       "<collision><geometry><mesh filename=\"x.stl\"/></geometry></collision></link></robot>";
-  rejectedFor(mesh, ModelFormat::Urdf, "the mesh 'x.stl', which is not found");
   EXPECT_TRUE(world.modelNames().empty());
+  // A mesh found nowhere leaves its collision out, as Gazebo does: the model is spawned.
+  PreparedModel without_mesh = World::prepare(mesh, ModelFormat::Urdf, {});
+  ASSERT_TRUE(without_mesh.status().ok()) << without_mesh.status();
+  ASSERT_EQ(without_mesh.leftOut().size(), 1u);
+  EXPECT_NE(without_mesh.leftOut()[0].find("the mesh 'x.stl', which is not found"),
+            std::string::npos);
 }
 
 // 9. A 7-joint arm (alternating axes y and x, 0.3 m links) hangs down under gravity.

@@ -3,6 +3,7 @@
 // the codes of a world that cannot be read.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -174,6 +175,150 @@ TEST_F(WorldFileTest, AWorldThatCannotBeReadSaysWhy) {
                 "name=\"l\"/></model>",
                 &world);
   EXPECT_EQ(status.code, WorldFileCode::InvalidSdf) << status.subject;
+  status = readWorldFile(write("<gazebo version=\"1.0\"><world name=\"w\"/></gazebo>"),
+                         kModelPath, {}, &world);
+  EXPECT_EQ(status.code, WorldFileCode::NotSdf);
+  EXPECT_EQ(status.subject, "<gazebo version=\"1.0\">");
+  status = read("<state world_name=\"w\"><sim_time>-3 0</sim_time></state>", &world);
+  EXPECT_EQ(status.code, WorldFileCode::InvalidState);
+  EXPECT_EQ(status.subject, "<sim_time> -3 0");
+}
+
+// A world saved by Gazebo 11 (tests/worlds/gazebo11_saved.world): its <plane> ground, <script>
+// materials, lights, GUI camera, scene, wind, atmosphere and the like load; its <state> puts each
+// model where it says and gives the clock; on every engine the models spawn and the box, placed by
+// the state, rests on the ground plane.
+TEST_F(WorldFileTest, AWorldSavedByGazeboLoadsWithItsStateApplied) {
+  WorldFile file;
+  const WorldFileStatus status = readWorldFile(
+      ONEDOF_SOURCE_DIR "/tests/worlds/gazebo11_saved.world", kModelPath, {}, &file);
+  ASSERT_TRUE(status.ok()) << status.subject;
+  EXPECT_EQ(file.name, "default");
+  EXPECT_EQ(file.physics_type, "ode");
+  std::vector<std::string> names;
+  for (const WorldFileModel& model : file.models) names.push_back(model.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"ground_plane", "unit_box", "cafe_table",
+                                             "one_DOF_robot"}));
+  const WorldFileModel& box = file.models[1];
+  EXPECT_EQ(box.pose.position.x, 2.5);
+  EXPECT_EQ(box.pose.position.y, -1.5);
+  EXPECT_NEAR(2 * std::atan2(box.pose.orientation.z, box.pose.orientation.w), 1.2, 1e-12);
+  ASSERT_TRUE(file.state.has_value());
+  EXPECT_EQ(file.state->sim_time_ns, 91335000000);
+  EXPECT_EQ(file.state->iterations, 91335u);
+  EXPECT_TRUE(file.state->unknown_models.empty());
+  EXPECT_TRUE(file.state->not_applied.empty());
+  std::vector<std::string> ignored;
+  for (const WorldFileIgnored& element : file.ignored) ignored.push_back(element.element);
+  EXPECT_EQ(ignored, (std::vector<std::string>{"light", "magnetic_field", "atmosphere", "scene",
+                                               "audio", "wind", "spherical_coordinates", "gui"}));
+
+  for (const std::string& engine : World::engineNames()) {
+    World world(engine, file.physics.at(engine));
+    world.setModelPath(kModelPath);
+    for (const WorldFileModel& model : file.models)
+      ASSERT_TRUE(world.spawn(model.name, model.sdf, ModelFormat::Sdf, model.pose).ok())
+          << engine << " " << model.name;
+    ASSERT_TRUE(world.setClock(file.state->sim_time_ns, file.state->iterations).ok());
+    for (int i = 0; i < 500; ++i) ASSERT_TRUE(world.step().ok()) << engine;
+    EXPECT_EQ(world.timeNs(), 91835000000) << engine;
+    EXPECT_EQ(world.stepCount(), 91835u) << engine;
+    Pose pose;
+    Twist twist;
+    ASSERT_TRUE(world.modelState("unit_box", "", &pose, &twist).ok());
+    EXPECT_NEAR(pose.position.x, 2.5, 1e-3) << engine;
+    EXPECT_NEAR(pose.position.z, 0.5, 2e-3) << engine;
+    ASSERT_TRUE(world.linkState("one_DOF_robot::link2", "", &pose, &twist).ok());
+    EXPECT_NEAR(pose.position.x, -1, 1e-6) << engine;
+    EXPECT_NEAR(pose.position.z, 1, 1e-6) << engine;
+  }
+}
+
+// What Gazebo's reader takes and libsdformat's DOM refuses or renames, in the shapes of
+// gazebo_ros_pkgs' test worlds: a <script> that names a material in its text (Gazebo shows no
+// named material then), a camera's 16-bit format, an attribute the schema does not define,
+// <visualize>True</visualize>, a negative friction coefficient (Gazebo's unbounded friction) and
+// a joint named as a link (libsdformat 12 renames it, Gazebo keeps the name).
+TEST_F(WorldFileTest, WhatGazebosReaderTakesLoadsAndSpawns) {
+  WorldFile file;
+  const WorldFileStatus status = read(
+      "<include><uri>model://ground_plane</uri></include>"
+      "<gui fullscreen='0'><camera name='user_camera'><pose>4 -4 3 0 0.27 2.35</pose>"
+      "<view_controller>orbit</view_controller></camera></gui>"
+      "<model name='ball'><pose>2 0 1 0 0 0</pose><link name='link'>"
+      "<inertial><mass>10</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz></inertia>"
+      "</inertial><visual name='v'><geometry><sphere><radius>0.5</radius></sphere></geometry>"
+      "<material><ambient>0.03 0.5 0.5 1</ambient><script>Gazebo/Green</script></material>"
+      "</visual><collision name='c'><geometry><sphere><radius>0.5</radius></sphere></geometry>"
+      "<surface><friction><ode><mu>-1</mu><mu2>-1</mu2></ode></friction></surface>"
+      "</collision></link></model>"
+      "<model name='camera_model'><static>true</static><pose>0 0 0.5 0 0 0</pose>"
+      "<link name='camera_link'><sensor type='camera' name='camera1'><update_rate>0.5"
+      "</update_rate><visualize>True</visualize><camera name='head'><horizontal_fov>1.39"
+      "</horizontal_fov><image><width>64</width><height>48</height><format>R16G16B16</format>"
+      "</image><clip near='0.01' far='100'><near>0.02</near><far>300</far></clip></camera>"
+      "</sensor></link></model>"
+      "<model name='lift'><link name='door'><inertial><mass>1</mass></inertial>"
+      "<collision name='c'><geometry><box><size>0.1 1 2</size></box></geometry></collision>"
+      "</link><joint name='door' type='prismatic'><parent>world</parent><child>door</child>"
+      "<axis><xyz>0 1 0</xyz><limit><lower>0</lower><upper>1</upper></limit></axis></joint>"
+      "</model>",
+      &file);
+  ASSERT_TRUE(status.ok()) << status.subject;
+  ASSERT_EQ(file.models.size(), 4u);
+  for (const std::string& engine : World::engineNames()) {
+    World world(engine);
+    world.setModelPath(kModelPath);
+    for (const WorldFileModel& model : file.models)
+      ASSERT_TRUE(world.spawn(model.name, model.sdf, ModelFormat::Sdf, model.pose).ok())
+          << engine << " " << model.name << "\n" << model.sdf;
+    JointInfo door;
+    EXPECT_TRUE(world.jointInfo("door", &door).ok()) << engine;
+    EXPECT_EQ(door.model, "lift");
+    for (const VisualShape& visual : world.visualShapes())
+      if (visual.model == "ball") {
+        EXPECT_EQ(visual.material.script, "") << engine;
+        ASSERT_TRUE(visual.material.ambient.has_value());
+        EXPECT_FLOAT_EQ(visual.material.ambient->g, 0.5f);
+      }
+    for (int i = 0; i < 1000; ++i) world.step();
+    Pose pose;
+    Twist twist;
+    ASSERT_TRUE(world.modelState("ball", "", &pose, &twist).ok());
+    EXPECT_NEAR(pose.position.z, 0.5, 2e-3) << engine;
+  }
+}
+
+// A plane collision is the plane z = 0 of its frame, unbounded whatever its <size>, on a static
+// model (a deck 0.3 m up, tilted about x) and on a moving link, where it stays where the link was
+// placed, as Gazebo's does; a box dropped on the deck comes to rest on it.
+TEST_F(WorldFileTest, PlaneCollisionsHoldWhatFallsOnThem) {
+  const std::string deck =
+      "<sdf version='1.6'><model name='deck'><static>1</static>"
+      "<link name='link'><collision name='c'><geometry><plane><normal>0 0 1</normal>"
+      "<size>1 1</size></plane></geometry></collision></link></model></sdf>";
+  const std::string box =
+      "<sdf version='1.6'><model name='box'><link name='link'><inertial><mass>1</mass><inertia>"
+      "<ixx>0.0017</ixx><iyy>0.0017</iyy><izz>0.0017</izz></inertia></inertial>"
+      "<collision name='c'><geometry><box><size>0.1 0.1 0.1</size></box></geometry>"
+      "</collision></link></model></sdf>";
+  for (const std::string& engine : World::engineNames()) {
+    World world(engine);
+    const Pose deck_pose{{0, 0, 0.3}, {std::cos(0.1), std::sin(0.1), 0, 0}};  // 0.2 rad about x
+    ASSERT_TRUE(world.spawn("deck", deck, ModelFormat::Sdf, deck_pose).ok()) << engine;
+    Pose above;
+    above.position = {5, 0.3, 0.6};  // 5 m out: the plane's <size> of 1 m does not bound it
+    ASSERT_TRUE(world.spawn("box", box, ModelFormat::Sdf, above).ok()) << engine;
+    for (int i = 0; i < 1500; ++i) world.step();
+    Pose pose;
+    Twist twist;
+    ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
+    // The deck's surface at y: z = 0.3 + y tan(0.2); the box rests on it, the 0.05 m half
+    // side along the deck's normal.
+    const double surface = 0.3 + pose.position.y * std::tan(0.2);
+    EXPECT_NEAR(pose.position.z, surface + 0.05 / std::cos(0.2), 5e-3) << engine;
+    EXPECT_NEAR(pose.position.x, 5, 0.05) << engine;
+  }
 }
 
 // Models and includes count alike.

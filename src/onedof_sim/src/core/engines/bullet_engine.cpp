@@ -187,9 +187,11 @@ std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec, bool moving,
       break;
     case GeometryShape::Sphere:
       return std::make_unique<btSphereShape>(s.x);
+    case GeometryShape::Plane:  // anchored only: the plane z = 0 of its object's transform
+      return std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
     default:
       throw std::invalid_argument(
-          "Bullet engine: a model shape must be a box, cylinder, sphere or mesh");
+          "Bullet engine: a model shape must be a box, cylinder, sphere, plane or mesh");
   }
   shape->setMargin(kMargin);
   return shape;

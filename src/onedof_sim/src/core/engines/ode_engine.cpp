@@ -106,6 +106,12 @@ Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
 void toOde(const Quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
 
 void setGeomPose(dGeomID geom, const Pose& pose, bool as_offset) {
+  if (dGeomGetClass(geom) == dPlaneClass) {
+    // A plane is not placed: it is the plane z = 0 of `pose`, as n . p = d in the world.
+    const Vec3 n = rotate(pose.orientation, {0, 0, 1});
+    dGeomPlaneSetParams(geom, n.x, n.y, n.z, dot(n, pose.position));
+    return;
+  }
   dQuaternion q;
   toOde(pose.orientation, q);
   if (as_offset) {
@@ -355,6 +361,7 @@ class OdeModel : public EngineModel {
     dGeomID geom = shape.shape == GeometryShape::Box        ? dCreateBox(space_, s.x, s.y, s.z)
                    : shape.shape == GeometryShape::Cylinder ? dCreateCylinder(space_, s.x, s.z)
                    : shape.shape == GeometryShape::Mesh     ? createTriMesh(*shape.mesh)
+                   : shape.shape == GeometryShape::Plane    ? dCreatePlane(space_, 0, 0, 1, 0)
                                                             : dCreateSphere(space_, s.x);
     if (shape.mesh) meshes_.push_back(shape.mesh);
     surfaces_.push_back({shape.mu, shape.mu2});

@@ -10,6 +10,7 @@
 #include <ros/console.h>
 #include <tinyxml2.h>
 
+#include "plugin_params.h"
 #include "sensors/sensor_xml.h"
 
 namespace onedof_sim::plugins {
@@ -55,12 +56,6 @@ void addPlugins(const tinyxml2::XMLElement* parent, std::vector<PluginElement>* 
     out->push_back(toPluginElement(plugin));
 }
 
-// An SDF boolean as sdformat reads it: true/false/1/0.
-bool readFlag(const std::string& text, bool* value) {
-  const bool is_true = text == "true" || text == "1";
-  if (!is_true && text != "false" && text != "0") return false;
-  *value = is_true;
-  return true;
 }
 
 // A <sensor> element and what it says, or why it is malformed (SensorElement::error).
@@ -180,9 +175,9 @@ struct Unknowns {
   std::set<std::string> plugins, sensor_types;
   void plugin(const std::string& model, const PluginElement& element, const std::string& where) {
     if (plugins.insert(element.filename).second)
-      ROS_WARN_STREAM("model '" << model << "': plugin '" << element.name << "' ("
-                      << element.filename << ")" << where << " is not simulated here and is "
-                      << "ignored; the model works without it");
+      ROS_ERROR_STREAM("model '" << model << "': Failed to load plugin " << element.filename
+                       << " (plugin '" << element.name << "'" << where
+                       << "): this simulator has no such plugin; the model works without it");
   }
 };
 

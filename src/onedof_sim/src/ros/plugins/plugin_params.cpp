@@ -67,11 +67,18 @@ bool PluginParams::vector(const char* tag, Vec3* value, std::string* error) cons
   return true;
 }
 
+bool readFlag(const std::string& text, bool* value) {
+  const std::string word = lower(text);
+  const bool is_true = word == "true" || word == "1";
+  if (!is_true && word != "false" && word != "0") return false;
+  *value = is_true;
+  return true;
+}
+
 bool PluginParams::flag(const char* tag, bool fallback) const {
   if (!has(tag)) return fallback;
-  const std::string value = lower(text(tag, ""));
-  if (value == "true" || value == "1") return true;
-  if (value == "false" || value == "0") return false;
+  bool value = fallback;
+  if (readFlag(text(tag, ""), &value)) return value;
   ROS_WARN_STREAM(label_ << ": <" << tag << "> must be either true or false but is '"
                   << text(tag, "") << "'; it stays " << (fallback ? "true" : "false"));
   return fallback;

@@ -35,6 +35,10 @@ class PluginParams {
   std::string label_;
 };
 
+// An SDF or plugin flag: true/false/1/0 in any case, as libsdformat and GazeboRos read them;
+// false, *value untouched, for anything else.
+bool readFlag(const std::string& text, bool* value);
+
 // The frame name TF gets for `name` under `tf_prefix`, as tf::resolve makes it: a leading '/'
 // means absolute (dropped), else the prefix, without its leading '/', and a '/' go before it.
 std::string resolveTfFrame(const std::string& tf_prefix, const std::string& name);

@@ -1,0 +1,76 @@
+// Reading an SDF document as Gazebo classic reads it (sdf_parsing.h, readSdfDocument).
+#include <set>
+
+#include <tinyxml2.h>
+
+#include "sdf_parsing.h"
+
+namespace onedof_sim {
+namespace core {
+namespace {
+
+// libsdformat 12 checks two things Gazebo 11's libsdformat (9) did not, and refuses the whole
+// document for either: a value outside the bounds its schema gives (a negative friction
+// coefficient, which Gazebo reads as unbounded friction), and an element of a required value left
+// empty (a contact sensor's <collision name="..."/> of SDF 1.3), which libsdformat 9 left at its
+// default. The schema's descriptions lose both here, before the document is read against them.
+// An <include>d file and a nested model are read against a schema of their own, which keeps them.
+void relaxAsLibsdformat9(const sdf::ElementPtr& description, std::set<const sdf::Element*>* seen) {
+  if (!description || !seen->insert(description.get()).second) return;
+  if (const sdf::ParamPtr value = description->GetValue())
+    description->AddValue(value->GetTypeName(), value->GetDefaultAsString(), false, "", "",
+                          value->GetDescription());
+  for (size_t i = 0; i < description->GetElementDescriptionCount(); ++i)
+    relaxAsLibsdformat9(description->GetElementDescription(i), seen);
+}
+
+// Whether a DOM error is one this simulator refuses a document for: two models, links or joints
+// of one name would make scoped names ambiguous, and the DOM keeps only the first.
+bool refusedDomError(const sdf::Error& error) {
+  return error.Code() == sdf::ErrorCode::DUPLICATE_NAME;
+}
+
+// libsdformat says why it cannot read XML that is not well-formed only on stderr: tinyxml2 says
+// where and what.
+std::string whyUnread(const std::string& source, SdfSource kind) {
+  tinyxml2::XMLDocument xml;
+  const tinyxml2::XMLError parsed = kind == SdfSource::File
+                                        ? xml.LoadFile(source.c_str())
+                                        : xml.Parse(source.c_str(), source.size());
+  if (parsed != tinyxml2::XML_SUCCESS && xml.ErrorStr())
+    return std::string("not well-formed XML: ") + xml.ErrorStr();
+  return "libsdformat cannot read it";
+}
+
+}  // namespace
+
+void readSdfDocument(const std::string& source, SdfSource kind,
+                     const std::vector<std::string>& model_path, SdfDocument* out) {
+  out->elements.reset(new sdf::SDF());
+  sdf::init(out->elements);
+  std::set<const sdf::Element*> seen;
+  relaxAsLibsdformat9(out->elements->Root(), &seen);
+  const sdf::ParserConfig config = modelPathConfig(model_path, &out->missing);
+  sdf::Errors errors;
+  bool read = false;
+  try {
+    read = kind == SdfSource::File ? sdf::readFile(source, config, out->elements, errors)
+                                   : sdf::readString(source, config, out->elements, errors);
+  } catch (const std::exception& e) {
+    // libsdformat 12 throws std::invalid_argument ("stoi") on a version like "abc".
+    out->error = e.what();
+    return;
+  }
+  if (!out->missing.empty()) return;
+  if (!read || !errors.empty()) {
+    out->error = errors.empty() ? whyUnread(source, kind) : joinErrors(errors);
+    return;
+  }
+  sdf::Errors refused;
+  for (const sdf::Error& error : out->root.Load(out->elements, config))
+    if (refusedDomError(error)) refused.push_back(error);
+  if (!refused.empty()) out->error = joinErrors(refused);
+}
+
+}  // namespace core
+}  // namespace onedof_sim
