@@ -102,7 +102,7 @@ def test_a_laser_facing_a_box_reports_it_within_a_millimetre_and_inf_where_nothi
     assert log.count("sensor 'empty_range' not started: <range> is min 1") == 1, log
     assert log.count("sensor 'nowhere' is ignored, with its plugins: its link 'no_such_link' is "
                      "not a link of the model") == 1, log
-    assert log.count("plugin 'block_controller' (libgazebo_ros_block_laser.so) of sensor 'block' "
+    assert log.count("plugin 'vendor_controller' (libvendor_lidar_driver.so) of sensor 'vendor' "
                      "is not simulated here and is ignored") == 1, log
 
 
