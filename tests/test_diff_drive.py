@@ -173,4 +173,4 @@ def test_a_diff_drive_base_drives_the_commanded_twist_and_reports_it(
 
     log = ros.log_text(run.sim)
     assert log.count('libgazebo_ros_not_simulated_here.so') == 1, log
-    assert log.count("sensor 'base_bumper' (type contact)") == 1, log
+    assert log.count("sensor 'base_sonar' (type sonar)") == 1, log

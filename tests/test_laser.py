@@ -102,8 +102,8 @@ def test_a_laser_facing_a_box_reports_it_within_a_millimetre_and_inf_where_nothi
     assert log.count("sensor 'empty_range' not started: <range> is min 1") == 1, log
     assert log.count("sensor 'nowhere' is ignored, with its plugins: its link 'no_such_link' is "
                      "not a link of the model") == 1, log
-    assert log.count("Failed to load plugin libgazebo_ros_block_laser.so (plugin "
-                     "'block_controller' of sensor 'block'): this simulator has no such plugin") \
+    assert log.count("Failed to load plugin libvendor_lidar_driver.so (plugin "
+                     "'vendor_controller' of sensor 'vendor'): this simulator has no such plugin") \
         == 1, log
 
 

@@ -49,6 +49,7 @@ enum class StatusCode {
   Ok,
   ModelNotFound,           // subject: the model name asked for
   LinkNotFound,            // subject: the link name asked for
+  CollisionNotFound,       // subject: the collision name asked for
   JointNotFound,           // subject: the joint name asked for
   ReferenceFrameNotFound,  // subject: the frame name asked for
   ModelExists,             // subject: the model name
@@ -244,6 +245,29 @@ struct InertiaWarning {
   double smallest_moment = 0;   // its smallest principal moment, kg m^2
   double least_moment = 0;      // the least its shapes make plausible, kg m^2
 };
+
+// One point where two collisions touched in a step (World::contacts).
+struct ContactPoint {
+  Vec3 position;      // world
+  Vec3 normal;        // unit, world: the direction that moves collision1 out of collision2
+  double depth = 0;   // how far the two overlap along the normal, m
+  // What the contact put on each collision's link over the step, world axes: the force at
+  // `position` (normal and friction; wrench2's is wrench1's opposite) and its torque about the
+  // centre of mass of the body the link moves with (its links welded by fixed joints included);
+  // for a link without a body (anchored, static), about its own centre of mass, and for the
+  // ground about the world's origin.
+  Wrench wrench1, wrench2;
+};
+
+// The touch between two collisions in a step: every point where they met.
+struct Contact {
+  std::string collision1, collision2;  // scoped "model::link::collision"
+  std::vector<ContactPoint> points;
+};
+
+// The scoped name of the world's own ground plane in contacts, as Gazebo's ground_plane model
+// names its collision.
+constexpr const char* kGroundCollision = "ground_plane::link::collision";
 
 // A model read from its XML and checked against every limit that does not depend on a world
 // (World::prepare), for World::spawn to add to one. Self-contained: made without a world, it can
@@ -473,6 +497,15 @@ class World {
   // negative length (InvalidParameter "ray"), and (EngineFault) a query the engine failed inside
   // (the world builds its engine again, every model where it was).
   Status castRays(const std::vector<Ray>& rays, std::vector<double>* distances);
+
+  // The contacts the last step resolved, each point with the force the step's contact constraint
+  // put through it, that involve one of `collisions` (scoped "model::link::collision"; a URDF's
+  // unnamed collisions are LINK_collision, LINK_collision_1, ...; the ground kGroundCollision):
+  // one Contact for each pair of collisions that touched, with the named one as collision1 (the
+  // first named, when both are), in the engine's order. Empty before the first step and after a
+  // model is deleted or the engine is built again, until the next step. Refuses, with *out empty,
+  // a name that is no collision in the world (CollisionNotFound, subject: the name).
+  Status contacts(const std::vector<std::string>& collisions, std::vector<Contact>* out) const;
 
   // What step() had to do on its own since the last call, for the owner to log: a model's speed
   // capped, a non-finite state undone. Drains the list (at most 100 kept between calls).

@@ -123,6 +123,28 @@ struct BodyRef {
   bool operator==(const BodyRef& other) const { return model == other.model && body == other.body; }
 };
 
+// One collision shape inside an engine: shape `shape` of a model's body `body` (in its BodySpec's
+// shapes), or the model's anchored shape `shape` (body -1: in its ModelSpec's anchored_shapes), or
+// the ground plane (model null).
+struct ShapeRef {
+  const EngineModel* model = nullptr;
+  int body = -1;
+  int shape = 0;
+  bool operator==(const ShapeRef& other) const {
+    return model == other.model && body == other.body && shape == other.shape;
+  }
+};
+
+// A point where two shapes touched in the last step, and what the step's contact constraint
+// there put through it.
+struct EngineContact {
+  ShapeRef a, b;
+  Vec3 position;      // world
+  Vec3 normal;        // unit, world: the direction that moves a out of b
+  double depth = 0;   // how far the shapes overlap along the normal, m
+  Vec3 force;         // on a, at `position`, world axes, N (normal and friction); b takes -force
+};
+
 class Engine {
  public:
   virtual ~Engine() = default;
@@ -152,6 +174,10 @@ class Engine {
   // each once: the bodies an EngineFault inside that step can involve. Readable after a fault.
   // Empty when the engine cannot tell.
   virtual std::vector<BodyRef> contactBodies() const = 0;
+  // The contact points the last step resolved (those it met in its collision pass and took
+  // into its solve), with the force each carried over the step; empty before the first step.
+  // Valid until the engine's models change: a ShapeRef names a model only while it lives.
+  virtual void contacts(std::vector<EngineContact>* out) const = 0;
   // For each ray (a unit direction, a length >= 0), the distance along it to the first
   // collision shape it meets, the ground plane included, through the engine's own collision
   // detection, as the bodies stand now; +infinity where it meets none. Every shape counts: a

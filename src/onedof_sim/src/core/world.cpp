@@ -68,6 +68,7 @@ void World::Impl::destroyModel(size_t index) {
   ModelRecord* model = models[index].get();
   dropJobs([model](const ModelRecord* m) { return m == model; });
   models.erase(models.begin() + index);
+  contacts_current = false;
 }
 
 // --- stepping --------------------------------------------------------------------------------
@@ -111,6 +112,7 @@ void World::Impl::stepEngine(bool retake) {
     engine->step(params.step, &solver_message, retake);
   }
   releaseMotors();
+  contacts_current = true;
   if (!solver_message.empty() && !engine_struggled) warn(solver_message);
   engine_struggled = !solver_message.empty();
   for (const auto& model : models) {

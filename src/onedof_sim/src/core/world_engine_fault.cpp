@@ -21,6 +21,7 @@ void World::Impl::rebuildEngine(const std::vector<BodyState>& states) {
   }
   saved_states.clear();
   for (const auto& model : models) model->engine_model.reset();  // before the engine they live in
+  contacts_current = false;
   engine = findEngine(engine_name).make();
   engine->addGroundPlane(kGroundMu, kGroundMu2);
   engine->setParams(params);

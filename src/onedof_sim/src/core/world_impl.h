@@ -9,6 +9,7 @@
 //   world_validation.cpp  the checks of parameters, poses and states; Status formatting
 //   world_engine_fault.cpp  an engine that fails inside a call: a new engine, the world going on
 //   world_rays.cpp        ray queries through the engine's collision detection
+//   world_contacts.cpp    the last step's contacts, named and with their wrenches
 //
 // Frames. Every link has a link frame (URDF/SDF) and, if it moves, an engine body. Bodies sit at
 // the centre of mass of their links with the axes of their reference link, and each link keeps
@@ -249,6 +250,9 @@ struct World::Impl {
   std::vector<std::string> warnings;
   std::vector<BodyState> saved_states;
   int64_t last_retake_warning_ns = -1;  // a failed step taken again (stepContained)
+  // The engine's contacts are the last step's and name living models only (Engine::contacts):
+  // false from a model's deletion or the engine's rebuilding until the next step.
+  bool contacts_current = false;
   bool engine_struggled = false;  // warned already, until a step passes without a solver message
   bool time_ended = false;        // warned already that sim time reached kEndOfTimeNs
   std::vector<std::string> model_path;  // absolute
@@ -333,6 +337,14 @@ struct World::Impl {
   // World pose and twist of an entity used as a reference frame: "" or "world", a model (its
   // model frame, with its canonical link's twist: World::modelState) or a scoped link.
   bool resolveFrame(const std::string& name, Pose* pose, Twist* twist) const;
+
+  // --- contacts (world_contacts.cpp) --------------------------------------------------------
+
+  // The engine shape of "model::link::collision"; false when there is none.
+  bool findCollision(const std::string& scoped, ShapeRef* shape) const;
+  // The scoped name of an engine shape and the point its contact torques are about (World::
+  // contacts); false for a shape of no model in the world.
+  bool describeShape(const ShapeRef& shape, std::string* name, Vec3* centre) const;
 
   // --- building and placing (world_models.cpp) ----------------------------------------------
 

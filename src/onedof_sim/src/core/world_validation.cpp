@@ -91,6 +91,7 @@ std::ostream& operator<<(std::ostream& out, StatusCode code) {
     case StatusCode::Ok: return out << "Ok";
     case StatusCode::ModelNotFound: return out << "ModelNotFound";
     case StatusCode::LinkNotFound: return out << "LinkNotFound";
+    case StatusCode::CollisionNotFound: return out << "CollisionNotFound";
     case StatusCode::JointNotFound: return out << "JointNotFound";
     case StatusCode::ReferenceFrameNotFound: return out << "ReferenceFrameNotFound";
     case StatusCode::ModelExists: return out << "ModelExists";

@@ -85,6 +85,9 @@ std::string statusText(const Wording& wording, const Status& status) {
       if (wording.not_found) return wording.not_found;
       text = "link not found, did you forget to scope the link by model name?";
       break;
+    case StatusCode::CollisionNotFound:
+      text = "collision '" + subject + "' not found (a collision is scoped model::link::collision)";
+      break;
     case StatusCode::JointNotFound:
       if (wording.not_found) return wording.not_found;
       text = "joint not found";

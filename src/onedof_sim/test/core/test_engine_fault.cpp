@@ -42,6 +42,7 @@ class FailingEngine : public core::Engine {
     return retakes_ && engine_->retakesFailedSteps(params);
   }
   std::vector<core::BodyRef> contactBodies() const override { return engine_->contactBodies(); }
+  void contacts(std::vector<core::EngineContact>* out) const override { engine_->contacts(out); }
   void castRays(const std::vector<Ray>&, std::vector<double>*) override {
     throw core::EngineFault("injected failure");
   }

@@ -197,13 +197,32 @@ std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec, bool moving,
   return shape;
 }
 
-// A compound body's collision object points (user pointer) at the mu of each child shape; the
-// contact reports which child touched, so friction follows the shape as in Gazebo. Anything
-// else (the ground, anchored shapes) carries its mu as the object's friction.
+// What a collision object is (its user pointer points here): a model's body, a compound whose
+// child shapes are its BodySpec's shapes in order; one of a model's anchored shapes; or the
+// ground (model null).
+struct ObjectTag {
+  const EngineModel* model = nullptr;
+  int body = -1;           // -1: not a body
+  int anchored = 0;        // not a body: the anchored shape's index
+  std::vector<double> mu;  // a body's: per child shape
+};
+
+// The shape a contact's side is: the object's, and for a body the child shape that touched.
+ShapeRef shapeOf(const btCollisionObject* object, int child) {
+  const auto* tag = static_cast<const ObjectTag*>(object->getUserPointer());
+  if (!tag) return {};
+  if (tag->body < 0) return {tag->model, -1, tag->anchored};
+  return {tag->model, tag->body,
+          child >= 0 && child < static_cast<int>(tag->mu.size()) ? child : 0};
+}
+
+// A body's contact reports which child shape touched, so friction follows the shape as in
+// Gazebo. Anything else (the ground, anchored shapes) carries its mu as the object's friction.
 double shapeMu(const btCollisionObjectWrapper* wrapper, int child) {
   const btCollisionObject* object = wrapper->getCollisionObject();
-  const auto* mu = static_cast<const std::vector<double>*>(object->getUserPointer());
-  if (mu && child >= 0 && child < static_cast<int>(mu->size())) return (*mu)[child];
+  const auto* tag = static_cast<const ObjectTag*>(object->getUserPointer());
+  if (tag && tag->body >= 0 && child >= 0 && child < static_cast<int>(tag->mu.size()))
+    return tag->mu[child];
   return object->getFriction();
 }
 
@@ -214,10 +233,14 @@ int childIndex(const btCollisionObjectWrapper* wrapper, int index) {
   return wrapper->m_parent ? wrapper->m_index : index;
 }
 
+// Called for each point a collision pass adds or refreshes, `a` being the manifold's first
+// object: the point's friction, and the child shapes it is between, kept in its indices (read by
+// nothing else here) for the contacts the engine reports.
 bool onContactAdded(btManifoldPoint& point, const btCollisionObjectWrapper* a, int, int child_a,
                     const btCollisionObjectWrapper* b, int, int child_b) {
-  point.m_combinedFriction =
-      std::min(shapeMu(a, childIndex(a, child_a)), shapeMu(b, childIndex(b, child_b)));
+  point.m_index0 = childIndex(a, child_a);
+  point.m_index1 = childIndex(b, child_b);
+  point.m_combinedFriction = std::min(shapeMu(a, point.m_index0), shapeMu(b, point.m_index1));
   return true;
 }
 
@@ -331,12 +354,14 @@ class BulletModel : public EngineModel {
     for (const BodySpec& spec_body : spec.bodies) {
       bodies_.emplace_back();
       Body& body = bodies_.back();
+      body.tag.model = this;
+      body.tag.body = static_cast<int>(bodies_.size()) - 1;
       body.compound = std::make_unique<btCompoundShape>();
       for (const ShapeSpec& shape : spec_body.shapes) {
         body.arrays.emplace_back();
         body.shapes.push_back(makeShape(shape, true, &body.arrays.back()));
         body.compound->addChildShape(btTransform::getIdentity(), body.shapes.back().get());
-        body.mu.push_back(shape.mu);
+        body.tag.mu.push_back(shape.mu);
       }
       btRigidBody::btRigidBodyConstructionInfo info(spec_body.mass, nullptr, body.compound.get());
       info.m_linearDamping = info.m_angularDamping = 0;
@@ -348,12 +373,14 @@ class BulletModel : public EngineModel {
       rigid.setCollisionFlags(rigid.getCollisionFlags() |
                               btCollisionObject::CF_CUSTOM_MATERIAL_CALLBACK);
       rigid.setUserIndex(id);
-      rigid.setUserPointer(&body.mu);
+      rigid.setUserPointer(&body.tag);
       world_->addRigidBody(&rigid);
     }
     for (const ShapeSpec& shape : spec.anchored_shapes) {
       anchored_.emplace_back();
       Anchored& anchored = anchored_.back();
+      anchored.tag.model = this;
+      anchored.tag.anchored = static_cast<int>(anchored_.size()) - 1;
       anchored.shape = makeShape(shape, false, &anchored.arrays);
       anchored.object = std::make_unique<btCollisionObject>();
       anchored.object->setCollisionShape(anchored.shape.get());
@@ -361,6 +388,7 @@ class BulletModel : public EngineModel {
       anchored.object->setFriction(shape.mu);
       anchored.object->setRestitution(0);
       anchored.object->setUserIndex(id);
+      anchored.object->setUserPointer(&anchored.tag);
       world_->addCollisionObject(anchored.object.get(), btBroadphaseProxy::StaticFilter,
                                  btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
     }
@@ -573,9 +601,10 @@ class BulletModel : public EngineModel {
     std::unique_ptr<btCompoundShape> compound;
     std::unique_ptr<btRigidBody> rigid;
     btQuaternion principal;  // the btRigidBody's axes in the BodySpec frame
-    std::vector<double> mu;  // per child shape of `compound`
+    ObjectTag tag;           // the btRigidBody's user pointer
   };
   struct Anchored {
+    ObjectTag tag;  // the object's user pointer
     std::unique_ptr<MeshArrays> arrays;  // a mesh's
     std::unique_ptr<btCollisionShape> shape;
     std::unique_ptr<btCollisionObject> object;
@@ -608,8 +637,8 @@ class BulletModel : public EngineModel {
   }
 
   btDiscreteDynamicsWorld* world_;
-  std::deque<Body> bodies_;  // never moves a Body: its collision object points at its mu
-  std::vector<Anchored> anchored_;
+  std::deque<Body> bodies_;  // never moves a Body: its collision object points at its tag
+  std::deque<Anchored> anchored_;  // likewise
   std::vector<Joint> joints_;
 };
 
@@ -647,6 +676,7 @@ class BulletEngine : public Engine {
 
   void addGroundPlane(double mu, double) override {
     ground_.setCollisionShape(&ground_shape_);
+    ground_.setUserPointer(&ground_tag_);
     ground_.setFriction(mu);
     ground_.setRestitution(0);
     world_.addCollisionObject(&ground_, btBroadphaseProxy::StaticFilter,
@@ -663,9 +693,39 @@ class BulletEngine : public Engine {
   // maxSubSteps 0: exactly one step of dt, no fixed-step interpolation. Bullet reports no
   // solver trouble, so *solver_message is left alone. It has one solver and throws no
   // EngineFault (see the top of the file): a retake is a step, and no fault names bodies.
-  void step(double dt, std::string*, bool) override { world_.stepSimulation(dt, 0); }
+  void step(double dt, std::string*, bool) override {
+    world_.stepSimulation(dt, 0);
+    last_step_ = dt;
+  }
   bool retakesFailedSteps(const PhysicsParams&) const override { return false; }
   std::vector<BodyRef> contactBodies() const override { return {}; }
+
+  // The manifolds' points the last step's solver took (all within the contact processing
+  // threshold, which is Bullet's default, infinite) that touch or carried an impulse: the impulses
+  // the solver left on each (along the normal and the two friction directions, on the first
+  // object) over the step's time. Bullet's split impulse, which pushes a deep penetration apart
+  // beside the velocity solve, is no force and is left out.
+  void contacts(std::vector<EngineContact>* out) const override {
+    out->clear();
+    if (!(last_step_ > 0)) return;
+    for (int m = 0; m < dispatcher_.getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher_.getManifoldByIndexInternal(m);
+      for (int p = 0; p < manifold->getNumContacts(); ++p) {
+        const btManifoldPoint& point = manifold->getContactPoint(p);
+        const double impulse = point.getAppliedImpulse();
+        if (point.getDistance() > manifold->getContactProcessingThreshold() ||
+            !(point.getDistance() <= 0 || impulse != 0))
+          continue;
+        const btVector3 total = impulse * point.m_normalWorldOnB +
+                                point.m_appliedImpulseLateral1 * point.m_lateralFrictionDir1 +
+                                point.m_appliedImpulseLateral2 * point.m_lateralFrictionDir2;
+        out->push_back({shapeOf(manifold->getBody0(), point.m_index0),
+                        shapeOf(manifold->getBody1(), point.m_index1),
+                        fromBt(point.getPositionWorldOnA()), fromBt(point.m_normalWorldOnB),
+                        -point.getDistance(), fromBt(total / last_step_)});
+      }
+    }
+  }
 
   // Bullet's own ray test with the closest hit, as Gazebo's Bullet ray shape casts: the
   // broadphase's ray traversal finds the objects whose bounds a ray crosses, and each of their
@@ -768,8 +828,10 @@ class BulletEngine : public Engine {
   ModelFilter filter_;
   btStaticPlaneShape ground_shape_{btVector3(0, 0, 1), 0};
   btCollisionObject ground_;
+  ObjectTag ground_tag_;
   btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
   int next_model_id_ = 0;
+  double last_step_ = 0;  // s, the last step's (contacts)
 };
 
 }  // namespace

@@ -123,9 +123,11 @@ void setGeomPose(dGeomID geom, const Pose& pose, bool as_offset) {
   }
 }
 
-// The friction of a geom, for the contact callback (dGeomSetData points here).
-struct Surface {
+// What the contact callback needs of a geom (dGeomSetData points here): its friction, and which
+// shape it is (for the contacts the engine reports).
+struct GeomInfo {
   double mu = 1, mu2 = 1;
+  ShapeRef shape;
 };
 
 // ODE reports solver trouble through one process-wide message handler that prints to stderr,
@@ -197,13 +199,15 @@ class OdeModel : public EngineModel {
       all_bodies_->push_back(body);
       body_geoms_.emplace_back();
       for (const ShapeSpec& shape : spec_body.shapes) {
-        dGeomID geom = createGeom(shape);
+        const int body_index = static_cast<int>(bodies_.size()) - 1;
+        dGeomID geom = createGeom(shape, {this, body_index, static_cast<int>(body_geoms_.back().size())});
         dGeomSetBody(geom, body);
         body_geoms_.back().push_back(geom);
       }
       setMass(static_cast<int>(bodies_.size()) - 1, spec_body);
     }
-    for (const ShapeSpec& shape : spec.anchored_shapes) anchored_.push_back(createGeom(shape));
+    for (const ShapeSpec& shape : spec.anchored_shapes)
+      anchored_.push_back(createGeom(shape, {this, -1, static_cast<int>(anchored_.size())}));
     for (const JointSpec& spec_joint : spec.joints) {
       const bool hinge = !spec_joint.prismatic;
       dJointID joint = hinge ? dJointCreateHinge(world, nullptr) : dJointCreateSlider(world, nullptr);
@@ -356,7 +360,7 @@ class OdeModel : public EngineModel {
       setGeomPose(body_geoms_[body][g], spec.shapes[g].pose, true);
   }
 
-  dGeomID createGeom(const ShapeSpec& shape) {
+  dGeomID createGeom(const ShapeSpec& shape, const ShapeRef& ref) {
     const Vec3& s = shape.size;
     dGeomID geom = shape.shape == GeometryShape::Box        ? dCreateBox(space_, s.x, s.y, s.z)
                    : shape.shape == GeometryShape::Cylinder ? dCreateCylinder(space_, s.x, s.z)
@@ -364,8 +368,8 @@ class OdeModel : public EngineModel {
                    : shape.shape == GeometryShape::Plane    ? dCreatePlane(space_, 0, 0, 1, 0)
                                                             : dCreateSphere(space_, s.x);
     if (shape.mesh) meshes_.push_back(shape.mesh);
-    surfaces_.push_back({shape.mu, shape.mu2});
-    dGeomSetData(geom, &surfaces_.back());  // a deque: never moves
+    geom_info_.push_back({shape.mu, shape.mu2, ref});
+    dGeomSetData(geom, &geom_info_.back());  // a deque: never moves
     return geom;
   }
 
@@ -401,7 +405,7 @@ class OdeModel : public EngineModel {
   std::vector<dGeomID> anchored_;
   std::vector<Joint> joints_;
   std::deque<dJointFeedback> feedback_;  // per joint; a deque: ODE keeps pointers into it
-  std::deque<Surface> surfaces_;
+  std::deque<GeomInfo> geom_info_;
   std::vector<dTriMeshDataID> mesh_data_;
   std::vector<std::shared_ptr<const TriangleMesh>> meshes_;  // what mesh_data_ points into
 };
@@ -452,9 +456,9 @@ class OdeEngine : public Engine {
 
   void addGroundPlane(double mu, double mu2) override {
     OdeTrap trap(&faulted_);
-    ground_surface_ = {mu, mu2};
+    ground_info_ = {mu, mu2, ShapeRef()};
     dGeomID ground = dCreatePlane(space_, 0, 0, 1, 0);
-    dGeomSetData(ground, &ground_surface_);
+    dGeomSetData(ground, &ground_info_);
   }
 
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
@@ -466,6 +470,17 @@ class OdeEngine : public Engine {
   bool retakesFailedSteps(const PhysicsParams& params) const override { return !params.quick_step; }
 
   std::vector<BodyRef> contactBodies() const override { return contact_bodies_; }
+
+  // Each contact joint's feedback: f1 is the force on the joint's first body, which ODE makes the
+  // geom's that has one (a body-less first geom swaps the two).
+  void contacts(std::vector<EngineContact>* out) const override {
+    *out = contacts_;
+    for (size_t i = 0; i < out->size(); ++i) {
+      const dReal* f = contact_feedback_[i].f1;
+      const double sign = contact_a_moves_[i] ? 1 : -1;
+      (*out)[i].force = {sign * f[0], sign * f[1], sign * f[2]};
+    }
+  }
 
   // One dGeomRay, in no space, collided with the world's space as Gazebo's ODE ray sensor does
   // (dSpaceCollide2, then dCollide with the closest hit of each geom).
@@ -498,6 +513,9 @@ class OdeEngine : public Engine {
     stepping_message = solver_message;
     stepping_message_set = false;
     contact_bodies_.clear();
+    contacts_.clear();
+    contact_feedback_.clear();
+    contact_a_moves_.clear();
     try {
       dSpaceCollide(space_, this, &nearCallback);
       bool quick = params_.quick_step || retake;
@@ -577,8 +595,8 @@ class OdeEngine : public Engine {
     dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
     // Anchored against anchored or against the ground.
     if ((!body_a && !body_b) || contact_buffer_.empty()) return;
-    const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
-    const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
+    const auto* surface_a = static_cast<const GeomInfo*>(dGeomGetData(a));
+    const auto* surface_b = static_cast<const GeomInfo*>(dGeomGetData(b));
     const int count = collide(a, b);
     dContactGeom line[2];
     dVector3 axis;
@@ -601,6 +619,12 @@ class OdeEngine : public Engine {
       contact.surface.soft_cfm = std::max(params_.cfm, kMinContactCfm);
       dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
       dJointAttach(joint, body_a, body_b);
+      contact_feedback_.emplace_back();
+      dJointSetFeedback(joint, &contact_feedback_.back());
+      const dContactGeom& geom = contact.geom;
+      contacts_.push_back({surface_a->shape, surface_b->shape, toVec3(geom.pos),
+                           toVec3(geom.normal), geom.depth, Vec3()});
+      contact_a_moves_.push_back(body_a != nullptr);
     }
     if (count > 0)
       for (dBodyID body : {body_a, body_b})
@@ -667,11 +691,16 @@ class OdeEngine : public Engine {
   std::vector<dBodyID> bodies_;  // every model's, in the world
   std::vector<SavedBody> saved_;
   std::vector<BodyRef> contact_bodies_;  // in the contacts of the last step (contactBodies)
+  // The last step's contact points (their forces are read from the feedback), the feedback ODE
+  // fills in for each (a deque: ODE keeps pointers into it) and whether a's geom has the body.
+  std::vector<EngineContact> contacts_;
+  std::deque<dJointFeedback> contact_feedback_;
+  std::vector<bool> contact_a_moves_;
   dWorldID world_ = nullptr;
   dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
-  Surface ground_surface_;
+  GeomInfo ground_info_;
   std::vector<dContact> contact_buffer_;
   std::vector<dContactGeom> mesh_candidates_;
   dGeomID ray_ = nullptr;  // castRays' ray, made at its first call

@@ -12,12 +12,15 @@ std::unique_ptr<ModelPlugin> makeGazeboRosImu(const ModelPluginContext&, std::st
 std::unique_ptr<ModelPlugin> makeGazeboRosP3d(const ModelPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosJointStatePublisher(const ModelPluginContext&,
                                                               std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosBlockLaser(const SensorPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosBumper(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosCamera(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosDepthCamera(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosImuSensor(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosLaser(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosOpenniKinect(const SensorPluginContext&,
                                                        std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosRange(const SensorPluginContext&, std::string*);
 
 const std::vector<ModelPluginType>& modelPluginRegistry() {
   static const std::vector<ModelPluginType> entries{
@@ -33,12 +36,15 @@ const std::vector<ModelPluginType>& modelPluginRegistry() {
 
 const std::vector<SensorPluginType>& sensorPluginRegistry() {
   static const std::vector<SensorPluginType> entries{
+      {"libgazebo_ros_block_laser.so", {"ray"}, makeGazeboRosBlockLaser},
+      {"libgazebo_ros_bumper.so", {"contact"}, makeGazeboRosBumper},
       {"libgazebo_ros_camera.so", {"camera"}, makeGazeboRosCamera},
       {"libgazebo_ros_depth_camera.so", {"depth"}, makeGazeboRosDepthCamera},
       {"libgazebo_ros_gpu_laser.so", {"gpu_ray"}, makeGazeboRosLaser},
       {"libgazebo_ros_imu_sensor.so", {"imu"}, makeGazeboRosImuSensor},
       {"libgazebo_ros_laser.so", {"ray"}, makeGazeboRosLaser},
       {"libgazebo_ros_openni_kinect.so", {"depth"}, makeGazeboRosOpenniKinect},
+      {"libgazebo_ros_range.so", {"ray"}, makeGazeboRosRange},
   };
   return entries;
 }

@@ -31,6 +31,11 @@ bool readCount(const tinyxml2::XMLElement* parent, const std::string& where, int
   return true;
 }
 
+// Place `index` of `count` evenly from min to max (one: at min).
+double spread(int index, int count, double min, double max) {
+  return count == 1 ? min : index * (max - min) / (count - 1) + min;
+}
+
 std::string describe(const Status& status) {
   std::ostringstream text;
   text << status;
@@ -44,6 +49,16 @@ int RayConfig::verticalRangeCount() const {
   return static_cast<int>(vertical_samples * vertical_resolution);
 }
 double RayConfig::angleIncrement() const { return (max_angle - min_angle) / (rangeCount() - 1); }
+
+double RayConfig::rangeYaw(int column) const {
+  return samples == 1 ? 0 : spread(column, rangeCount(), min_angle, max_angle);
+}
+
+double RayConfig::rangePitch(int row) const {
+  return vertical_samples == 1
+             ? 0
+             : spread(row, verticalRangeCount(), vertical_min_angle, vertical_max_angle);
+}
 
 bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string* error) {
   tinyxml2::XMLDocument doc;
@@ -89,14 +104,11 @@ RayScanner::RayScanner(const RayConfig& config, std::string link, const Pose& po
   // Gazebo's MultiRayShape: a lone ray (or row) points along x (has no pitch).
   const RayConfig& c = config_;
   for (int j = 0; j < c.vertical_samples; ++j) {
-    const double pitch =
-        c.vertical_samples == 1
-            ? 0
-            : j * (c.vertical_max_angle - c.vertical_min_angle) / (c.vertical_samples - 1) +
-                  c.vertical_min_angle;
+    const double pitch = c.vertical_samples == 1 ? 0
+                                                 : spread(j, c.vertical_samples,
+                                                          c.vertical_min_angle, c.vertical_max_angle);
     for (int i = 0; i < c.samples; ++i) {
-      const double yaw =
-          c.samples == 1 ? 0 : i * (c.max_angle - c.min_angle) / (c.samples - 1) + c.min_angle;
+      const double yaw = c.samples == 1 ? 0 : spread(i, c.samples, c.min_angle, c.max_angle);
       directions_.push_back({std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
                              std::sin(pitch)});
     }
@@ -105,7 +117,7 @@ RayScanner::RayScanner(const RayConfig& config, std::string link, const Pose& po
   noise_ = NoiseModel(c.noise, random_);
 }
 
-bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why) {
+bool RayScanner::measure(World& world, std::string* why) {
   const RayConfig& c = config_;
   Pose link_pose;
   Twist unused;
@@ -122,48 +134,56 @@ bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why
                  sensor.position.z + d.z * c.range_min},
                 d, span};
   }
-  status = world.castRays(rays_, &hits_);
+  status = world.castRays(rays_, &casts_);
   if (!status.ok()) {
     *why = "the ray query: " + describe(status);
     return false;
   }
-  // A ray's range: from the sensor, range_max where it meets nothing.
-  auto rayRange = [&](int row, int column) {
-    const double hit = hits_[static_cast<size_t>(row) * c.samples + column];
-    return c.range_min + (std::isfinite(hit) ? hit : span);
-  };
+  hits_.swap(casts_);
+  return true;
+}
+
+double RayScanner::rayRange(int row, int column) const {
+  const RayConfig& c = config_;
+  if (hits_.empty()) return c.range_max;  // nothing measured yet
+  const double hit = hits_[static_cast<size_t>(row) * c.samples + column];
+  return c.range_min + (std::isfinite(hit) ? hit : c.range_max - c.range_min);
+}
+
+double RayScanner::range(int row, int column) const {
+  const RayConfig& c = config_;
   const int columns = c.rangeCount(), rows = c.verticalRangeCount();
-  const bool interpolate = columns != c.samples || rows != c.vertical_samples;
+  if (columns == c.samples && rows == c.vertical_samples) return rayRange(row, column);
+  double vb = rows == 1 ? 0 : static_cast<double>(row * (c.vertical_samples - 1)) / (rows - 1);
+  const int vja = static_cast<int>(std::floor(vb));
+  const int vjb = std::min(vja + 1, c.vertical_samples - 1);
+  vb -= std::floor(vb);
+  double hb = columns == 1 ? 0 : static_cast<double>(column * (c.samples - 1)) / (columns - 1);
+  const int hja = static_cast<int>(std::floor(hb));
+  const int hjb = std::min(hja + 1, c.samples - 1);
+  hb -= std::floor(hb);
+  return (1 - vb) * ((1 - hb) * rayRange(vja, hja) + hb * rayRange(vja, hjb)) +
+         vb * ((1 - hb) * rayRange(vjb, hja) + hb * rayRange(vjb, hjb));
+}
+
+bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why) {
+  if (!measure(world, why)) return false;
+  const RayConfig& c = config_;
+  const int columns = c.rangeCount(), rows = c.verticalRangeCount();
   ranges->resize(static_cast<size_t>(columns) * rows);
-  for (int j = 0; j < rows; ++j) {
-    // Gazebo's bilinear interpolation between the four rays around each range.
-    double vb = rows == 1 ? 0 : static_cast<double>(j * (c.vertical_samples - 1)) / (rows - 1);
-    const int vja = interpolate ? static_cast<int>(std::floor(vb)) : j;
-    const int vjb = std::min(vja + 1, c.vertical_samples - 1);
-    vb -= std::floor(vb);
+  for (int j = 0; j < rows; ++j)
     for (int i = 0; i < columns; ++i) {
-      double range;
-      if (interpolate) {
-        double hb = columns == 1 ? 0 : static_cast<double>(i * (c.samples - 1)) / (columns - 1);
-        const int hja = static_cast<int>(std::floor(hb));
-        const int hjb = std::min(hja + 1, c.samples - 1);
-        hb -= std::floor(hb);
-        range = (1 - vb) * ((1 - hb) * rayRange(vja, hja) + hb * rayRange(vja, hjb)) +
-                vb * ((1 - hb) * rayRange(vjb, hja) + hb * rayRange(vjb, hjb));
-      } else {
-        range = rayRange(j, i);
-      }
+      double value = range(j, i);
       // REP 117, as Gazebo masks them.
-      if (range >= c.range_max) {
-        range = std::numeric_limits<double>::infinity();
-      } else if (range <= c.range_min) {
-        range = -std::numeric_limits<double>::infinity();
+      if (value >= c.range_max) {
+        value = std::numeric_limits<double>::infinity();
+      } else if (value <= c.range_min) {
+        value = -std::numeric_limits<double>::infinity();
       } else if (noise_.on()) {
-        range = std::clamp(noise_.apply(range, random_), c.range_min, c.range_max);
+        value = std::clamp(noise_.apply(value, random_), c.range_min, c.range_max);
       }
-      (*ranges)[static_cast<size_t>(j) * columns + i] = static_cast<float>(range);
+      (*ranges)[static_cast<size_t>(j) * columns + i] = static_cast<float>(value);
     }
-  }
   return true;
 }
 

@@ -29,24 +29,40 @@ struct RayConfig {
   int verticalRangeCount() const;  // rows
   // The angle between neighbouring ranges, as Gazebo's AngleResolution gives it.
   double angleIncrement() const;
+  // The direction of range `column` of a row (about the sensor's z) and of row `row` (up from
+  // the x-y plane), rad: between its rays' as its value is (RayScanner::range); a lone ray or
+  // row points along x, as Gazebo's.
+  double rangeYaw(int column) const;
+  double rangePitch(int row) const;
 };
 
 // Reads the <ray> of a <sensor> element (its XML text); false, with *error naming what is wrong,
 // when it is malformed or past what a scan can be.
 bool readRayConfig(const std::string& sensor_xml, RayConfig* config, std::string* error);
 
-// Measures the scans of one ray sensor: its rays start at range_min along their directions from
-// the sensor's pose on its link, as Gazebo's do, and meet every collision shape, the sensor's own
-// link's included. Ranges are in Gazebo's order (row after row, each from min_angle to max_angle)
-// and as it reports them: +inf where a ray meets nothing before range_max, -inf where it meets
-// something at range_min, else the distance with the noise added, held within the range.
+// Measures one ray sensor: its rays start at range_min along their directions from the sensor's
+// pose on its link, as Gazebo's do, and meet every collision shape, the sensor's own link's
+// included.
 class RayScanner {
  public:
   // link: scoped "model::link"; pose: the sensor on it; seed: the noise's generator's.
   RayScanner(const RayConfig& config, std::string link, const Pose& pose, uint64_t seed);
 
-  // One scan, at the world's present state; false (and *ranges untouched) when the world
-  // cannot give the link's pose or refuses the query, with *why.
+  // Casts the rays at the world's present state; false (and the last measurement kept) when the
+  // world cannot give the link's pose or refuses the query, with *why.
+  bool measure(World& world, std::string* why);
+  // Of the last measurement: ray (row, column)'s range from the sensor, range_max where it met
+  // nothing, as Gazebo's ray shape gives it (MultiRayShape::GetRange: no noise, no masking).
+  double rayRange(int row, int column) const;
+  // Of the last measurement: range (row, column) of the scan (rangeCount by verticalRangeCount),
+  // Gazebo's bilinear interpolation between the four rays around it; a ray's own range at a
+  // resolution of 1.
+  double range(int row, int column) const;
+
+  // One scan (measure), as Gazebo's ray sensor reports it: the ranges row after row, each from
+  // min_angle to max_angle, +inf where a ray meets nothing before range_max, -inf where it meets
+  // something at range_min, else the distance with the <ray><noise> added, held within the
+  // range. False (and *ranges untouched) as measure.
   bool scan(World& world, std::vector<float>* ranges, std::string* why);
 
   const RayConfig& config() const { return config_; }
@@ -57,7 +73,8 @@ class RayScanner {
   Pose pose_;
   std::vector<Vec3> directions_;  // each ray's, in the sensor frame
   std::vector<Ray> rays_;
-  std::vector<double> hits_;
+  std::vector<double> hits_;   // the last measurement's, per ray: castRays' distances
+  std::vector<double> casts_;  // the query's answer, before it is the measurement
   NoiseRandom random_;
   NoiseModel noise_;  // drawn from random_
 };
