@@ -62,7 +62,7 @@ MALFORMED_URDF = """<robot name="bad_cameras">
   </gazebo>
   <gazebo reference="body">
     <sensor type="camera" name="grey">
-      <camera><image><width>64</width><height>48</height><format>L16</format></image></camera>
+      <camera><image><width>64</width><height>48</height><format>FLOAT32</format></image></camera>
       <plugin name="grey_controller" filename="libgazebo_ros_camera.so">
         <cameraName>grey</cameraName>
       </plugin>
@@ -251,7 +251,7 @@ def test_the_camera_and_the_kinect_see_the_red_box_where_the_geometry_puts_it(
     log = ros.log_text(sim)
     assert log.count("libgazebo_ros_camera.so for model 'bad_cameras': sensor 'fisheye' not "
                      "started: <camera><horizontal_fov> is 4.0 rad") == 1, log
-    assert log.count("sensor 'grey' not started: <image><format> is 'L16'") == 1, log
+    assert log.count("sensor 'grey' not started: <image><format> is 'FLOAT32'") == 1, log
 
 
 @pytest.mark.parametrize('engine', ENGINES[:1])
