@@ -27,15 +27,18 @@ BAYER = {'rggb': ((0, 1), (1, 2)), 'bggr': ((2, 1), (1, 0)), 'gbrg': ((1, 2), (0
          'grbg': ((1, 0), (2, 1))}
 
 
-def camera_sensor(name, image_format, plugin='libgazebo_ros_camera.so', rate=10.0, extra=''):
+def camera_sensor(name, image_format='R8G8B8', plugin='libgazebo_ros_camera.so', rate=10.0,
+                  extra='', width=WIDTH, height=HEIGHT, fov=1.0, lens=''):
+    """A camera sensor on camera_link with its plugin; `extra`: more of the plugin's parameters,
+    `lens`: more of the <camera>'s elements."""
     return """  <gazebo reference="camera_link">
     <sensor type="camera" name="%(name)s_sensor">
       <update_rate>%(rate)r</update_rate>
       <camera name="%(name)s">
-        <horizontal_fov>1.0</horizontal_fov>
+        <horizontal_fov>%(fov)r</horizontal_fov>
         <image><width>%(width)d</width><height>%(height)d</height>
           <format>%(format)s</format></image>
-        <clip><near>0.05</near><far>20</far></clip>
+        <clip><near>0.05</near><far>20</far></clip>%(lens)s
       </camera>
       <plugin name="%(name)s_controller" filename="%(plugin)s">
         <cameraName>%(name)s</cameraName>
@@ -43,8 +46,8 @@ def camera_sensor(name, image_format, plugin='libgazebo_ros_camera.so', rate=10.
       </plugin>
     </sensor>
   </gazebo>
-""" % {'name': name, 'format': image_format, 'plugin': plugin, 'rate': rate, 'width': WIDTH,
-       'height': HEIGHT, 'extra': extra}
+""" % {'name': name, 'format': image_format, 'plugin': plugin, 'rate': rate, 'width': width,
+       'height': height, 'fov': fov, 'extra': extra, 'lens': lens}
 
 
 def cameras_urdf(sensors):
@@ -60,13 +63,17 @@ def cameras_urdf(sensors):
 %s</robot>""" % ''.join(sensors)
 
 
-def start(ros, rospy, engine, sensors):
-    """A paused lock-step simulator with `sensors` 1 m before a red box, off to the left."""
+def start(ros, rospy, engine, sensors, scene=None):
+    """A paused lock-step simulator with `sensors` and an SDF model `scene` (by default a red box
+    1 m before them, off to the left)."""
     sim = start_sim(ros, engine, args=['_paused:=true', '_lockstep:=true'])
     api = GazeboApi(rospy)
     spawned = api.spawn_urdf_model('cameras', cameras_urdf(sensors), '', pose(), '')
     assert spawned.success, spawned.status_message
-    spawned = api.spawn_sdf_model('red_box', box_sdf(size=0.4), '', pose(1.2, 0.15, 0.5), '')
+    if scene is None:
+        spawned = api.spawn_sdf_model('red_box', box_sdf(size=0.4), '', pose(1.2, 0.15, 0.5), '')
+    else:
+        spawned = api.spawn_sdf_model('scene', scene, '', pose(), '')
     assert spawned.success, spawned.status_message
     return sim, api
 
