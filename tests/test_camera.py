@@ -129,13 +129,19 @@ def record(ros, rospy, engine, periods, depth_plugin='libgazebo_ros_openni_kinec
     for name, urdf in (extra or {}).items():
         spawned = api.spawn_urdf_model(name, urdf, '', pose(), '')
         assert spawned.success, spawned.status_message
-    listener = Listener(ros, rospy, topics())
+    return sim, hear_periods(ros, rospy, api, topics(), periods)
+
+
+def hear_periods(ros, rospy, api, topics, periods, steps=PERIOD_STEPS):
+    """Subscribes to `topics` and steps the paused simulator `steps` at a time until every topic
+    heard once a time, `periods` times: what each heard."""
+    listener = Listener(ros, rospy, topics)
     for count in range(1, periods + 1):
-        assert api.step_simulation(PERIOD_STEPS).success
+        assert api.step_simulation(steps).success
         wait_until(lambda: all(len(heard) >= count for heard in listener.heard.values()), 60,
-                   what='period %d on every camera topic' % count)
+                   what='period %d on every topic' % count)
     listener.stop()
-    return sim, listener.heard
+    return listener.heard
 
 
 def rgb(image):

@@ -18,8 +18,7 @@ import numpy
 import pytest
 
 from conftest import ENGINES
-from onedof_harness.private_ros import wait_until
-from test_camera import Listener
+from test_camera import hear_periods
 from test_camera_formats import camera_sensor, start
 
 GREY = 178  # the background's channels: Gazebo's 0.7 grey
@@ -77,12 +76,9 @@ def record(ros, rospy, engine, names):
     _, api = start(ros, rospy, engine, SENSORS, scene=wall_sdf())
     topics = {'/%s/image_raw' % name: Image for name in names}
     topics.update({'/%s/camera_info' % name: CameraInfo for name in names})
-    listener = Listener(ros, rospy, topics)
-    assert api.step_simulation(100).success
-    wait_until(lambda: all(listener.heard.values()), 60, what='every camera')
-    listener.stop()
-    return ({name: image_array(listener.heard['/%s/image_raw' % name][0]) for name in names},
-            {name: listener.heard['/%s/camera_info' % name][0] for name in names})
+    heard = hear_periods(ros, rospy, api, topics, 1, 100)
+    return ({name: image_array(heard['/%s/image_raw' % name][0]) for name in names},
+            {name: heard['/%s/camera_info' % name][0] for name in names})
 
 
 def image_array(image):

@@ -11,7 +11,7 @@ import pytest
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
 from onedof_harness.private_ros import wait_until
-from test_camera import Listener, box_sdf
+from test_camera import Listener, box_sdf, hear_periods
 
 WIDTH, HEIGHT = 160, 120
 PERIOD_STEPS = 100  # the sensors' update_rate, 10 Hz, in 1 ms steps
@@ -95,11 +95,9 @@ def test_every_format_carries_the_rgb_cameras_pixels_in_its_encoding(ros, rospy_
     _, api = start(ros, rospy_client, engine,
                    [camera_sensor(name, image_format)
                     for name, (image_format, _, _) in FORMATS.items()])
-    listener = Listener(ros, rospy_client, {'/%s/image_raw' % name: Image for name in FORMATS})
-    assert api.step_simulation(PERIOD_STEPS).success
-    wait_until(lambda: all(listener.heard.values()), 60, what='an image of every format')
-    listener.stop()
-    images = {name: listener.heard['/%s/image_raw' % name][0] for name in FORMATS}
+    heard = hear_periods(ros, rospy_client, api,
+                         {'/%s/image_raw' % name: Image for name in FORMATS}, 1, PERIOD_STEPS)
+    images = {name: heard['/%s/image_raw' % name][0] for name in FORMATS}
     for name, (_, encoding, size) in FORMATS.items():
         image = images[name]
         assert (image.encoding, image.width, image.height, image.step) == \

@@ -13,8 +13,8 @@ import pytest
 
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
-from onedof_harness.private_ros import wait_until
-from test_camera import Listener, box_sdf, red_columns, rgb
+from test_camera import box_sdf, hear_periods, red_columns, rgb
+from test_camera_formats import cameras_urdf
 
 URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'robots', 'stereo_bot.urdf')
 WIDTH, HEIGHT, FOV = 640, 480, 1.0
@@ -60,24 +60,11 @@ def record(ros, rospy, engine, periods, urdf=None, extra=None):
     for name, model in (extra or {}).items():
         spawned = api.spawn_urdf_model(name, model, '', pose(), '')
         assert spawned.success, spawned.status_message
-    listener = Listener(ros, rospy, topics())
-    for count in range(1, periods + 1):
-        assert api.step_simulation(PERIOD_STEPS).success
-        wait_until(lambda: all(len(heard) >= count for heard in listener.heard.values()), 60,
-                   what='period %d on every stereo topic' % count)
-    listener.stop()
-    return sim, listener.heard
+    return sim, hear_periods(ros, rospy, api, topics(), periods, PERIOD_STEPS)
 
 
 # A multicamera with a camera of neither name and two that would both publish as left.
-MISNAMED_URDF = """<robot name="misnamed_stereo">
-  <link name="world"/>
-  <joint name="weld" type="fixed"><parent link="world"/><child link="body"/></joint>
-  <link name="body">
-    <inertial><mass value="1"/>
-      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
-  </link>
-  <gazebo reference="body">
+MISNAMED_URDF = cameras_urdf(["""  <gazebo reference="camera_link">
     <sensor type="multicamera" name="twin_lefts">
       <camera name="middle"><image><width>64</width><height>48</height></image></camera>
       <camera name="left_a"><image><width>64</width><height>48</height></image></camera>
@@ -87,7 +74,7 @@ MISNAMED_URDF = """<robot name="misnamed_stereo">
       </plugin>
     </sensor>
   </gazebo>
-</robot>"""
+"""])
 
 
 @pytest.mark.parametrize('engine', ENGINES)
