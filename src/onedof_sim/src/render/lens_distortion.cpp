@@ -106,9 +106,7 @@ LensDistortion::LensDistortion(const DistortionCoefficients& lens, int width, in
   }
 
   const int render_width = renderWidth(), render_height = renderHeight();
-  source_.assign(pixels, -1);
-  weight_x_.assign(pixels, 0);
-  weight_y_.assign(pixels, 0);
+  sources_.assign(pixels, Source());
   for (size_t p = 0; p < pixels; ++p) {
     const double sx = from_x[p] + margin_x_, sy = from_y[p] + margin_y_;
     if (!seen[p] || sx < 0 || sy < 0 || sx > render_width - 1 || sy > render_height - 1) {
@@ -119,9 +117,9 @@ LensDistortion::LensDistortion(const DistortionCoefficients& lens, int width, in
     // towards the next is 1 (or, one pixel wide, 0 towards itself).
     const int x0 = std::max(0, std::min(static_cast<int>(sx), render_width - 2));
     const int y0 = std::max(0, std::min(static_cast<int>(sy), render_height - 2));
-    source_[p] = y0 * render_width + x0;
-    weight_x_[p] = static_cast<float>(sx - x0);
-    weight_y_[p] = static_cast<float>(sy - y0);
+    sources_[p].pixel = y0 * render_width + x0;
+    sources_[p].weight_x = static_cast<uint16_t>(std::lround((sx - x0) * kWeightOne));
+    sources_[p].weight_y = static_cast<uint16_t>(std::lround((sy - y0) * kWeightOne));
   }
 }
 
@@ -129,45 +127,44 @@ double LensDistortion::renderHorizontalFov() const {
   return 2 * std::atan(renderWidth() / (2 * focal_));
 }
 
-namespace {
-
 template <class Channel>
-void remap(const std::vector<Channel>& from, int render_width, int render_height,
-           const std::vector<int32_t>& source, const std::vector<float>& weight_x,
-           const std::vector<float>& weight_y, std::vector<Channel>* to) {
+void LensDistortion::remap(const std::vector<Channel>& from, std::vector<Channel>* to) const {
+  const int render_width = renderWidth();
   const size_t right = render_width > 1 ? 3 : 0;
-  const size_t down = render_height > 1 ? static_cast<size_t>(render_width) * 3 : 0;
-  to->resize(source.size() * 3);
+  const size_t down = renderHeight() > 1 ? static_cast<size_t>(render_width) * 3 : 0;
+  // Weights of kWeightOne^2 in all: a 16-bit channel's sum stays within 32 bits.
+  constexpr uint32_t kOne = kWeightOne, kHalf = kWeightOne * kWeightOne / 2;
+  static_assert(65535ull * kWeightOne * kWeightOne + kHalf <= 0xffffffffull, "overflow");
+  to->resize(sources_.size() * 3);
   Channel* out = to->data();
-  for (size_t p = 0; p < source.size(); ++p, out += 3) {
-    if (source[p] < 0) {
+  for (const Source& source : sources_) {
+    if (source.pixel < 0) {
       out[0] = out[1] = out[2] = 0;
+      out += 3;
       continue;
     }
-    const float wx = weight_x[p], wy = weight_y[p];
-    const Channel* a = &from[static_cast<size_t>(source[p]) * 3];
+    const uint32_t wx = source.weight_x, wy = source.weight_y;
+    const Channel* a = &from[static_cast<size_t>(source.pixel) * 3];
     const Channel* b = a + right;
     const Channel* c = a + down;
     const Channel* d = c + right;
     for (int k = 0; k < 3; ++k) {
-      const float top = a[k] + wx * (static_cast<float>(b[k]) - a[k]);
-      const float bottom = c[k] + wx * (static_cast<float>(d[k]) - c[k]);
-      out[k] = static_cast<Channel>(std::lround(top + wy * (bottom - top)));
+      const uint32_t top = a[k] * (kOne - wx) + b[k] * wx;
+      const uint32_t bottom = c[k] * (kOne - wx) + d[k] * wx;
+      *out++ = static_cast<Channel>((top * (kOne - wy) + bottom * wy + kHalf) /
+                                    (kOne * kOne));
     }
   }
 }
 
-}  // namespace
-
 void LensDistortion::apply(const Frame& rendered, Frame* out) const {
-  const int render_width = renderWidth(), render_height = renderHeight();
+  const int render_width = renderWidth();
   out->width = width_, out->height = height_;
   if (!rendered.rgb16.empty()) {
-    remap(rendered.rgb16, render_width, render_height, source_, weight_x_, weight_y_,
-          &out->rgb16);
+    remap(rendered.rgb16, &out->rgb16);
     out->rgb.clear();
   } else {
-    remap(rendered.rgb, render_width, render_height, source_, weight_x_, weight_y_, &out->rgb);
+    remap(rendered.rgb, &out->rgb);
     out->rgb16.clear();
   }
   out->depth.resize(static_cast<size_t>(width_) * height_);

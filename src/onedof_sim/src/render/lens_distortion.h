@@ -63,14 +63,22 @@ class LensDistortion {
   void apply(const Frame& rendered, Frame* out) const;
 
  private:
+  template <class Channel>
+  void remap(const std::vector<Channel>& from, std::vector<Channel>* to) const;
+
   int width_, height_;
   double focal_;
   int margin_x_ = 0, margin_y_ = 0;
   long black_pixels_ = 0;
   // For each pixel of the image: the render's pixel at the top left of the four it is
-  // interpolated from (-1: black), and its weights towards the right and the bottom.
-  std::vector<int32_t> source_;
-  std::vector<float> weight_x_, weight_y_;
+  // interpolated from (-1: black), and its weights towards the right and the bottom, in
+  // 1/kWeightOne (fixed point: the per-frame remap is integer arithmetic).
+  struct Source {
+    int32_t pixel = -1;
+    uint16_t weight_x = 0, weight_y = 0;
+  };
+  static constexpr uint32_t kWeightOne = 256;
+  std::vector<Source> sources_;
 };
 
 }  // namespace render
