@@ -214,8 +214,10 @@ bool readCamera(const tinyxml2::XMLElement* camera, CameraConfig* config, std::s
     return false;
   }
   if (!(c.near_clip > 0 && c.far_clip > c.near_clip)) {
-    *error = "<clip> is near " + text(sensorPath(clip, {"near"})) + " far " +
-             text(sensorPath(clip, {"far"})) + ": it needs 0 < near < far";
+    std::ostringstream what;
+    what << "<clip> is near " << c.near_clip << " far " << c.far_clip
+         << ": it needs 0 < near < far";
+    *error = what.str();
     return false;
   }
   if (const auto* format = sensorPath(image, {"format"})) c.format = text(format);
