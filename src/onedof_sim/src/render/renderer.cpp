@@ -164,11 +164,12 @@ struct Renderer::Impl {
   std::map<std::string, GpuShape> meshes;  // key: file and scale
   std::set<std::string> failed_meshes;
   GLuint framebuffer = 0, color = 0, depth_out = 0, depth_test = 0;
-  int width = 0, height = 0;
+  int width = 0, height = 0, channel_bits = 0;
   std::set<std::string> reported;
   std::vector<std::string> problems;
   // The pixels as read back (bottom row first), kept from frame to frame.
   std::vector<uint8_t> rgb_rows;
+  std::vector<uint16_t> rgb16_rows;
   std::vector<float> depth_rows;
 
   GpuShape upload(const std::vector<float>& vertices) {
@@ -234,8 +235,8 @@ struct Renderer::Impl {
     return &meshes.emplace(key.str(), upload(meshVertices(*mesh))).first->second;
   }
 
-  void resize(int w, int h) {
-    if (w == width && h == height) return;
+  void resize(int w, int h, int bits) {
+    if (w == width && h == height && bits == channel_bits) return;
     if (framebuffer) {
       glDeleteFramebuffers(1, &framebuffer);
       glDeleteRenderbuffers(1, &color);
@@ -250,12 +251,12 @@ struct Renderer::Impl {
       glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
       glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, *buffer);
     };
-    attach(&color, GL_RGBA8, GL_COLOR_ATTACHMENT0);
+    attach(&color, bits == 16 ? GL_RGBA16 : GL_RGBA8, GL_COLOR_ATTACHMENT0);
     attach(&depth_out, GL_R32F, GL_COLOR_ATTACHMENT1);
     attach(&depth_test, GL_DEPTH_COMPONENT32F, GL_DEPTH_ATTACHMENT);
     const GLenum outputs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, outputs);
-    width = w, height = h;
+    width = w, height = h, channel_bits = bits;
   }
 };
 
@@ -334,9 +335,9 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
     *error = "horizontal_fov must be in (0, pi) rad";
     return false;
   }
-  // 16384: the largest renderbuffer llvmpipe makes.
-  if (camera.width < 1 || camera.height < 1 || camera.width > 16384 || camera.height > 16384) {
-    *error = "width and height must be in [1, 16384] pixels";
+  if (camera.width < 1 || camera.height < 1 || camera.width > kMaxSide ||
+      camera.height > kMaxSide) {
+    *error = "width and height must be in [1, " + std::to_string(kMaxSide) + "] pixels";
     return false;
   }
   if (!(camera.near_clip > 0 && camera.far_clip > camera.near_clip &&
@@ -344,12 +345,16 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
     *error = "near and far clip must be finite with 0 < near < far";
     return false;
   }
+  if (camera.channel_bits != 8 && camera.channel_bits != 16) {
+    *error = "channel_bits must be 8 or 16";
+    return false;
+  }
   if (!impl_->context->makeCurrent()) {
     *error = "the renderer's EGL context cannot be made current";
     return false;
   }
   Impl& gl = *impl_;
-  gl.resize(camera.width, camera.height);
+  gl.resize(camera.width, camera.height, camera.channel_bits);
   glBindFramebuffer(GL_FRAMEBUFFER, gl.framebuffer);
   glViewport(0, 0, camera.width, camera.height);
   glEnable(GL_DEPTH_TEST);
@@ -413,23 +418,34 @@ bool Renderer::render(const std::vector<VisualShape>& visuals, const CameraSpec&
 
   // OpenGL's rows run bottom-up; the image's top-down.
   const int w = camera.width, h = camera.height;
-  std::vector<uint8_t>& rgb = gl.rgb_rows;
+  const bool deep = camera.channel_bits == 16;
+  const size_t row_values = static_cast<size_t>(w) * 3;
   std::vector<float>& depth = gl.depth_rows;
-  rgb.resize(static_cast<size_t>(w) * h * 3);
   depth.resize(static_cast<size_t>(w) * h);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  if (deep) {
+    gl.rgb16_rows.resize(row_values * h);
+    glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_SHORT, gl.rgb16_rows.data());
+  } else {
+    gl.rgb_rows.resize(row_values * h);
+    glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, gl.rgb_rows.data());
+  }
   glReadBuffer(GL_COLOR_ATTACHMENT1);
   glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, depth.data());
   frame->width = w, frame->height = h;
-  frame->rgb.resize(rgb.size());
+  frame->rgb.resize(deep ? 0 : row_values * h);
+  frame->rgb16.resize(deep ? row_values * h : 0);
   frame->depth.resize(depth.size());
   for (int row = 0; row < h; ++row) {
-    std::copy_n(rgb.data() + static_cast<size_t>(h - 1 - row) * w * 3, w * 3,
-                frame->rgb.data() + static_cast<size_t>(row) * w * 3);
-    std::copy_n(depth.data() + static_cast<size_t>(h - 1 - row) * w, w,
-                frame->depth.data() + static_cast<size_t>(row) * w);
+    const size_t from = static_cast<size_t>(h - 1 - row), to = static_cast<size_t>(row);
+    if (deep)
+      std::copy_n(gl.rgb16_rows.data() + from * row_values, row_values,
+                  frame->rgb16.data() + to * row_values);
+    else
+      std::copy_n(gl.rgb_rows.data() + from * row_values, row_values,
+                  frame->rgb.data() + to * row_values);
+    std::copy_n(depth.data() + from * w, w, frame->depth.data() + to * w);
   }
   const GLenum gl_error = glGetError();
   if (gl_error != GL_NO_ERROR) {

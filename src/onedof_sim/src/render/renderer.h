@@ -56,16 +56,21 @@ struct CameraSpec {
   double horizontal_fov = 1.047;  // rad, in (0, pi)
   int width = 320, height = 240;  // pixels, at least 1
   double near_clip = 0.1, far_clip = 100;  // m, 0 < near < far
+  int channel_bits = 8;  // the colour image's bits a channel: 8 (Frame::rgb) or 16 (rgb16)
 };
 
 struct Frame {
   int width = 0, height = 0;
-  std::vector<uint8_t> rgb;  // rgb8, row 0 at the top, width * 3 bytes a row
+  std::vector<uint8_t> rgb;  // 8 bits a channel: r g b, row 0 at the top, width * 3 a row
+  std::vector<uint16_t> rgb16;  // 16 bits a channel, likewise; each filled as the camera asks
   std::vector<float> depth;  // metres, row 0 at the top (see "Depth" above)
 };
 
 class Renderer {
  public:
+  // The widest and the highest image it renders: the largest renderbuffer llvmpipe makes.
+  static constexpr int kMaxSide = 16384;
+
   // A renderer on Mesa's surfaceless EGL platform; null and *error saying why when EGL or
   // OpenGL 3.3 is not to be had.
   static std::unique_ptr<Renderer> create(std::string* error);

@@ -124,6 +124,29 @@ TEST(Renderer, BoxIsRedAndTheBackgroundGrey) {
   EXPECT_EQ(corner[2], 178);
 }
 
+TEST(Renderer, SixteenBitsAChannelAreTheEightBitColoursFiner) {
+  auto renderer = makeRenderer();
+  ASSERT_TRUE(renderer);
+  Frame narrow, deep;
+  std::string error;
+  ASSERT_TRUE(renderer->render({redBox()}, camera(), &narrow, &error)) << error;
+  CameraSpec spec = camera();
+  spec.channel_bits = 16;
+  ASSERT_TRUE(renderer->render({redBox()}, spec, &deep, &error)) << error;
+  ASSERT_TRUE(deep.rgb.empty());
+  ASSERT_EQ(deep.rgb16.size(), narrow.rgb.size());
+  EXPECT_EQ(deep.depth, narrow.depth);
+  // The same colours, each rounded to 16 bits instead of 8: 0.4 red is 26214 (102 x 257 = 26214),
+  // the 0.7 grey background 45874.5 rounded (178 x 257 = 45746).
+  const int u = static_cast<int>(columnOf(0.1, 1.9)), v = kHeight / 2;
+  const size_t red = (static_cast<size_t>(v) * kWidth + u) * 3;
+  EXPECT_NEAR(deep.rgb16[red], 26214, 1);
+  EXPECT_EQ(deep.rgb16[red + 1], 0);
+  EXPECT_NEAR(deep.rgb16[0], 45875, 1);
+  for (size_t i = 0; i < narrow.rgb.size(); ++i)
+    ASSERT_LE(std::abs(deep.rgb16[i] / 257.0 - narrow.rgb[i]), 0.5 + 1.0 / 257) << i;
+}
+
 TEST(Renderer, DepthIsTheDistanceAlongTheOpticalAxis) {
   auto renderer = makeRenderer();
   ASSERT_TRUE(renderer);

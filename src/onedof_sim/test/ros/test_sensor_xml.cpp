@@ -146,7 +146,9 @@ TEST(SensorXml, ReadsACameraWithSdfsDefaultsItsPoseAndItsNoise) {
   EXPECT_EQ(c.horizontal_fov, 1.047);
   EXPECT_EQ(c.width, 320);
   EXPECT_EQ(c.height, 240);
-  EXPECT_FALSE(c.bgr);
+  EXPECT_EQ(c.pixel_format, PixelFormat::Rgb8);
+  EXPECT_EQ(c.name, "__default__");
+  EXPECT_TRUE(c.distortion.none());
   EXPECT_FALSE(c.noise.on);
   ASSERT_TRUE(readCameraConfig(
       sensor("camera", "<camera><horizontal_fov>1.2</horizontal_fov><image><width>64</width>"
@@ -157,7 +159,7 @@ TEST(SensorXml, ReadsACameraWithSdfsDefaultsItsPoseAndItsNoise) {
       &c, &error))
       << error;
   EXPECT_EQ(c.width, 64);
-  EXPECT_TRUE(c.bgr);
+  EXPECT_EQ(c.pixel_format, PixelFormat::Bgr8);
   EXPECT_EQ(c.far_clip, 30);
   EXPECT_EQ(c.pose.position.z, 0.1);
   expectNear(c.pose.orientation, fromRpy(0, 0.5, 0));
@@ -170,11 +172,19 @@ TEST(SensorXml, RefusesAMalformedCameraNamingWhatIsWrong) {
   std::string error;
   EXPECT_FALSE(readCameraConfig(sensor("camera", ""), &c, &error));
   EXPECT_EQ(error, "it has no <camera>");
-  EXPECT_FALSE(readCameraConfig(sensor("camera", "<camera><image><format>L16</format></image>"
+  EXPECT_FALSE(readCameraConfig(sensor("camera", "<camera><image><format>FLOAT32</format>"
+                                                 "</image></camera>"),
+                                &c, &error));
+  EXPECT_EQ(error, "<image><format> is 'FLOAT32': gazebo_ros's cameras publish R8G8B8, B8G8R8, "
+                   "L8, R16G16B16, L16 and BAYER_RGGB8, _BGGR8, _GBRG8, _GRBG8 images");
+  EXPECT_FALSE(readCameraConfig(sensor("camera", "<camera><distortion><k1>x</k1></distortion>"
                                                  "</camera>"),
                                 &c, &error));
-  EXPECT_EQ(error, "<image><format> is 'L16': the cameras here render R8G8B8 (rgb8) and B8G8R8 "
-                   "(bgr8) images only");
+  EXPECT_EQ(error, "<distortion><k1> is 'x', not a number");
+  EXPECT_FALSE(readCameraConfig(sensor("camera", "<camera><distortion><center>0.5</center>"
+                                                 "</distortion></camera>"),
+                                &c, &error));
+  EXPECT_EQ(error, "<distortion><center> is '0.5', not two numbers");
   EXPECT_FALSE(readCameraConfig(sensor("camera", "<camera><horizontal_fov>3.2</horizontal_fov>"
                                                  "</camera>"),
                                 &c, &error));
@@ -192,6 +202,88 @@ TEST(SensorXml, RefusesAMalformedCameraNamingWhatIsWrong) {
                                 &c, &error));
   EXPECT_EQ(error, "<camera><noise> has a negative stddev, bias_stddev, dynamic_bias_stddev, "
                    "dynamic_bias_correlation_time or precision");
+}
+
+TEST(SensorXml, ReadsEveryFormatGazeboRosPublishesByItsNames) {
+  const std::pair<const char*, PixelFormat> names[] = {
+      {"R8G8B8", PixelFormat::Rgb8},        {"RGB_INT8", PixelFormat::Rgb8},
+      {"B8G8R8", PixelFormat::Bgr8},        {"L8", PixelFormat::Mono8},
+      {"L_INT8", PixelFormat::Mono8},       {"L16", PixelFormat::Mono16},
+      {"L_UINT16", PixelFormat::Mono16},    {"R16G16B16", PixelFormat::Rgb16},
+      {"RGB_INT16", PixelFormat::Rgb16},    {"BAYER_RGGB8", PixelFormat::BayerRggb8},
+      {"BAYER_GRBG8", PixelFormat::BayerGrbg8}};
+  for (const auto& [name, format] : names) {
+    CameraConfig c;
+    std::string error;
+    ASSERT_TRUE(readCameraConfig(sensor("camera", std::string("<camera><image><format>") + name +
+                                                      "</format></image></camera>"),
+                                 &c, &error))
+        << name << ": " << error;
+    EXPECT_EQ(c.pixel_format, format) << name;
+  }
+  EXPECT_STREQ(encodingOf(PixelFormat::Mono16), "mono16");
+  EXPECT_STREQ(encodingOf(PixelFormat::BayerGbrg8), "bayer_gbrg8");
+  EXPECT_EQ(bytesPerPixel(PixelFormat::Rgb16), 6);
+  EXPECT_TRUE(sixteenBits(PixelFormat::Mono16));
+  EXPECT_FALSE(sixteenBits(PixelFormat::BayerRggb8));
+}
+
+TEST(SensorXml, ReadsALensAndAMulticamerasCamerasInOrder) {
+  std::vector<CameraConfig> cameras;
+  std::string error;
+  ASSERT_TRUE(readCameraConfigs(
+      sensor("multicamera", "<camera name='left'><distortion><k1>-0.2</k1><p2>0.01</p2>"
+                            "<center>0.4 0.6</center></distortion></camera>"
+                            "<camera name='right'><pose>0 -0.07 0 0 0 0</pose></camera>"),
+      &cameras, &error))
+      << error;
+  ASSERT_EQ(cameras.size(), 2u);
+  EXPECT_EQ(cameras[0].name, "left");
+  EXPECT_EQ(cameras[0].distortion.k1, -0.2);
+  EXPECT_EQ(cameras[0].distortion.p2, 0.01);
+  EXPECT_EQ(cameras[0].distortion.center_x, 0.4);
+  EXPECT_EQ(cameras[0].distortion.center_y, 0.6);
+  EXPECT_EQ(cameras[1].name, "right");
+  EXPECT_EQ(cameras[1].pose.position.y, -0.07);
+  EXPECT_TRUE(cameras[1].distortion.none());
+  EXPECT_FALSE(readCameraConfigs(
+      sensor("multicamera", "<camera name='left'/><camera name='right'><clip><near>0</near>"
+                            "</clip></camera>"),
+      &cameras, &error));
+  EXPECT_EQ(error, "camera 'right': <clip> is near 0 far 100: it needs 0 < near < far");
+  EXPECT_TRUE(cameras.empty());
+  EXPECT_FALSE(readCameraConfigs(sensor("multicamera", ""), &cameras, &error));
+  EXPECT_EQ(error, "it has no <camera>");
+}
+
+TEST(SensorXml, EncodesAFramesPixelsInEachFormat) {
+  render::Frame frame;
+  frame.width = 2, frame.height = 2;
+  // Red, green / blue, grey (r g b), and 16-bit values whose bytes tell their order.
+  frame.rgb = {200, 0, 0, 0, 100, 0, 0, 0, 50, 10, 20, 30};
+  std::vector<uint8_t> out(12);
+  encodePixels(PixelFormat::Bgr8, frame, out.data());
+  EXPECT_EQ(out, (std::vector<uint8_t>{0, 0, 200, 0, 100, 0, 50, 0, 0, 30, 20, 10}));
+  encodePixels(PixelFormat::Mono8, frame, out.data());
+  // (299 r + 587 g + 114 b + 500) / 1000
+  EXPECT_EQ(std::vector<uint8_t>(out.begin(), out.begin() + 4),
+            (std::vector<uint8_t>{60, 59, 6, 18}));
+  const std::pair<PixelFormat, std::vector<uint8_t>> bayer[] = {
+      {PixelFormat::BayerRggb8, {200, 100, 0, 30}}, {PixelFormat::BayerBggr8, {0, 100, 0, 10}},
+      {PixelFormat::BayerGbrg8, {0, 0, 0, 20}},     {PixelFormat::BayerGrbg8, {0, 0, 50, 20}}};
+  for (const auto& [format, expected] : bayer) {
+    encodePixels(format, frame, out.data());
+    EXPECT_EQ(std::vector<uint8_t>(out.begin(), out.begin() + 4), expected)
+        << encodingOf(format);
+  }
+  frame.rgb.clear();
+  frame.rgb16 = {0x0102, 0, 0, 0, 0x0304, 0, 0, 0, 0x0506, 1000, 2000, 3000};
+  encodePixels(PixelFormat::Rgb16, frame, out.data());
+  EXPECT_EQ(std::vector<uint8_t>(out.begin(), out.begin() + 6),
+            (std::vector<uint8_t>{0x02, 0x01, 0, 0, 0, 0}));  // little-endian
+  encodePixels(PixelFormat::Mono16, frame, out.data());
+  EXPECT_EQ(out[4] | out[5] << 8, 147);   // (114 x 1286 + 500) / 1000
+  EXPECT_EQ(out[6] | out[7] << 8, 1815);  // (299 x 1000 + 587 x 2000 + 114 x 3000 + 500) / 1000
 }
 
 TEST(SensorXml, ReadsAnImusNoisePerAxisAndSdf14sForAll) {

@@ -33,7 +33,8 @@ void stamp(std_msgs::Header* header, const std::string& frame_id, int64_t time_n
 }  // namespace
 
 bool CameraUtils::load(const SensorPluginContext& context, const CameraConfig& camera,
-                       std::string* error) {
+                       std::string* error, const std::string& name_suffix,
+                       std::optional<double> hack_baseline) {
   label_ = context.plugin.filename + " of sensor '" + context.sensor.name + "' (model '" +
            context.plugin.model + "')";
   const PluginParams params(context.plugin.plugin_xml, label_);
@@ -41,11 +42,11 @@ bool CameraUtils::load(const SensorPluginContext& context, const CameraConfig& c
   std::string robot_namespace = context.plugin.robot_namespace;
   if (params.has("robotNamespace") && robot_namespace.empty())
     robot_namespace = context.plugin.model;
-  const std::string camera_name = params.text("cameraName", "");
-  double hack_baseline = 0, focal_length = 0, cx = 0, cy = 0, cx_prime = 0;
+  camera_name_ = params.text("cameraName", "") + name_suffix;
+  double baseline = 0, focal_length = 0, cx = 0, cy = 0, cx_prime = 0;
   double k1 = 0, k2 = 0, k3 = 0, t1 = 0, t2 = 0;
   if (!params.number("updateRate", 0, &update_rate_, error) ||
-      !params.number("hackBaseline", 0, &hack_baseline, error) ||
+      !params.number("hackBaseline", 0, &baseline, error) ||
       !params.number("focalLength", 0, &focal_length, error) ||
       !params.number("Cx", 0, &cx, error) || !params.number("Cy", 0, &cy, error) ||
       !params.number("CxPrime", 0, &cx_prime, error) ||
@@ -55,13 +56,25 @@ bool CameraUtils::load(const SensorPluginContext& context, const CameraConfig& c
       !params.number("distortionT1", 0, &t1, error) ||
       !params.number("distortionT2", 0, &t2, error))
     return false;
+  if (hack_baseline) baseline = *hack_baseline;
   if (update_rate_ < 0) {
     *error = "<updateRate> is " + std::to_string(update_rate_) + ", not a rate >= 0";
     return false;
   }
-  node_ = ros::NodeHandle(robot_namespace + "/" + camera_name);
+  // <autoDistortion>: CameraInfo's D from the lens's <distortion>, where the image's
+  // distortion comes from, instead of the distortion parameters.
+  if (params.flag("autoDistortion", false)) {
+    const render::DistortionCoefficients& lens = camera.distortion;
+    k1 = lens.k1, k2 = lens.k2, k3 = lens.k3, t1 = lens.p1, t2 = lens.p2;
+  }
+  if (camera.distortion.k1 < 0 && params.flag("borderCrop", true))
+    ROS_INFO_STREAM(label_ << ": its barrel distortion's image is not cropped and scaled "
+                    << "(<borderCrop>, Gazebo's in its legacy distortion mode): the lens sees "
+                    << "past the pinhole's field of view, as a real one does, and CameraInfo's "
+                    << "K and D describe the image");
+  node_ = ros::NodeHandle(robot_namespace + "/" + camera_name_);
   frame_id_ = resolveTfFrame(tfPrefix(node_), params.text("frameName", ""));
-  bgr_ = camera.bgr;
+  format_ = camera.pixel_format;
   horizontal_fov_ = camera.horizontal_fov;
 
   // Gazebo's CameraInfo: the focal length from the field of view and the width (fx = fy), the
@@ -87,8 +100,7 @@ bool CameraUtils::load(const SensorPluginContext& context, const CameraConfig& c
   info_.D = {k1, k2, t1, t2, k3};
   info_.K = {focal_length, 0, cx, 0, focal_length, cy, 0, 0, 1};
   info_.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  info_.P = {focal_length, 0, cx, -focal_length * hack_baseline, 0, focal_length, cy, 0, 0, 0,
-             1, 0};
+  info_.P = {focal_length, 0, cx, -focal_length * baseline, 0, focal_length, cy, 0, 0, 0, 1, 0};
 
   image_publisher_ = node_.advertise<sensor_msgs::Image>(
       params.text("imageTopicName", "image_raw"), 2);
@@ -112,19 +124,11 @@ void CameraUtils::addImage(const render::Frame& frame, int64_t time_ns, Publicat
   stamp(&image.header, frame_id_, time_ns);
   image.height = static_cast<uint32_t>(frame.height);
   image.width = static_cast<uint32_t>(frame.width);
-  image.encoding = bgr_ ? sensor_msgs::image_encodings::BGR8 : sensor_msgs::image_encodings::RGB8;
+  image.encoding = encodingOf(format_);
   image.is_bigendian = 0;
-  image.step = static_cast<uint32_t>(frame.width) * 3;
-  image.data.resize(frame.rgb.size());
-  if (!bgr_) {
-    std::memcpy(image.data.data(), frame.rgb.data(), frame.rgb.size());
-  } else {
-    for (size_t i = 0; i < frame.rgb.size(); i += 3) {
-      image.data[i] = frame.rgb[i + 2];
-      image.data[i + 1] = frame.rgb[i + 1];
-      image.data[i + 2] = frame.rgb[i];
-    }
-  }
+  image.step = static_cast<uint32_t>(frame.width * bytesPerPixel(format_));
+  image.data.resize(static_cast<size_t>(image.step) * frame.height);
+  encodePixels(format_, frame, image.data.data());
   out->add(image_publisher_, image_);
 }
 
@@ -219,9 +223,10 @@ void CameraUtils::addPointCloud(const ros::Publisher& publisher, const render::F
       }
       std::memcpy(point, xyz, sizeof(xyz));
       const uint8_t* rgb = &frame.rgb[pixel * 3];
-      point[16] = bgr_ ? rgb[2] : rgb[0];
+      const bool bgr = format_ == PixelFormat::Bgr8;
+      point[16] = bgr ? rgb[2] : rgb[0];
       point[17] = rgb[1];
-      point[18] = bgr_ ? rgb[0] : rgb[2];
+      point[18] = bgr ? rgb[0] : rgb[2];
     }
   }
   out->add(publisher, cloud_);

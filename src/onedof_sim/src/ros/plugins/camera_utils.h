@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <boost/shared_ptr.hpp>
@@ -24,7 +25,11 @@ class CameraUtils {
  public:
   // Reads the <plugin> (its image and camera_info topics defaulting to image_raw and
   // camera_info) and advertises them; false, with *error, when a parameter is malformed.
-  bool load(const SensorPluginContext& context, const CameraConfig& camera, std::string* error);
+  // name_suffix follows <cameraName> in the topics' namespace and hack_baseline, when given,
+  // stands for <hackBaseline> (a multicamera's left and right cameras: "/left", 0).
+  bool load(const SensorPluginContext& context, const CameraConfig& camera, std::string* error,
+            const std::string& name_suffix = "",
+            std::optional<double> hack_baseline = std::nullopt);
 
   // The sensor's gate: its <update_rate>, or where that is 0 (Gazebo then renders as fast as
   // its render loop goes, a wall-clock rate) the plugin's <updateRate>, else 30 Hz; said once.
@@ -36,11 +41,12 @@ class CameraUtils {
   bool imageWanted() const { return image_publisher_.getNumSubscribers() > 0; }
   bool infoWanted() const { return info_publisher_.getNumSubscribers() > 0; }
 
-  // The frame as the image message (rgb8, or bgr8 for B8G8R8), stamped, queued to publish.
+  // The frame as the image message in the camera's format's encoding, stamped, queued.
   void addImage(const render::Frame& frame, int64_t time_ns, PublicationQueue* out);
   // CameraInfo stamped at time_ns, queued on `publisher` (the camera's, or a depth one's).
   void addInfo(const ros::Publisher& publisher, int64_t time_ns, PublicationQueue* out) const;
   const ros::Publisher& infoPublisher() const { return info_publisher_; }
+  const std::string& cameraName() const { return camera_name_; }
 
   // Gazebo's depth plugins' outputs from a frame: depth in metres (32FC1) and the point cloud in
   // the optical frame (x y z, rgb from the image's bytes), NaN at depths not within
@@ -53,10 +59,11 @@ class CameraUtils {
 
  private:
   std::string label_;
+  std::string camera_name_;  // <cameraName> and the suffix
   ros::NodeHandle node_;
   std::string frame_id_;
   double update_rate_ = 0;
-  bool bgr_ = false;
+  PixelFormat format_ = PixelFormat::Rgb8;
   double horizontal_fov_ = 1.047;
   sensor_msgs::CameraInfo info_;
   ros::Publisher image_publisher_, info_publisher_;

@@ -103,6 +103,11 @@ std::unique_ptr<ModelPlugin> makeDepthCamera(const SensorPluginContext& context,
                                              std::string* error) {
   CameraConfig camera;
   if (!readCameraConfig(context.sensor.xml, &camera, error)) return nullptr;
+  if (camera.pixel_format != PixelFormat::Rgb8 && camera.pixel_format != PixelFormat::Bgr8) {
+    *error = "<image><format> is '" + camera.format + "': the depth cameras here render "
+             "R8G8B8 and B8G8R8 colour images";
+    return nullptr;
+  }
   auto utils = std::make_unique<CameraUtils>();
   if (!utils->load(context, camera, error)) return nullptr;
   const PluginParams params(context.plugin.plugin_xml, utils->label());

@@ -18,9 +18,12 @@ std::unique_ptr<ModelPlugin> makeGazeboRosCamera(const SensorPluginContext&, std
 std::unique_ptr<ModelPlugin> makeGazeboRosDepthCamera(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosImuSensor(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosLaser(const SensorPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosMultiCamera(const SensorPluginContext&, std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosOpenniKinect(const SensorPluginContext&,
                                                        std::string*);
 std::unique_ptr<ModelPlugin> makeGazeboRosRange(const SensorPluginContext&, std::string*);
+std::unique_ptr<ModelPlugin> makeGazeboRosTriggeredCamera(const SensorPluginContext&,
+                                                          std::string*);
 
 const std::vector<ModelPluginType>& modelPluginRegistry() {
   static const std::vector<ModelPluginType> entries{
@@ -43,8 +46,10 @@ const std::vector<SensorPluginType>& sensorPluginRegistry() {
       {"libgazebo_ros_gpu_laser.so", {"gpu_ray"}, makeGazeboRosLaser},
       {"libgazebo_ros_imu_sensor.so", {"imu"}, makeGazeboRosImuSensor},
       {"libgazebo_ros_laser.so", {"ray"}, makeGazeboRosLaser},
+      {"libgazebo_ros_multicamera.so", {"multicamera"}, makeGazeboRosMultiCamera},
       {"libgazebo_ros_openni_kinect.so", {"depth"}, makeGazeboRosOpenniKinect},
       {"libgazebo_ros_range.so", {"ray"}, makeGazeboRosRange},
+      {"libgazebo_ros_triggered_camera.so", {"camera"}, makeGazeboRosTriggeredCamera},
   };
   return entries;
 }

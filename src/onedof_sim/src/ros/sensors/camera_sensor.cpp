@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <utility>
 
@@ -60,11 +62,140 @@ render::Renderer* sharedRenderer() {
 
 }  // namespace
 
-bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::string* error) {
-  tinyxml2::XMLDocument doc;
-  const tinyxml2::XMLElement* camera = requiredSensorChild(sensor_xml, "camera", &doc, error);
-  if (!camera) return false;
+const char* encodingOf(PixelFormat format) {
+  switch (format) {
+    case PixelFormat::Rgb8: return "rgb8";
+    case PixelFormat::Bgr8: return "bgr8";
+    case PixelFormat::Mono8: return "mono8";
+    case PixelFormat::Rgb16: return "rgb16";
+    case PixelFormat::Mono16: return "mono16";
+    case PixelFormat::BayerRggb8: return "bayer_rggb8";
+    case PixelFormat::BayerBggr8: return "bayer_bggr8";
+    case PixelFormat::BayerGbrg8: return "bayer_gbrg8";
+    case PixelFormat::BayerGrbg8: return "bayer_grbg8";
+  }
+  return "";
+}
+
+int bytesPerPixel(PixelFormat format) {
+  switch (format) {
+    case PixelFormat::Rgb8:
+    case PixelFormat::Bgr8: return 3;
+    case PixelFormat::Rgb16: return 6;
+    case PixelFormat::Mono16: return 2;
+    default: return 1;
+  }
+}
+
+bool sixteenBits(PixelFormat format) {
+  return format == PixelFormat::Rgb16 || format == PixelFormat::Mono16;
+}
+
+namespace {
+
+// ITU-R BT.601's luma, rounded.
+template <class Channel>
+uint32_t luma(const Channel* rgb) {
+  return (299u * rgb[0] + 587u * rgb[1] + 114u * rgb[2] + 500u) / 1000u;
+}
+
+// Which channel each pixel of a Bayer pattern keeps: [row % 2][column % 2].
+using BayerPattern = int[2][2];
+const BayerPattern& bayerPattern(PixelFormat format) {
+  static const BayerPattern rggb = {{0, 1}, {1, 2}}, bggr = {{2, 1}, {1, 0}},
+                            gbrg = {{1, 2}, {0, 1}}, grbg = {{1, 0}, {2, 1}};
+  switch (format) {
+    case PixelFormat::BayerBggr8: return bggr;
+    case PixelFormat::BayerGbrg8: return gbrg;
+    case PixelFormat::BayerGrbg8: return grbg;
+    default: return rggb;
+  }
+}
+
+}  // namespace
+
+void encodePixels(PixelFormat format, const render::Frame& frame, uint8_t* out) {
+  const size_t pixels = static_cast<size_t>(frame.width) * frame.height;
+  const uint8_t* rgb = frame.rgb.data();
+  const uint16_t* rgb16 = frame.rgb16.data();
+  const auto put16 = [](uint32_t value, uint8_t* to) {
+    to[0] = static_cast<uint8_t>(value & 0xff);
+    to[1] = static_cast<uint8_t>(value >> 8);
+  };
+  switch (format) {
+    case PixelFormat::Rgb8:
+      std::copy_n(rgb, pixels * 3, out);
+      return;
+    case PixelFormat::Bgr8:
+      for (size_t i = 0; i < pixels; ++i, rgb += 3, out += 3)
+        out[0] = rgb[2], out[1] = rgb[1], out[2] = rgb[0];
+      return;
+    case PixelFormat::Mono8:
+      for (size_t i = 0; i < pixels; ++i, rgb += 3) out[i] = static_cast<uint8_t>(luma(rgb));
+      return;
+    case PixelFormat::Rgb16:
+      for (size_t i = 0; i < pixels * 3; ++i) put16(rgb16[i], out + 2 * i);
+      return;
+    case PixelFormat::Mono16:
+      for (size_t i = 0; i < pixels; ++i, rgb16 += 3) put16(luma(rgb16), out + 2 * i);
+      return;
+    default: {
+      const BayerPattern& pattern = bayerPattern(format);
+      for (int row = 0; row < frame.height; ++row)
+        for (int col = 0; col < frame.width; ++col, rgb += 3)
+          *out++ = rgb[pattern[row % 2][col % 2]];
+    }
+  }
+}
+
+double CameraConfig::focalPixels() const { return width / (2 * std::tan(horizontal_fov / 2)); }
+
+namespace {
+
+// Gazebo's format names (rendering::Camera's), by the format each is.
+bool readPixelFormat(const std::string& name, PixelFormat* format) {
+  static const std::pair<const char*, PixelFormat> names[] = {
+      {"R8G8B8", PixelFormat::Rgb8},         {"RGB_INT8", PixelFormat::Rgb8},
+      {"B8G8R8", PixelFormat::Bgr8},         {"BGR_INT8", PixelFormat::Bgr8},
+      {"L8", PixelFormat::Mono8},            {"L_INT8", PixelFormat::Mono8},
+      {"R16G16B16", PixelFormat::Rgb16},     {"RGB_INT16", PixelFormat::Rgb16},
+      {"RGB_UINT16", PixelFormat::Rgb16},    {"L16", PixelFormat::Mono16},
+      {"L_INT16", PixelFormat::Mono16},      {"L_UINT16", PixelFormat::Mono16},
+      {"BAYER_RGGB8", PixelFormat::BayerRggb8}, {"BAYER_BGGR8", PixelFormat::BayerBggr8},
+      {"BAYER_GBRG8", PixelFormat::BayerGbrg8}, {"BAYER_GRBG8", PixelFormat::BayerGrbg8}};
+  for (const auto& [known, value] : names)
+    if (name == known) {
+      *format = value;
+      return true;
+    }
+  return false;
+}
+
+bool readDistortion(const tinyxml2::XMLElement* distortion, render::DistortionCoefficients* lens,
+                    std::string* error) {
+  if (!distortion) return true;
+  render::DistortionCoefficients d;
+  for (const auto& [tag, value] : {std::pair{"k1", &d.k1}, std::pair{"k2", &d.k2},
+                                   std::pair{"k3", &d.k3}, std::pair{"p1", &d.p1},
+                                   std::pair{"p2", &d.p2}})
+    if (!readSensorNumber(distortion, tag, "distortion", value, error)) return false;
+  if (const auto* center = distortion->FirstChildElement("center")) {
+    std::istringstream in(text(center));
+    std::string rest;
+    if (!(in >> d.center_x >> d.center_y) || (in >> rest) ||
+        !std::isfinite(d.center_x + d.center_y)) {
+      *error = "<distortion><center> is '" + text(center) + "', not two numbers";
+      return false;
+    }
+  }
+  *lens = d;
+  return true;
+}
+
+// One <camera> element.
+bool readCamera(const tinyxml2::XMLElement* camera, CameraConfig* config, std::string* error) {
   CameraConfig c;
+  if (const char* name = camera->Attribute("name")) c.name = name;
   const auto* image = camera->FirstChildElement("image");
   const auto* clip = camera->FirstChildElement("clip");
   if (!readSensorNumber(camera, "horizontal_fov", "camera", &c.horizontal_fov, error) ||
@@ -83,16 +214,16 @@ bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::
     return false;
   }
   if (!(c.near_clip > 0 && c.far_clip > c.near_clip)) {
-    *error = "<clip> is near " + text(sensorPath(clip, {"near"})) + " far " +
-             text(sensorPath(clip, {"far"})) + ": it needs 0 < near < far";
+    std::ostringstream what;
+    what << "<clip> is near " << c.near_clip << " far " << c.far_clip
+         << ": it needs 0 < near < far";
+    *error = what.str();
     return false;
   }
   if (const auto* format = sensorPath(image, {"format"})) c.format = text(format);
-  if (c.format == "B8G8R8" || c.format == "BGR_INT8") {
-    c.bgr = true;
-  } else if (c.format != "R8G8B8" && c.format != "RGB_INT8") {
-    *error = "<image><format> is '" + c.format + "': the cameras here render R8G8B8 (rgb8) and "
-             "B8G8R8 (bgr8) images only";
+  if (!readPixelFormat(c.format, &c.pixel_format)) {
+    *error = "<image><format> is '" + c.format + "': gazebo_ros's cameras publish R8G8B8, "
+             "B8G8R8, L8, R16G16B16, L16 and BAYER_RGGB8, _BGGR8, _GBRG8, _GRBG8 images";
     return false;
   }
   if (const auto* pose = camera->FirstChildElement("pose")) {
@@ -101,10 +232,38 @@ bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::
       return false;
     }
   }
-  if (!readNoise(camera->FirstChildElement("noise"), "<camera><noise>", &c.noise, error))
+  if (!readNoise(camera->FirstChildElement("noise"), "<camera><noise>", &c.noise, error) ||
+      !readDistortion(camera->FirstChildElement("distortion"), &c.distortion, error))
     return false;
   *config = c;
   return true;
+}
+
+}  // namespace
+
+bool readCameraConfig(const std::string& sensor_xml, CameraConfig* config, std::string* error) {
+  tinyxml2::XMLDocument doc;
+  const tinyxml2::XMLElement* camera = requiredSensorChild(sensor_xml, "camera", &doc, error);
+  return camera && readCamera(camera, config, error);
+}
+
+bool readCameraConfigs(const std::string& sensor_xml, std::vector<CameraConfig>* configs,
+                       std::string* error) {
+  tinyxml2::XMLDocument doc;
+  configs->clear();
+  for (const tinyxml2::XMLElement* camera = requiredSensorChild(sensor_xml, "camera", &doc, error);
+       camera;
+       camera = camera->NextSiblingElement("camera")) {
+    CameraConfig config;
+    if (!readCamera(camera, &config, error)) {
+      const char* name = camera->Attribute("name");
+      *error = "camera '" + std::string(name ? name : config.name) + "': " + *error;
+      configs->clear();
+      return false;
+    }
+    configs->push_back(config);
+  }
+  return !configs->empty();
 }
 
 CameraView::CameraView(const CameraConfig& config, std::string link, const Pose& pose,
@@ -116,27 +275,61 @@ CameraView::CameraView(const CameraConfig& config, std::string link, const Pose&
   spec_.height = config.height;
   spec_.near_clip = config.near_clip;
   spec_.far_clip = config.far_clip;
-  if (config.noise.on && (config.noise.stddev > 0 || config.noise.mean != 0)) {
+  spec_.channel_bits = sixteenBits(config.pixel_format) ? 16 : 8;
+  if (!config.distortion.none()) {
+    lens_ = std::make_unique<render::LensDistortion>(config.distortion, config.width,
+                                                     config.height, config.focalPixels(),
+                                                     kMaxPixels);
+    spec_.width = lens_->renderWidth();
+    spec_.height = lens_->renderHeight();
+    spec_.horizontal_fov = lens_->renderHorizontalFov();
+    ROS_INFO_STREAM(label_ << ": its lens distortion is applied to a pinhole render of "
+                    << spec_.width << " x " << spec_.height << " pixels"
+                    << (lens_->blackPixels() > 0
+                            ? ", " + std::to_string(lens_->blackPixels()) +
+                                  " of the image's pixels black where the lens sees past it"
+                            : std::string()));
+  }
+  const NoiseParams& noise = config.noise;
+  if (noise.on && (noise.stddev > 0 || noise.mean != 0)) {
+    const double full_scale = spec_.channel_bits == 16 ? 65535 : 255;
     NoiseRandom random(seed);
-    NoiseModel noise(config.noise, random);
+    NoiseModel model(noise, random);
     noise_table_.resize(kNoiseTable);
-    for (float& value : noise_table_) value = static_cast<float>(noise.white(random) * 255);
+    for (float& value : noise_table_) value = static_cast<float>(model.white(random) * full_scale);
     ROS_INFO_STREAM(label_ << ": its image noise is drawn from a generator seeded with the "
                     << "sensor's name (Gazebo seeds it at random), so runs repeat their images");
   }
 }
 
+namespace {
+
+// Adds one value of `noise` a pixel to its three channels, clamped to the channel's range.
+template <class Channel, class Draw>
+void addPixelNoise(std::vector<Channel>* rgb, Draw draw) {
+  constexpr long kTop = std::numeric_limits<Channel>::max();
+  Channel* c = rgb->data();
+  for (size_t pixel = 0; pixel + 2 < rgb->size(); pixel += 3, c += 3) {
+    const float noise = draw();
+    for (int k = 0; k < 3; ++k)
+      c[k] = static_cast<Channel>(std::clamp(std::lround(c[k] + noise), 0L, kTop));
+  }
+}
+
+}  // namespace
+
 void CameraView::addNoise() {
-  std::vector<uint8_t>& rgb = frame_.rgb;
-  for (size_t pixel = 0; pixel + 2 < rgb.size(); pixel += 3) {
+  const auto draw = [this] {
     // xorshift64*: the table's index from the generator's top bits.
     noise_state_ ^= noise_state_ >> 12;
     noise_state_ ^= noise_state_ << 25;
     noise_state_ ^= noise_state_ >> 27;
-    const float noise = noise_table_[(noise_state_ * 2685821657736338717ull) >> (64 - kNoiseBits)];
-    for (size_t c = pixel; c < pixel + 3; ++c)
-      rgb[c] = static_cast<uint8_t>(std::clamp(std::lround(rgb[c] + noise), 0L, 255L));
-  }
+    return noise_table_[(noise_state_ * 2685821657736338717ull) >> (64 - kNoiseBits)];
+  };
+  if (spec_.channel_bits == 16)
+    addPixelNoise(&frame_.rgb16, draw);
+  else
+    addPixelNoise(&frame_.rgb, draw);
 }
 
 bool CameraView::render(const World& world) {
@@ -152,7 +345,8 @@ bool CameraView::render(const World& world) {
     why = "its link's pose: " + text.str();
   } else {
     spec_.pose = compose(link_pose, pose_);
-    if (renderer->render(world.visualShapes(), spec_, &frame_, &why)) {
+    if (renderer->render(world.visualShapes(), spec_, lens_ ? &rendered_ : &frame_, &why)) {
+      if (lens_) lens_->apply(rendered_, &frame_);
       if (!noise_table_.empty()) addNoise();
       for (const std::string& problem : renderer->takeProblems())
         ROS_WARN_STREAM("cameras: " << problem);
