@@ -219,11 +219,16 @@ def simulator_executable():
     return package_executable('onedof_sim', 'onedof_sim')
 
 
-def start_sim(ros, engine=ENGINES[0], args=(), wait=True, env=None):
+# The simulator's two names beyond gazebo_ros' API, which the tests drive it and see it with.
+EXTRAS = ['_enable_step_simulation:=true', '_enable_collision_markers:=true']
+
+
+def start_sim(ros, engine=ENGINES[0], args=(), wait=True, env=None, extras=True):
     """Starts the simulator node of `engine` (with `env` added to the graph's environment) and
-    waits until it serves its last service."""
-    proc = ros.start([simulator_executable(), '_physics:=' + engine] + list(args),
-                     name='sim_' + engine, env=env)
+    waits until it serves its last service. With extras it serves /gazebo/step_simulation and
+    publishes /gazebo/collision_markers; without, exactly gazebo_ros' names (as by default)."""
+    proc = ros.start([simulator_executable(), '_physics:=' + engine] +
+                     (EXTRAS if extras else []) + list(args), name='sim_' + engine, env=env)
     if wait:
         wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'),
                    60, what='the %s simulator to serve /gazebo/unpause_physics' % engine)

@@ -162,11 +162,111 @@ def test_ros_network_disabled_serves_no_gazebo_name(ros, rospy_client, engine, t
         '/gazebo/get_loggers', '/gazebo/set_logger_level'}
 
 
-def test_ros_network_enabled_by_default_serves_the_api(ros, rospy_client):
-    start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'gui:=false'],
+# Gazebo's names (docs/gazebo-api.md, "Every name the node advertises"): what the node publishes,
+# what it subscribes to (no publisher of its own) and the services it serves, with their types.
+GAZEBO_PUBLISHED = {
+    '/clock': 'rosgraph_msgs/Clock',
+    '/rosout': 'rosgraph_msgs/Log',
+    '/gazebo/model_states': 'gazebo_msgs/ModelStates',
+    '/gazebo/link_states': 'gazebo_msgs/LinkStates',
+    '/gazebo/parameter_descriptions': 'dynamic_reconfigure/ConfigDescription',
+    '/gazebo/parameter_updates': 'dynamic_reconfigure/Config',
+}
+GAZEBO_SUBSCRIBED = {
+    '/gazebo/set_model_state': 'gazebo_msgs/ModelState',
+    '/gazebo/set_link_state': 'gazebo_msgs/LinkState',
+}
+GAZEBO_SERVICES = {'/gazebo/' + name: 'gazebo_msgs/' + srv for name, srv in [
+    ('apply_body_wrench', 'ApplyBodyWrench'), ('apply_joint_effort', 'ApplyJointEffort'),
+    ('clear_body_wrenches', 'BodyRequest'), ('clear_joint_forces', 'JointRequest'),
+    ('delete_light', 'DeleteLight'), ('delete_model', 'DeleteModel'),
+    ('get_joint_properties', 'GetJointProperties'),
+    ('get_light_properties', 'GetLightProperties'), ('get_link_properties', 'GetLinkProperties'),
+    ('get_link_state', 'GetLinkState'), ('get_model_properties', 'GetModelProperties'),
+    ('get_model_state', 'GetModelState'), ('get_physics_properties', 'GetPhysicsProperties'),
+    ('get_world_properties', 'GetWorldProperties'), ('set_joint_properties', 'SetJointProperties'),
+    ('set_light_properties', 'SetLightProperties'), ('set_link_properties', 'SetLinkProperties'),
+    ('set_link_state', 'SetLinkState'), ('set_model_configuration', 'SetModelConfiguration'),
+    ('set_model_state', 'SetModelState'), ('set_physics_properties', 'SetPhysicsProperties'),
+    ('spawn_sdf_model', 'SpawnModel'), ('spawn_urdf_model', 'SpawnModel')]}
+GAZEBO_SERVICES.update({
+    '/gazebo/pause_physics': 'std_srvs/Empty', '/gazebo/unpause_physics': 'std_srvs/Empty',
+    '/gazebo/reset_simulation': 'std_srvs/Empty', '/gazebo/reset_world': 'std_srvs/Empty',
+    '/gazebo/set_parameters': 'dynamic_reconfigure/Reconfigure',
+    '/gazebo/get_loggers': 'roscpp/GetLoggers',
+    '/gazebo/set_logger_level': 'roscpp/SetLoggerLevel',
+})
+# The simulator's own two, served when asked for.
+STEP_SERVICE = {'/gazebo/step_simulation': 'onedof_sim/StepSimulation'}
+MARKERS_TOPIC = {'/gazebo/collision_markers': 'visualization_msgs/MarkerArray'}
+
+
+def simulator_names(rospy):
+    """({topic: type} the node /gazebo publishes, {topic: type} it subscribes to, {service:
+    type} it serves), from the master and (the services' types) from the services themselves."""
+    import rosgraph
+    import rosservice
+    master = rosgraph.Master('/test')
+    publishers, subscribers, services = master.getSystemState()
+    types = dict(master.getTopicTypes())
+
+    def of_node(entries):
+        return {name for name, nodes in entries if '/gazebo' in nodes}
+    return ({topic: types[topic] for topic in of_node(publishers)},
+            {topic: types[topic] for topic in of_node(subscribers)},
+            {service: rosservice.get_service_type(service) for service in of_node(services)})
+
+
+def publishers_of(topic):
+    import rosgraph
+    publishers, _, _ = rosgraph.Master('/test').getSystemState()
+    return next((nodes for name, nodes in publishers if name == topic), [])
+
+
+@pytest.mark.parametrize('engine', ENGINES)
+def test_by_default_the_simulator_advertises_exactly_gazebos_names(ros, rospy_client, engine):
+    """As gazebo_ros' ros_network_default.test starts it: every topic and service of the node,
+    with its type, is Gazebo's, and every one of Gazebo's is there; /clock has it as its only
+    publisher, the set_*_state topics none. The step service is not there, and the tools say
+    which parameter serves it; the markers come and go with their parameter while it runs."""
+    from onedof_sim.simulator_extras import step_service
+    start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'paused:=false',
+                        'gui:=false', 'enable_ros_network:=true', 'physics:=' + engine],
                   'roslaunch', env=HEADLESS)
-    topics, services = graph_names(rospy_client)
-    assert {'/gazebo/model_states', '/gazebo/link_states', '/gazebo/set_model_state',
-            '/gazebo/parameter_updates'} <= topics
-    assert {'/gazebo/spawn_sdf_model', '/gazebo/get_model_state',
-            '/gazebo/set_physics_properties'} <= services
+    published, subscribed, services = simulator_names(rospy_client)
+    assert published == GAZEBO_PUBLISHED
+    assert subscribed == GAZEBO_SUBSCRIBED
+    assert services == GAZEBO_SERVICES
+    assert publishers_of('/clock') == ['/gazebo']
+    for topic in GAZEBO_SUBSCRIBED:
+        assert publishers_of(topic) == []
+
+    with pytest.raises(RuntimeError, match='~enable_step_simulation'):
+        step_service(rospy_client)
+
+    rospy_client.set_param('/gazebo/enable_collision_markers', True)
+    wait_until(lambda: publishers_of('/gazebo/collision_markers') == ['/gazebo'], 60,
+               what='the simulator to publish its markers once asked')
+    assert simulator_names(rospy_client)[0] == dict(GAZEBO_PUBLISHED, **MARKERS_TOPIC)
+    rospy_client.set_param('/gazebo/enable_collision_markers', False)
+    wait_until(lambda: publishers_of('/gazebo/collision_markers') == [], 60,
+               what='the simulator to take its markers down')
+
+
+@pytest.mark.parametrize('arguments, step, markers', [
+    (['enable_step_simulation:=true', 'enable_collision_markers:=true'], True, True),
+    (['lockstep:=true'], True, False),
+    (['lockstep:=true', 'enable_step_simulation:=false'], False, False),
+])
+def test_the_simulators_own_names_are_there_when_asked_for(ros, rospy_client, arguments, step,
+                                                           markers):
+    """Gazebo's names and the two asked for: the step service (lock-step implies it, unless
+    refused) and the collision markers."""
+    launch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'gui:=false'] +
+                           arguments, 'roslaunch', env=HEADLESS)
+    published, subscribed, services = simulator_names(rospy_client)
+    assert published == dict(GAZEBO_PUBLISHED, **(MARKERS_TOPIC if markers else {}))
+    assert subscribed == GAZEBO_SUBSCRIBED
+    assert services == dict(GAZEBO_SERVICES, **(STEP_SERVICE if step else {}))
+    if step:
+        assert 'with step_simulation' in ros.log_text(launch)

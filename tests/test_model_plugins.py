@@ -29,7 +29,8 @@ def probed_urdf():
 @pytest.fixture(params=ENGINES)
 def probe_sim(request, ros, rospy_client):
     proc = ros.start(['rosrun', 'onedof_sim', 'onedof_sim_hook_probe_node',
-                      '_physics:=' + request.param, '-u'], name='probe_sim')
+                      '_physics:=' + request.param, '_enable_step_simulation:=true', '-u'],
+                     name='probe_sim')
     wait_until(lambda: proc.poll() is not None or ros.has_service('/gazebo/unpause_physics'), 60,
                what='the probe simulator')
     assert proc.poll() is None, ros.log_text(proc)

@@ -337,7 +337,8 @@ def test_the_view_shows_a_mobile_bases_scan_once_odom_is_joined_to_the_world(ros
     """The book's mobot: its TF tree starts at the diff drive's odom, which with its default
     odometry source (world) is the world frame; a static world -> odom joins it to the view."""
     ros.set_param('/use_sim_time', True)
-    start_sim(ros, ENGINES[0])
+    # Without the collision markers: the view asks the simulator for them.
+    start_sim(ros, ENGINES[0], extras=False)
     xvfb, display = start_xvfb(ros)
     view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
                      env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
@@ -372,7 +373,9 @@ def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros,
     kinect_link with a static_transform_publisher, the optical frame's rotation. The world is
     paused and stepped a Kinect period at a time: the view shows the last cloud it received."""
     ros.set_param('/use_sim_time', True)
-    start_sim(ros, ENGINES[0], args=['_paused:=true'])
+    # Without the collision markers: the view asks the simulator for them.
+    start_sim(ros, ENGINES[0], args=['_paused:=true', '_enable_step_simulation:=true'],
+              extras=False)
     api = GazeboApi(rospy_client)
     xvfb, display = start_xvfb(ros)
     view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',

@@ -7,6 +7,7 @@ other model (the table) on.
 """
 import os
 import re
+import xml.etree.ElementTree as ElementTree
 
 import yaml
 
@@ -25,6 +26,12 @@ def collision_display():
                 if d.get('Marker Topic') == '/gazebo/collision_markers']
     assert len(displays) == 1, 'one MarkerArray display on /gazebo/collision_markers'
     return displays[0]
+
+
+def display_launch_params():
+    """The parameters display.launch (the view's launch file) sets, {name: value}."""
+    root = ElementTree.parse(os.path.join(DESCRIPTION, 'launch', 'display.launch')).getroot()
+    return {p.get('name'): p.get('value') for p in root.findall('param')}
 
 
 def launched_robot_name():
@@ -46,6 +53,11 @@ def test_rviz_shows_the_table_and_not_the_robots_own_collision_geometry(ros, ros
     robot = launched_robot_name()
     model_state = rospy_client.ServiceProxy('/gazebo/get_model_state', GetModelState)
     wait_until(lambda: model_state(robot, '').success, 60, what='%s to be spawned' % robot)
+    # The simulator publishes its markers when asked, as the view's launch file asks, here while
+    # it runs.
+    asked = display_launch_params()
+    assert asked.get('/gazebo/enable_collision_markers') == 'true'
+    rospy_client.set_param('/gazebo/enable_collision_markers', True)
     result = ros.run(SPAWN_TABLE)
     assert result.returncode == 0, result.stdout + result.stderr
 

@@ -1,11 +1,14 @@
 """rviz showing the simulated world, as gzclient and gazebo start it: the view of rviz/world.rviz
 (the world's collision geometry on the ground grid, fixed frame `world`) and one display for each
 sensor stream the simulator publishes: a LaserScan, a PointCloud2 or an Image on the topic a
-spawned robot's sensor plugin advertises. The view asks the master which topics of those types
-the simulator (the node publishing /gazebo/collision_markers) advertises, each second while rviz
-runs; when the set changes (a robot with sensors spawned or deleted) it saves rviz's current
-configuration (the user's camera and settings), replaces the sensor displays in it and has rviz
-load it again. A world without sensors shows exactly world.rviz.
+spawned robot's sensor plugin advertises. The simulator publishes its markers only when asked
+(gazebo_ros' API has no such topic): the view asks for them as it starts rviz, by setting the
+simulator's ~enable_collision_markers, which the node follows while running and which stays set
+after the view exits. The view asks the master which topics of those types the simulator (the
+node publishing /gazebo/collision_markers) advertises, each second while rviz runs; when the set
+changes (a robot with sensors spawned or deleted) it saves rviz's current configuration (the
+user's camera and settings), replaces the sensor displays in it and has rviz load it again. A
+world without sensors shows exactly world.rviz.
 
 Scans and point clouds are drawn where TF puts their frames relative to `world`, as in any rviz:
 robot_state_publisher places a robot's links (a URDF rooted at a link named `world` is placed
@@ -26,7 +29,8 @@ import rosgraph.names
 import rospkg
 import yaml
 
-MARKERS = '/gazebo/collision_markers'
+from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, request_collision_markers
+
 SENSOR_DISPLAY_PREFIX = 'Sensor: '
 # The depth an image's white stands for: the Kinect's far cutoff (pointCloudCutoffMax's default);
 # rviz's normalised range goes black on the NaNs a Kinect's depth image has where nothing is.
@@ -147,6 +151,7 @@ class WorldView:
         return ['rosrun', 'rviz', 'rviz', '-d', self.config, '__name:=' + self.name] + self.ros_args
 
     def start(self):
+        request_collision_markers(self.node)
         self.rviz = subprocess.Popen(self.command())
         return self.rviz
 

@@ -36,6 +36,17 @@ Status detectModelFormat(const std::string& xml, ModelFormat* format) {
   return {};
 }
 
+// The start-up line's note of the names beyond gazebo_ros' the node serves.
+std::string extrasText(const NodeOptions& options) {
+  std::vector<std::string> extras;
+  if (options.enable_step_simulation) extras.push_back("step_simulation");
+  if (options.enable_collision_markers) extras.push_back("collision_markers");
+  if (extras.empty()) return "";
+  std::string text = " with ";
+  for (size_t i = 0; i < extras.size(); ++i) text += (i ? " and " : "") + extras[i];
+  return text + " (not Gazebo's)";
+}
+
 // The threads serving the global queue: while one parses a large model, the other serves the rest.
 constexpr int kServiceThreads = 2;
 
@@ -48,7 +59,7 @@ GazeboApi::GazeboApi(const NodeOptions& options,
       private_nh_("~"),
       step_spinner_(1, &step_queue_) {
   if (options.world) spawnWorldModels(*options.world);
-  if (options.enable_ros_network) advertiseServices();
+  if (options.enable_ros_network) advertiseServices(options.enable_step_simulation);
   step_spinner_.start();
   effort_thread_ = std::thread([this] {
     // callOne returns once the callback has run and roscpp has written its reply.
@@ -62,14 +73,18 @@ GazeboApi::GazeboApi(const NodeOptions& options,
   const PhysicsSettings physics = loop_.physics();
   const std::string api =
       options.enable_ros_network
-          ? "serving the Gazebo API under " + private_nh_.getNamespace()
-          : "ROS gazebo topics/services are disabled (enable_ros_network is false): /clock only";
+          ? "serving the Gazebo API under " + private_nh_.getNamespace() + extrasText(options)
+          : "ROS gazebo topics/services are disabled (enable_ros_network is false): /clock only" +
+                std::string(options.enable_step_simulation || options.enable_collision_markers
+                                ? " (~enable_step_simulation and ~enable_collision_markers "
+                                  "serve nothing without it)"
+                                : "");
   ROS_INFO("onedof_sim, standing in for Gazebo: %s (step %g s, max_update_rate %g Hz%s%s)",
            api.c_str(), physics.params.step, physics.max_update_rate,
            loop_.paused() ? ", paused" : "", options.lockstep.enabled ? ", lock-step" : "");
 }
 
-void GazeboApi::advertiseServices() {
+void GazeboApi::advertiseServices(bool step_simulation) {
   parameter_descriptions_pub_ = private_nh_.advertise<dynamic_reconfigure::ConfigDescription>(
       "parameter_descriptions", 1, true);
   parameter_updates_pub_ =
@@ -78,13 +93,15 @@ void GazeboApi::advertiseServices() {
   parameter_descriptions_pub_.publish(physicsDescription(loop_.physics()));
   parameter_updates_pub_.publish(toConfig(loop_.physics()));
 
-  ros::AdvertiseServiceOptions step_options;
-  step_options.init<StepSimulation::Request, StepSimulation::Response>(
-      "step_simulation", [this](StepSimulation::Request& req, StepSimulation::Response& res) {
-        return stepSimulation(req, res);
-      });
-  step_options.callback_queue = &step_queue_;
-  step_service_ = private_nh_.advertiseService(step_options);
+  if (step_simulation) {
+    ros::AdvertiseServiceOptions step_options;
+    step_options.init<StepSimulation::Request, StepSimulation::Response>(
+        "step_simulation", [this](StepSimulation::Request& req, StepSimulation::Response& res) {
+          return stepSimulation(req, res);
+        });
+    step_options.callback_queue = &step_queue_;
+    step_service_ = private_nh_.advertiseService(step_options);
+  }
   // apply_joint_effort on a thread of its own, which tells the loop when each reply is written:
   // in lock-step a stop's clock waits for the commanding controller to have its reply (SimLoop).
   ros::AdvertiseServiceOptions effort_options;
@@ -98,6 +115,10 @@ void GazeboApi::advertiseServices() {
   effort_options.callback_queue = &effort_queue_;
   effort_service_ = private_nh_.advertiseService(effort_options);
   auto& n = private_nh_;
+  subscribers_ = {
+      n.subscribe("set_model_state", 10, &GazeboApi::setModelStateTopic, this),
+      n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
+  };
   services_ = {
       n.advertiseService("get_joint_properties", &GazeboApi::getJointProperties, this),
       n.advertiseService("clear_joint_forces", &GazeboApi::clearJointForces, this),
@@ -125,12 +146,9 @@ void GazeboApi::advertiseServices() {
       n.advertiseService("pause_physics", &GazeboApi::pausePhysics, this),
       n.advertiseService("reset_simulation", &GazeboApi::resetSimulation, this),
       n.advertiseService("reset_world", &GazeboApi::resetWorld, this),
-      // Last on purpose: clients (and our tests) take it as the sign that every service is up.
+      // Last on purpose: clients (and our tests) take it as the sign that every service and
+      // topic is up.
       n.advertiseService("unpause_physics", &GazeboApi::unpausePhysics, this),
-  };
-  subscribers_ = {
-      n.subscribe("set_model_state", 10, &GazeboApi::setModelStateTopic, this),
-      n.subscribe("set_link_state", 10, &GazeboApi::setLinkStateTopic, this),
   };
 }
 

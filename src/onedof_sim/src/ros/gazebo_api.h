@@ -3,8 +3,9 @@
 //
 // Handlers only: each converts its request (conversions.h), asks the loop (a function run under
 // the world lock, a step request, a command), and words the answer (status_text.h). They run on
-// two threads serving the global queue; /gazebo/step_simulation on a spinner of its own, as it holds its caller until
-// the steps are done while the other services go on being served; apply_joint_effort on a thread
+// two threads serving the global queue; /gazebo/step_simulation (served with
+// ~enable_step_simulation) on a spinner of its own, as it holds its caller until the steps are
+// done while the other services go on being served; apply_joint_effort on a thread
 // of its own, which tells the loop when each reply is out (lock-step needs to know).
 #pragma once
 
@@ -148,8 +149,9 @@ class GazeboApi {
   Status applyLinkState(const gazebo_msgs::LinkState& state);
   void serveGlobalQueue();
   // The services under /gazebo/ and the topics of the API (the dynamic reconfigure topics, the
-  // set_*_state subscriptions); left out with ~enable_ros_network false.
-  void advertiseServices();
+  // set_*_state subscriptions), and step_simulation when asked for; left out with
+  // ~enable_ros_network false.
+  void advertiseServices(bool step_simulation);
 
   SimLoop loop_;
   std::vector<plugins::ModelPluginType> plugin_types_;

@@ -95,7 +95,8 @@ int runSimulatorNode(int argc, char** argv,
     onedof_sim::setUseSimTimeUnlessSet();
     return std::vector<std::string>{private_nh.resolveName("model_path"), onedof_sim::kUseSimTime};
   };
-  parameters.cached = {private_nh.resolveName(onedof_sim::kPubClockFrequency)};
+  parameters.cached = {private_nh.resolveName(onedof_sim::kPubClockFrequency),
+                       private_nh.resolveName(onedof_sim::kEnableCollisionMarkers)};
   try {
     onedof_sim::GazeboApi api(options, std::move(plugin_types));
     onedof_sim::MasterWatch master_watch(std::move(parameters));

@@ -161,7 +161,9 @@ ServerArguments parseServerArguments(const std::vector<std::string>& args) {
 //   ~lockstep (false; see lockstep.h)
 //   ~lockstep_timeout (wall s a stopped world waits for a controller's command, 5)
 //   ~enable_ros_network (true; false: no /gazebo service nor topic, as Gazebo's, NodeOptions)
-// and, read while running, ~pub_clock_frequency (Hz of sim time; unset or <= 0 = every step).
+//   ~enable_step_simulation (~lockstep's value)  ~enable_collision_markers (false; NodeOptions)
+// and, read while running, ~pub_clock_frequency (Hz of sim time; unset or <= 0 = every step) and
+// ~enable_collision_markers.
 // A world file's physics (options->world) comes between the defaults and these: the engine its
 // <physics type> names unless ~physics or -e names one, its physics for that engine and its
 // real_time_update_rate unless a parameter sets them.
@@ -213,6 +215,11 @@ bool readNodeOptions(const ros::NodeHandle& nh, const ServerArguments& arguments
       !readRate(nh, "states_publish_frequency", &options->states_publish_frequency, error) ||
       !readLockstep(nh, &options->lockstep, error) ||
       !readParam(nh, "enable_ros_network", &options->enable_ros_network, error)) {
+    return false;
+  }
+  options->enable_step_simulation = options->lockstep.enabled;
+  if (!readParam(nh, kEnableStepSimulation, &options->enable_step_simulation, error) ||
+      !readParam(nh, kEnableCollisionMarkers, &options->enable_collision_markers, error)) {
     return false;
   }
   if (arguments.paused) options->paused = true;

@@ -16,8 +16,12 @@ namespace onedof_sim {
 
 // The parameter that puts ROS nodes on simulated time (/clock).
 constexpr const char* kUseSimTime = "/use_sim_time";
-// The private parameter read while running: /clock's rate in Hz of sim time (SimLoop).
+// The private parameters read while running (SimLoop): /clock's rate in Hz of sim time, and
+// whether the node publishes the collision markers.
 constexpr const char* kPubClockFrequency = "pub_clock_frequency";
+constexpr const char* kEnableCollisionMarkers = "enable_collision_markers";
+// The private parameter that serves the step service.
+constexpr const char* kEnableStepSimulation = "enable_step_simulation";
 
 // Start-up settings of the node (see readNodeOptions for the parameter names).
 struct NodeOptions {
@@ -32,6 +36,13 @@ struct NodeOptions {
   // topic: model_states, link_states, the markers, the set_*_state subscriptions, the dynamic
   // reconfigure topics); /clock, the world, its plugins and the node's logger services remain.
   bool enable_ros_network = true;
+  // The node's two names beyond gazebo_ros' (opt-in, so that by default the node advertises
+  // exactly Gazebo's names): ~enable_step_simulation serves /gazebo/step_simulation (default:
+  // ~lockstep's value, as a lock-stepped run is stepped with it); ~enable_collision_markers
+  // publishes /gazebo/collision_markers (SimLoop also reads it while running: rviz's world view
+  // sets it). Neither without the ROS network.
+  bool enable_step_simulation = false;
+  bool enable_collision_markers = false;
   // The world file named on the command line, read (world_loading.h); its models are spawned
   // before the services are up.
   std::optional<WorldFile> world;

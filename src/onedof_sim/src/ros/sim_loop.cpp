@@ -104,7 +104,8 @@ SimLoop::SimLoop(const NodeOptions& options)
       paused_(options.paused),
       max_update_rate_(options.max_update_rate),
       lockstep_(options.lockstep),
-      states_publish_frequency_(options.states_publish_frequency) {
+      states_publish_frequency_(options.states_publish_frequency),
+      ros_network_(options.enable_ros_network) {
   const Status params = world_.setParams(options.physics);
   if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
   world_.setModelPath(options.model_path);
@@ -121,7 +122,7 @@ SimLoop::SimLoop(const NodeOptions& options)
   if (!options.enable_ros_network) return;
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
-  markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
+  if (options.enable_collision_markers) setCollisionMarkers(true);
 }
 
 SimLoop::~SimLoop() {
@@ -133,6 +134,7 @@ void SimLoop::run() {
   bool was_stepping = false;
   double paced_rate = -1;
   while (ros::ok()) {
+    refreshParameters();
     StepOutput out;
     stepOnce(&out);
     // /clock is latched: without this a node subscribing after a reset would first hear the time
@@ -417,7 +419,6 @@ void SimLoop::publishHeldClock() {
 }
 
 void SimLoop::publish(const StepOutput& out) {
-  refreshClockFrequency();
   if (out.publish_clock) {
     std::this_thread::sleep_until(out.clock_not_before);
     awaitAsleep(out.watched);
@@ -449,9 +450,10 @@ void SimLoop::publish(const StepOutput& out) {
   }
 }
 
-// pub_clock_frequency may be changed while running; reading it at every step would cost more
-// than the step, so it is re-read ten times per wall second.
-void SimLoop::refreshClockFrequency() {
+// pub_clock_frequency and enable_collision_markers may be changed while running; reading them at
+// every step would cost more than the step, so they are re-read ten times per wall second, also
+// while the world is paused (a view started then finds the markers' publisher).
+void SimLoop::refreshParameters() {
   const auto now = std::chrono::steady_clock::now();
   if (now < next_param_refresh_) return;
   next_param_refresh_ = now + std::chrono::milliseconds(100);
@@ -460,6 +462,26 @@ void SimLoop::refreshClockFrequency() {
     frequency = 0;
   }
   clock_frequency_ = frequency;
+  if (!ros_network_) return;
+  bool markers = false;  // unset, or not a bool: off
+  private_nh_.getParamCached(kEnableCollisionMarkers, markers);
+  if (markers == markers_on_) return;
+  setCollisionMarkers(markers);
+  ROS_INFO_STREAM((markers ? "publishing " : "no longer publishing ")
+                  << private_nh_.resolveName("collision_markers") << " ("
+                  << private_nh_.resolveName(kEnableCollisionMarkers) << " is "
+                  << (markers ? "true" : "false") << ")");
+}
+
+void SimLoop::setCollisionMarkers(bool on) {
+  markers_on_ = on;
+  last_markers_ns_ = -1;  // due at the next step
+  if (on) {
+    markers_pub_ =
+        private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
+  } else {
+    markers_pub_.shutdown();
+  }
 }
 
 // Sleeps until this step's absolute deadline (no drift: deadlines are origin + n periods).

@@ -149,7 +149,11 @@ class SimLoop {
   // The latest time not published for want of subscribers (-1: none), for the latched /clock
   // once the loop stops.
   void publishHeldClock();
-  void refreshClockFrequency();
+  // Re-reads the parameters the loop follows while running (kPubClockFrequency,
+  // kEnableCollisionMarkers), at most ten times per wall second.
+  void refreshParameters();
+  // Advertises the collision markers' topic, or takes it down.
+  void setCollisionMarkers(bool on);
   void pace(double max_update_rate, bool resumed);
 
   ros::NodeHandle nh_;
@@ -199,6 +203,8 @@ class SimLoop {
   std::set<std::string> busy_controllers_;  // named once for never resting (awaitAsleep)
   double states_publish_frequency_;
   double clock_frequency_ = 0;  // /gazebo/pub_clock_frequency; <= 0: every step
+  bool ros_network_;             // ~enable_ros_network: the /gazebo topics may be advertised
+  bool markers_on_ = false;      // ~enable_collision_markers, as last read
   std::chrono::steady_clock::time_point next_param_refresh_;
   std::chrono::steady_clock::time_point deadline_;
   int64_t last_clock_ns_ = -1;
@@ -209,7 +215,7 @@ class SimLoop {
   ros::Publisher clock_pub_;
   ros::Publisher model_states_pub_;
   ros::Publisher link_states_pub_;
-  ros::Publisher markers_pub_;
+  ros::Publisher markers_pub_;  // empty unless markers_on_
 };
 
 }  // namespace onedof_sim

@@ -118,7 +118,8 @@ def heavy_requests():
 def run(physics, quiet_s):
     with PrivateRos() as ros:
         ros.adopt_environment()
-        sim = ros.start(node_command(physics) + ['_paused:=true'], name='sim')
+        sim = ros.start(node_command(physics) + ['_paused:=true', '_enable_step_simulation:=true'],
+                        name='sim')
         ros.wait_for_service('/gazebo/step_simulation', 60)
         stop = multiprocessing.Event()
         receive, send = multiprocessing.Pipe(duplex=False)

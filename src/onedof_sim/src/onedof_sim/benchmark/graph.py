@@ -16,6 +16,7 @@ from onedof_harness.rospy_shutdown import shut_down_rospy
 from onedof_sim.benchmark import profiling
 from onedof_sim.benchmark import report as bm
 from onedof_sim.engines import node_command
+from onedof_sim.simulator_extras import step_service
 from onedof_sim.tools import rosrun_by_path, workspace_venv_bin
 from onedof_sim.tutorial import player
 
@@ -231,13 +232,19 @@ class Bench:
             return pid if pid in descendants(proc.pid) else None
         return wait_until(started, timeout, what='node %s' % name)
 
-    def start_sim(self, engine, max_update_rate=1000, paused=False, lockstep=False):
+    def start_sim(self, engine, max_update_rate=1000, paused=False, lockstep=False,
+                  step_simulation=False):
+        """The simulator node of `engine`; it serves /gazebo/step_simulation with step_simulation
+        or lockstep (which implies it)."""
+        def flag(value):
+            return str(bool(value)).lower()
         # Always given: a private parameter set with _name:=value (or by a launch file) outlives
         # its node on the parameter server, and the next simulator would inherit it.
         proc = self.ros.start(by_path(node_command(engine)) + [
-            '_max_update_rate:=%g' % max_update_rate, '_paused:=%s' % str(paused).lower(),
-            '_lockstep:=%s' % str(lockstep).lower(),
-            '_lockstep_timeout:=%g' % player.LOCKSTEP_TIMEOUT],
+            '_max_update_rate:=%g' % max_update_rate, '_paused:=%s' % flag(paused),
+            '_lockstep:=%s' % flag(lockstep),
+            '_lockstep_timeout:=%g' % player.LOCKSTEP_TIMEOUT,
+            '_enable_step_simulation:=%s' % flag(step_simulation or lockstep)],
             name='sim_' + engine)
         pid = self.wait_for_node(proc, '/gazebo')
         self.ros.wait_for_service('/gazebo/unpause_physics')
@@ -257,6 +264,14 @@ class Bench:
 
     def proxy(self, name, srv_class, persistent=False):
         return self.rospy.ServiceProxy(name, srv_class, persistent=persistent)
+
+    def step_service(self, persistent=False):
+        """The simulator's /gazebo/step_simulation; NotMeasured, naming the parameter that serves
+        it, when the simulator does not."""
+        try:
+            return step_service(self.rospy, persistent=persistent)
+        except RuntimeError as error:
+            raise NotMeasured(str(error)) from None
 
     def sim_clock(self):
         """A reader of the simulator's sim time over a persistent get_world_properties: each call

@@ -34,10 +34,10 @@ def windows(bench, engine):
     """(steps/s stepped, steps/s free), one of each per window, alternating."""
     from controller_manager_msgs.srv import ListControllers
     from gazebo_msgs.srv import GetPhysicsProperties
-    from onedof_sim.srv import StepSimulation
     launch = bench.ros.start(['roslaunch', 'minimal_robot_description',
                               'minimal_robot_in_sim_w_jnt_ctl.launch', 'physics:=' + engine,
-                              'paused:=true', 'max_update_rate:=0'], name='in_sim_' + engine)
+                              'paused:=true', 'max_update_rate:=0',
+                              'enable_step_simulation:=true'], name='in_sim_' + engine)
     try:
         bench.wait_for_node(launch, '/gazebo')
         list_service = IN_SIM_NAMESPACE + '/controller_manager/list_controllers'
@@ -52,7 +52,7 @@ def windows(bench, engine):
         if abs(physics.max_update_rate) > 0 or abs(physics.time_step - STEP) > 1e-12:
             raise NotMeasured('the launch gave max_update_rate %g and time_step %g'
                               % (physics.max_update_rate, physics.time_step))
-        step = bench.proxy('/gazebo/step_simulation', StepSimulation, persistent=True)
+        step = bench.step_service(persistent=True)
         sim_time = bench.sim_clock()
         window_s = bench.sizes.throughput_window_s
         stepped, free = [], []

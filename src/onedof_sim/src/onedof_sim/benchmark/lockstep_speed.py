@@ -144,7 +144,6 @@ def lockstep_run(bench, engine, controller_command, node, name, pos_cmd, rate):
     /gazebo/step_simulation through lockstep_s of sim time. Returns the real-time factor, the
     lock-step timeouts the simulator logged and, per period of the controller (`rate` Hz), what
     the simulator's and the controller's threads cost."""
-    from onedof_sim.srv import StepSimulation
     sim = controller = None
     # The simulators of one engine share a log: this one's lines are those after this offset.
     log_start = len(bench.ros.log_text('sim_' + engine))
@@ -154,7 +153,7 @@ def lockstep_run(bench, engine, controller_command, node, name, pos_cmd, rate):
     try:
         sim, _ = bench.start_sim(engine, max_update_rate=0, paused=True, lockstep=True)
         bench.spawn(bench.tutorial_models[:1])
-        step = bench.proxy('/gazebo/step_simulation', StepSimulation)
+        step = bench.step_service()
         period_steps = round(phases.CONTROL_PERIOD / STEP)
         stepped(step, period_steps)
         pos_cmd.publish(pos_cmd.data_class(COMMAND))

@@ -6,8 +6,9 @@ and the per-phase figures.
 
 By default the simulator runs in lock-step with the controller (it waits for the controller's
 command at the end of every period) and the player advances it phase by phase with
-/gazebo/step_simulation, each command taken before its phase starts: the figures are the
-physics' alone, the same on every run however busy the machine. The controller's first period
+/gazebo/step_simulation (which a lock-stepped simulator serves), each command taken before its
+phase starts: the figures are the physics' alone, the same on every run however busy the
+machine. The controller's first period
 runs on its initial command 0, before the player has commanded anything, and it starts after one
 period of the arm at rest (sim time 0 is no valid time to a ROS node): the phases start at
 0.02 s. With free_run the simulator paces itself at a real-time factor and the controller samples
@@ -90,7 +91,7 @@ def play_in_sim(log_dir, physics_engine, phase_duration=IN_SIM_PHASE_DURATION, p
     run's series)."""
     with PrivateRos(log_dir=log_dir, use_sim_time=True) as ros:
         launch = ['roslaunch', 'minimal_robot_description', 'minimal_robot_in_sim_w_jnt_ctl.launch',
-                  'physics:=' + physics_engine, 'paused:=true']
+                  'physics:=' + physics_engine, 'paused:=true', 'enable_step_simulation:=true']
         say(' '.join(launch))
         ros.start(launch, name='launch_in_sim')
         ros.adopt_environment()

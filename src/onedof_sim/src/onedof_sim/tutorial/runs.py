@@ -8,6 +8,7 @@ import time
 
 import yaml
 
+from onedof_sim.simulator_extras import STEP_SERVICE, step_service
 from onedof_sim.tools import package_path
 from onedof_sim.tutorial.phases import CONTROL_PERIOD, CONTROLLER_NODE
 from onedof_sim.tutorial.physics import pd_prediction
@@ -32,14 +33,13 @@ class LockstepRun:
     phase's end, times in integer nanoseconds so that every run draws the same edges."""
 
     def __init__(self, ros, rospy, recorder, pos_cmd):
-        from onedof_sim.srv import StepSimulation
         self.wait_until = ros.wait_until
         from gazebo_msgs.srv import GetPhysicsProperties
         self.rospy = rospy
         self.recorder = recorder
         self.pos_cmd = pos_cmd
         self.rosout = Rosout(ros, rospy)
-        self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation)
+        self.step_service = step_service(rospy)
         self.time_step = rospy.ServiceProxy('/gazebo/get_physics_properties',
                                             GetPhysicsProperties)().time_step
         self.now_ns = 0
@@ -60,7 +60,7 @@ class LockstepRun:
                    what='the controller\'s /rosout')
 
     def step(self, steps):
-        say('rosservice call /gazebo/step_simulation "steps: %d"' % steps)
+        say('rosservice call %s "steps: %d"' % (STEP_SERVICE, steps))
         reply = self.step_service(steps)
         if not reply.success:
             raise RuntimeError('step_simulation: ' + reply.status_message)
@@ -208,7 +208,6 @@ class InSimRun:
         from control_msgs.msg import JointControllerState
         from controller_manager_msgs.srv import ListControllers
         from gazebo_msgs.srv import GetPhysicsProperties
-        from onedof_sim.srv import StepSimulation
         from std_msgs.msg import Float64
         self.ros = ros
         self.recorder = recorder
@@ -219,8 +218,7 @@ class InSimRun:
         self.command_pub = rospy.Publisher(IN_SIM_COMMAND, Float64, queue_size=1, latch=True)
         # Persistent: a phase is hundreds of short requests, each a master lookup and a new
         # connection otherwise.
-        self.step_service = rospy.ServiceProxy('/gazebo/step_simulation', StepSimulation,
-                                               persistent=True)
+        self.step_service = step_service(rospy, persistent=True)
         self.list_controllers = rospy.ServiceProxy(
             IN_SIM_NAMESPACE + '/controller_manager/list_controllers', ListControllers)
         self.time_step = rospy.ServiceProxy('/gazebo/get_physics_properties',

@@ -21,13 +21,13 @@ import xmlrpc.client
 import yaml
 
 from onedof_harness.private_ros import log_tail
+from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, request_collision_markers
 from onedof_sim.tools import package_path
 
 # rviz processes one view starts at most: the first and two restarts.
 RVIZ_STARTS = 3
 # Pixels two frames of a still scene may differ by: rviz's frame-rate counter.
 STEADY_PIXELS = 400
-MARKERS = '/gazebo/collision_markers'
 # What a restarted rviz must be connected to before the world shows it the final pose again: the
 # simulator's markers and robot_state_publisher's transforms.
 SHOWN_TOPICS = (MARKERS, '/tf')
@@ -86,6 +86,8 @@ class RvizView:
         self.display = self.env.get('DISPLAY', os.environ.get('DISPLAY'))
         self.config = os.path.join(work_dir, 'tutorial.rviz')
         self._write_config()
+        # As display.launch, whose view this is: the simulator's markers draw the world.
+        request_collision_markers('/tutorial', ros.master_uri)
         self.robot_state_publisher = ros.start(
             ['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
             name='robot_state_publisher')
