@@ -56,8 +56,6 @@ void addPlugins(const tinyxml2::XMLElement* parent, std::vector<PluginElement>* 
     out->push_back(toPluginElement(plugin));
 }
 
-}
-
 // A <sensor> element and what it says, or why it is malformed (SensorElement::error).
 SensorElement toSensorElement(const tinyxml2::XMLElement* sensor, const std::string& link) {
   SensorElement element;
