@@ -312,8 +312,10 @@ def assert_complaints(log, expected):
 
 
 def start_world(ros, engine, world):
+    """gzserver on `world`, paused, with /gazebo/step_simulation (the test steps it)."""
     return start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-u', '-e', engine,
-                               os.path.join(WORLDS, world)], 'gzserver')
+                               os.path.join(WORLDS, world), '_enable_step_simulation:=true'],
+                         'gzserver')
 
 
 def yaw(orientation):
