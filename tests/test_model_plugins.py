@@ -84,7 +84,7 @@ def test_a_plugin_sees_its_hooks_in_order_in_sim_time_and_is_gone_after_delete(
 
     log = ros.log_text(probe_sim)
     assert log.count(UNKNOWN) == 1, log  # logged once, by name, for its two uses
-    assert "model 'probed'" in log and 'ignored' in log
+    assert "model 'probed': Failed to load plugin" in log, log
 
 
 def test_a_plugin_without_a_robot_namespace_takes_the_spawn_requests(

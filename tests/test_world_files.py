@@ -352,8 +352,7 @@ def test_a_world_saved_by_gazebo_11_loads_as_gazebo_loads_it(ros, rospy_client, 
 
 # Worlds in the shapes of gazebo_ros_pkgs' test worlds: each world's models, and the complaints
 # it draws: libsdformat's warnings (Gazebo's libsdformat gives them too), the errors Gazebo logs
-# for a plugin or a mesh it cannot load, and, where this simulator does not simulate a sensor
-# type Gazebo does, the warning that says so.
+# for a plugin or a mesh it cannot load.
 UPSTREAM_SHAPES = {
     'camera_test_shape.world': (['ground_plane', 'ball', 'pole'], []),
     'sensor_test_shape.world': (
@@ -362,19 +361,13 @@ UPSTREAM_SHAPES = {
          'XML Attribute[display] in element[scan] not defined in SDF',
          'XML Attribute[near] in element[clip] not defined in SDF',
          'XML Attribute[far] in element[clip] not defined in SDF',
-         "Failed to load plugin libgazebo_ros_range.so (plugin 'sonar_controller' of sensor "
-         "'sonar')",
-         "Failed to load plugin libgazebo_ros_block_laser.so (plugin 'profile_controller' of "
-         "sensor 'profile')",
          "model 'gripper_finger': link 'link': collision 'finger_mesh' is the mesh "
          "'pr2/gripper/finger_tip.stl', which is not found"]),
     'old_sdf_test_shape.world': (
         ['floor', 'crate', 'lift'],
         ['XML Attribute[name] in element[collision] not defined in SDF',
          'Non-unique name[door] detected 2 times in XML children of model with name[lift]',
-         'Joint with name [door] in model with name [lift] has a name collision',
-         "sensor 'bumper' (type contact) on link 'body': sensors of type contact are not "
-         "simulated here"]),
+         'Joint with name [door] in model with name [lift] has a name collision']),
     'p2dx_test_shape.world': (
         ['ground_plane', 'two_wheeler'],
         ["model 'two_wheeler': Failed to load plugin libDiffDrivePlugin.so (plugin "

@@ -902,7 +902,9 @@ TEST_P(Models, MeshCollisionsAreTheirScaledMeshAndVisualsAreIgnored) {
   EXPECT_NEAR(shapes[1].pose.position.z, 0.5, 1e-12);
 }
 
-TEST_P(Models, UnreadableMeshCollisionIsRefusedNamingLinkAndMesh) {
+// A collision mesh that cannot be read refuses the model, naming the link and the mesh; one
+// found nowhere is left out, as Gazebo leaves it out, and the model spawns with the reason.
+TEST_P(Models, UnreadableMeshIsRefusedAndMissingMeshLeftOutNamingLinkAndMesh) {
   ModelFolder folder;
   folder.write("dae_table/meshes/table.dae", "<COLLADA/>");
   folder.addModel("dae_table", "<collision name=\"top\">" +
@@ -913,18 +915,24 @@ TEST_P(Models, UnreadableMeshCollisionIsRefusedNamingLinkAndMesh) {
                                    "</collision>");
   World world(GetParam());
   world.setModelPath({folder.root()});
-  for (const std::string name : {"dae_table", "lost_mesh"}) {
-    const Status status = world.spawn(name, databaseRequestSdf(name), ModelFormat::Sdf, Pose());
-    EXPECT_EQ(status.code, StatusCode::ModelRejected) << status;
-    EXPECT_NE(status.subject.find("link 'link'"), std::string::npos) << status;
-    EXPECT_NE(status.subject.find("model://" + name + "/meshes/"), std::string::npos) << status;
-  }
   const Status unreadable = world.spawn("dae_table", databaseRequestSdf("dae_table"),
                                         ModelFormat::Sdf, Pose());
+  EXPECT_EQ(unreadable.code, StatusCode::ModelRejected) << unreadable;
+  EXPECT_NE(unreadable.subject.find("link 'link'"), std::string::npos) << unreadable;
   EXPECT_NE(unreadable.subject.find("cannot read the mesh file " + folder.root() +
                                     "/dae_table/meshes/table.dae"),
             std::string::npos) << unreadable;
   EXPECT_TRUE(world.modelNames().empty());
+
+  PreparedModel lost = World::prepare(databaseRequestSdf("lost_mesh"), ModelFormat::Sdf,
+                                      {folder.root()});
+  ASSERT_TRUE(lost.status().ok()) << lost.status();
+  ASSERT_EQ(lost.leftOut().size(), 1u);
+  EXPECT_NE(lost.leftOut()[0].find("model://lost_mesh/meshes/gone.stl"), std::string::npos)
+      << lost.leftOut()[0];
+  EXPECT_TRUE(world.spawn("lost_mesh", std::move(lost), Pose()).ok());
+  EXPECT_EQ(world.modelNames(), std::vector<std::string>{"lost_mesh"});
+  EXPECT_TRUE(world.collisionShapes().size() == 1u);  // the ground's alone
 }
 
 // An SDF pendulum: a base welded to `world` at z 1, an arm hanging from a revolute joint about y
