@@ -39,8 +39,10 @@ def gtest_cases():
 
 @pytest.mark.parametrize('binary,case', gtest_cases())
 def test_gtest_case(binary, case):
+    # The timeout only bounds a hang, below pytest's 900 s: a case of 20 CPU-seconds took 530 s
+    # at load 30.
     result = subprocess.run([binary, '--gtest_filter=' + case], capture_output=True, text=True,
-                            timeout=300)
+                            timeout=850)
     assert result.returncode == 0, result.stdout[-6000:] + result.stderr[-2000:]
     assert '[  PASSED  ] 1 test' in result.stdout, result.stdout[-3000:]
 
