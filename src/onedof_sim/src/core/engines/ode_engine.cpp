@@ -34,6 +34,26 @@
 // give the same total force and the same torque about the normal as the uniform line
 // (mu N w / 4), with the first friction direction along the cylinder's axis, so that the
 // friction pyramid's sides are the wheel's lateral and rolling directions whatever its heading.
+// How a rigid line's load splits between its two points is indeterminate, and the solver puts
+// it anywhere (all of it on a wheel's inner point, on the other wheel's outer one): each point's
+// friction is bounded by half the line's normal force, as under even pressure, or the point
+// that grips would set the wheel's track, and a base's turn rate with it. A cylinder tilted
+// within kLyingTilt with one rim clear of the face gives that rim's point alone; rimContact adds
+// the line's other end, so that the contact does not jump between a rim and the line.
+//
+// Friction follows Coulomb's law, which dWorldStep alone does not: its Dantzig solver bounds
+// each friction force by mu times the normal force its contact had before any friction was
+// solved (ODE's lcp.cpp sets the bounds at the first friction row), not the one the step ends
+// with. A base whose wheel motors push against a sliding caster loads the caster with the
+// motors' reaction until the wheels' traction takes it off again: the caster's friction came to
+// 1.5 mu N, as much as the motors could push, and the base stood. exactStep checks the law at
+// every contact with the normal forces the step ended with (dJointFeedback), and where it
+// fails takes the step again from its start with those bounds fixed (box friction), until it
+// holds: each retake's normal forces are closer (3 to 7 retakes while that base accelerates,
+// none at a steady speed). A contact sliding faster than kSlidingSpeed (engine.h) gets one
+// friction row, along its slip: Coulomb's cone. ODE's pyramid, its directions fixed in the
+// contact plane, braked a dragged caster along one of them and held it across the other, which
+// pinned the base's tail: it could not turn, and swung off its line when driven straight.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -56,13 +76,24 @@ namespace {
 // error") in the tutorial's own scenes, the arm lying on the ground or pressing the table. ODE's
 // own double-precision default CFM, 1e-10 (a compliance of 0.1 nm per N), regularises that and
 // removed every such failure in those scenes; it is a floor for contacts only, so joints and the
-// reported cfm stay exact.
+// reported cfm stay exact. Friction rows take it too (ODE's slip1 and slip2, a creep of 0.1 nm/s
+// per N): the two points of a lying cylinder's line have the same row across the line, and a
+// two-wheeled base with a caster failed more than half its steps without it.
 constexpr double kMinContactCfm = 1e-10;
 
 // A cylinder lies on a face when its axis is square to the contact normal within this (the sine
 // of the angle between the axis and the face): 10 mrad, 0.7 mm of height over the book's 7 cm
 // wheel. Beyond it only one rim touches, and dCollide's points stand.
 constexpr double kLyingTilt = 0.01;
+
+// Coulomb's law at a contact, as exactStep holds the step to it: a friction force within this
+// fraction (and kFrictionForceFloor newtons) of mu times its normal force counts as at that
+// bound; a contact slides along a friction direction faster than kSlipFloor (m/s). At most
+// kFrictionPasses retakes of a step.
+constexpr double kFrictionTolerance = 1e-3;
+constexpr double kFrictionForceFloor = 1e-6;
+constexpr double kSlipFloor = 1e-6;
+constexpr int kFrictionPasses = 10;
 
 double dot3(const dReal* a, const dReal* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -92,6 +123,33 @@ bool lineContact(dGeomID cylinder, dContactGeom* points, dVector3 axis) {
   for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * p.normal[k];
   const double norm = std::sqrt(dot3(axis, axis));
   for (int k = 0; k < 3; ++k) axis[k] /= norm;
+  return true;
+}
+
+// A cylinder lying within kLyingTilt with one rim a little higher than the other: dCollide gives
+// the lower rim's point alone. Adds, as points[1], the other end of the side line it lies on, at
+// that end's depth (negative when it is clear of the face), so that lineContact takes the two
+// as it takes a lying cylinder's: the contact no longer jumps from the line to a rim and back as
+// the cylinder rocks by microradians.
+bool rimContact(dGeomID cylinder, dContactGeom* points) {
+  if (dGeomGetClass(cylinder) != dCylinderClass) return false;
+  dReal radius, length;
+  dGeomCylinderGetParams(cylinder, &radius, &length);
+  const dReal* rotation = dGeomGetRotation(cylinder);
+  const dReal* centre = dGeomGetPosition(cylinder);
+  const dVector3 z = {rotation[2], rotation[6], rotation[10]};
+  const dContactGeom& p = points[0];
+  const dVector3 offset = {p.pos[0] - centre[0], p.pos[1] - centre[1], p.pos[2] - centre[2]};
+  const double along = dot3(offset, z);
+  if (std::fabs(dot3(z, p.normal)) > kLyingTilt || std::fabs(along) < length / 2 * (1 - 1e-6))
+    return false;
+  // The normal points into the contact's first geom: out of the face towards the cylinder when
+  // the cylinder is that geom.
+  const double into_cylinder = p.g1 == cylinder ? 1 : -1;
+  dContactGeom& q = points[1];
+  q = p;
+  for (int k = 0; k < 3; ++k) q.pos[k] = p.pos[k] - 2 * along * z[k];
+  q.depth = p.depth + 2 * along * into_cylinder * dot3(z, p.normal);
   return true;
 }
 
@@ -496,8 +554,7 @@ class OdeEngine : public Engine {
       bool quick = params_.quick_step || retake;
       if (!quick) {
         saveBodies();
-        dWorldStep(world_, dt);
-        if (stepping_message_set) {  // the exact solve failed: see the top of the file
+        if (!exactStep(dt)) {  // the exact solve failed: see the top of the file
           restoreBodies();
           solver_message->clear();
           stepping_message_set = false;
@@ -507,10 +564,12 @@ class OdeEngine : public Engine {
       if (quick) dWorldQuickStep(world_, dt);
     } catch (const EngineFault&) {
       stepping_message = nullptr;
+      contacts_.clear();
       throw;
     }
     stepping_message = nullptr;
     dJointGroupEmpty(contact_group_);
+    contacts_.clear();
   }
 
  private:
@@ -572,18 +631,23 @@ class OdeEngine : public Engine {
     if ((!body_a && !body_b) || contact_buffer_.empty()) return;
     const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
-    const int count = collide(a, b);
+    int count = collide(a, b);
     dContactGeom line[2];
     dVector3 axis;
     bool lying = false;
-    if (count == 2) {
+    if (count == 2 || (count == 1 && contact_buffer_.size() >= 2)) {
       line[0] = contact_buffer_[0].geom, line[1] = contact_buffer_[1].geom;
-      lying = lineContact(a, line, axis) || lineContact(b, line, axis);
-      if (lying) contact_buffer_[0].geom = line[0], contact_buffer_[1].geom = line[1];
+      const bool ends = count == 2 || rimContact(a, line) || rimContact(b, line);
+      lying = ends && (lineContact(a, line, axis) || lineContact(b, line, axis));
+      if (lying) {
+        contact_buffer_[0].geom = line[0], contact_buffer_[1].geom = line[1];
+        count = 2;
+      }
     }
     for (int i = 0; i < count; ++i) {
       dContact& contact = contact_buffer_[i];
-      contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM;
+      contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM |
+                             dContactSlip1 | dContactSlip2;
       if (lying) {
         contact.surface.mode |= dContactFDir1;
         for (int k = 0; k < 3; ++k) contact.fdir1[k] = axis[k];
@@ -592,8 +656,22 @@ class OdeEngine : public Engine {
       contact.surface.mu2 = std::min(surface_a->mu2, surface_b->mu2);
       contact.surface.soft_erp = params_.erp;
       contact.surface.soft_cfm = std::max(params_.cfm, kMinContactCfm);
-      dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
-      dJointAttach(joint, body_a, body_b);
+      contact.surface.slip1 = contact.surface.slip2 = contact.surface.soft_cfm;
+      dVector3 slip_direction;
+      if (contact.surface.mu == contact.surface.mu2 &&
+          slidingDirection(body_a, body_b, contact.geom, slip_direction)) {
+        contact.surface.mode |= dContactFDir1;
+        for (int k = 0; k < 3; ++k) contact.fdir1[k] = slip_direction[k];
+        contact.surface.mu2 = 0;  // one friction row, along the slip
+      }
+      const int partner = lying ? static_cast<int>(contacts_.size()) + (i == 0 ? 1 : -1) : -1;
+      contacts_.push_back({contact, body_a, body_b, {}, partner, {}});
+      StepContact& recorded = contacts_.back();
+      for (int b = 0; b < 2; ++b)
+        if (dBodyID body = b == 0 ? body_a : body_b)
+          for (int k = 0; k < 3; ++k)
+            recorded.arm[b][k] = contact.geom.pos[k] - dBodyGetPosition(body)[k];
+      attachContact(&recorded, contact);
     }
     if (count > 0)
       for (dBodyID body : {body_a, body_b})
@@ -602,6 +680,143 @@ class OdeEngine : public Engine {
           if (std::find(contact_bodies_.begin(), contact_bodies_.end(), ref) == contact_bodies_.end())
             contact_bodies_.push_back(ref);
         }
+  }
+
+  // A contact of the step: the dContact its joint is made from (surface.mu and mu2 the friction
+  // coefficients), the bodies it is attached to, and what the step put on the first of them.
+  struct StepContact {
+    dContact contact;
+    dBodyID body_a, body_b;
+    dVector3 arm[2];  // from body_a's and body_b's centres at the step's start to the contact
+    int partner;      // the other point of its side line (lineContact), or -1
+    dJointFeedback feedback;
+  };
+
+  // The joint of `step_contact` made from `contact` (its own, or with other friction bounds).
+  void attachContact(StepContact* step_contact, const dContact& contact) {
+    dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
+    dJointAttach(joint, step_contact->body_a, step_contact->body_b);
+    dJointSetFeedback(joint, &step_contact->feedback);
+  }
+
+  // dWorldStep, with Coulomb's law at every contact (see the top of the file): where a friction
+  // force of the step departs from mu times the normal force the step ended with, the step is
+  // taken again from its start with each contact's friction bounded by mu times its last normal
+  // force, until the law holds. False when the solver failed; the contacts' joints are then the
+  // ones collision made.
+  bool exactStep(double dt) {
+    dWorldStep(world_, dt);
+    if (stepping_message_set) return false;
+    for (int pass = 0; pass < kFrictionPasses && !frictionFollowsCoulomb(); ++pass) {
+      restoreBodies();
+      dJointGroupEmpty(contact_group_);
+      for (size_t i = 0; i < contacts_.size(); ++i) {
+        dContact bounded = contacts_[i].contact;
+        bounded.surface.mode &= ~dContactApprox1;
+        bounded.surface.mu = friction_bounds_[i].first;
+        bounded.surface.mu2 = friction_bounds_[i].second;
+        attachContact(&contacts_[i], bounded);
+      }
+      dWorldStep(world_, dt);
+      if (stepping_message_set) {
+        dJointGroupEmpty(contact_group_);
+        for (StepContact& contact : contacts_) attachContact(&contact, contact.contact);
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // Whether each contact's friction forces in the step just taken hold to Coulomb's law, in
+  // ODE's friction pyramid: within mu times the normal force along each friction direction,
+  // and at that bound where the contact slides along it. Sets friction_bounds_ to those bounds.
+  bool frictionFollowsCoulomb() {
+    friction_bounds_.resize(contacts_.size());
+    bool holds = true;
+    for (size_t i = 0; i < contacts_.size(); ++i) {
+      const StepContact& c = contacts_[i];
+      const dSurfaceParameters& surface = c.contact.surface;
+      // The joint's first body is body_a, or body_b when body_a is none; its normal points into
+      // that body, and feedback.f1 is the force on it.
+      const double into_first = c.body_a ? 1 : -1;
+      dVector3 normal, t1, t2;
+      for (int k = 0; k < 3; ++k) normal[k] = into_first * c.contact.geom.normal[k];
+      if (surface.mode & dContactFDir1) {
+        for (int k = 0; k < 3; ++k) t1[k] = c.contact.fdir1[k];
+        dCalcVectorCross3(t2, normal, t1);
+      } else {
+        dPlaneSpace(normal, t1, t2);
+      }
+      // An infinite coefficient is a row without bound, as ODE makes it.
+      const double pressing = pressingForce(c);
+      const double coefficient[2] = {surface.mu, surface.mu2};
+      double bound[2];
+      for (int row = 0; row < 2; ++row)
+        bound[row] = std::isinf(coefficient[row]) ? coefficient[row] : coefficient[row] * pressing;
+      friction_bounds_[i] = {bound[0], bound[1]};
+      // The friction rows ODE gives the contact (dxJointContact::getInfo1): one per positive
+      // coefficient, along fdir1 first, bounded by mu and then mu2.
+      const int rows = (surface.mu > 0) + (surface.mu2 > 0);
+      dVector3 slip;
+      contactSlip(c, slip);
+      const dReal* direction[2] = {t1, t2};
+      for (int row = 0; row < rows; ++row) {
+        const double limit = bound[row];
+        if (std::isinf(limit)) continue;
+        const double force = std::fabs(dot3(c.feedback.f1, direction[row]));
+        const double margin = kFrictionTolerance * limit + kFrictionForceFloor;
+        // A row that holds its contact still creeps at slip times its force (ODE's slip1, slip2).
+        const double creep = (row == 0 ? surface.slip1 : surface.slip2) * force;
+        const bool slides = std::fabs(dot3(slip, direction[row])) > kSlipFloor + 2 * creep;
+        if (force > limit + margin || (slides && force < limit - margin)) holds = false;
+      }
+    }
+    return holds;
+  }
+
+  // The normal force a contact's friction is bounded by: its own, or for a point of a side line
+  // half the line's, as under the line's even pressure (which side of a wheel the solver loads
+  // is no matter of physics, and would set the wheel's track).
+  double pressingForce(const StepContact& contact) const {
+    auto normalForce = [](const StepContact& c) {
+      const double into_first = c.body_a ? 1 : -1;  // feedback.f1 is on the joint's first body
+      return std::max(0.0, into_first * dot3(c.feedback.f1, c.contact.geom.normal));
+    };
+    if (contact.partner < 0) return normalForce(contact);
+    return (normalForce(contact) + normalForce(contacts_[contact.partner])) / 2;
+  }
+
+  // Whether the bodies slide over each other at the contact at the step's start, faster than
+  // kSlidingSpeed, and along which unit direction (in the contact plane, body_a's way).
+  static bool slidingDirection(dBodyID body_a, dBodyID body_b, const dContactGeom& geom,
+                               dVector3 direction) {
+    dVector3 va = {0, 0, 0}, vb = {0, 0, 0};
+    if (body_a) dBodyGetPointVel(body_a, geom.pos[0], geom.pos[1], geom.pos[2], va);
+    if (body_b) dBodyGetPointVel(body_b, geom.pos[0], geom.pos[1], geom.pos[2], vb);
+    for (int k = 0; k < 3; ++k) direction[k] = va[k] - vb[k];
+    const double along_normal = dot3(direction, geom.normal);
+    for (int k = 0; k < 3; ++k) direction[k] -= along_normal * geom.normal[k];
+    const double speed = std::sqrt(dot3(direction, direction));
+    if (!(speed > kSlidingSpeed)) return false;
+    for (int k = 0; k < 3; ++k) direction[k] /= speed;
+    return true;
+  }
+
+  // The velocity of the contact's first body relative to its second (none: the static
+  // environment) at the contact after the step, about the centres the bodies had before it, as
+  // the step's constraint rows measure it.
+  static void contactSlip(const StepContact& contact, dVector3 slip) {
+    for (int k = 0; k < 3; ++k) slip[k] = 0;
+    const dBodyID bodies[2] = {contact.body_a, contact.body_b};
+    for (int b = 0; b < 2; ++b) {
+      if (!bodies[b]) continue;
+      const dReal* v = dBodyGetLinearVel(bodies[b]);
+      const dReal* w = dBodyGetAngularVel(bodies[b]);
+      dVector3 spin;
+      dCalcVectorCross3(spin, w, contact.arm[b]);
+      const double sign = (b == 0) == (contact.body_a != nullptr) ? 1 : -1;
+      for (int k = 0; k < 3; ++k) slip[k] += sign * (v[k] + spin[k]);
+    }
   }
 
   // The bodies' state before a dWorldStep, for taking the step again: with the forces and
@@ -666,6 +881,8 @@ class OdeEngine : public Engine {
   dJointGroupID contact_group_ = nullptr;
   Surface ground_surface_;
   std::vector<dContact> contact_buffer_;
+  std::deque<StepContact> contacts_;  // the step's; a deque: ODE keeps pointers to the feedback
+  std::vector<std::pair<double, double>> friction_bounds_;  // per contact: along fdir1, fdir2
   std::vector<dContactGeom> mesh_candidates_;
   dGeomID ray_ = nullptr;  // castRays' ray, made at its first call
   double ray_hit_ = 0;     // the nearest hit of the ray being cast
