@@ -20,40 +20,44 @@
 // default, so that the jobs a fault leaves behind cannot reach another world.
 //
 // dWorldStep's Dantzig LCP with friction can fail to solve a well-posed step ("LCP internal
-// error, s <= 0") and keeps the failed, partial solution: the diff-drive base of
-// tests/test_diff_drive.py fails about one step in ten, and still fails with every joint welded,
-// one rigid body on four sphere contacts. Such a step is taken again,
-// from the state it started in, with dWorldQuickStep (ODE's iterative solver, Gazebo's default),
-// and only trouble that solver reports too reaches the world.
+// error, s <= 0") and keeps the failed, partial solution: contact rows that hold the same motion
+// many times over make its matrix singular. With Gazebo's CFM of 0 on the friction rows, the
+// diff-drive base of tests/test_diff_drive.py fails about one step in ten, even with every joint
+// welded, one rigid body on four sphere contacts; the CFM floor (kMinContactCfm) on every contact
+// row takes those failures away there. Such a step is taken again, from the state it started
+// in, with dWorldQuickStep (ODE's iterative solver, Gazebo's default), and only trouble that
+// solver reports too reaches the world.
 //
 // A cylinder lying on a flat face touches it along a line. dCollide gives that line's two end
-// points on the rims; resolved as two points, their friction opposes the cylinder turning about
-// the normal with mu N w / 2 (w the cylinder's length), twice what a line under uniform pressure
-// does, and drags a wheel's contact to whichever rim the solver loads. lineContact replaces them
-// by the two points at a quarter and three quarters of the line: sharing the load evenly, they
-// give the same total force and the same torque about the normal as the uniform line
-// (mu N w / 4), with the first friction direction along the cylinder's axis, so that the
-// friction pyramid's sides are the wheel's lateral and rolling directions whatever its heading.
-// How a rigid line's load splits between its two points is indeterminate, and the solver puts
-// it anywhere (all of it on a wheel's inner point, on the other wheel's outer one): each point's
-// friction is bounded by half the line's normal force, as under even pressure, or the point
-// that grips would set the wheel's track, and a base's turn rate with it. A cylinder tilted
-// within kLyingTilt with one rim clear of the face gives that rim's point alone; rimContact adds
-// the line's other end, so that the contact does not jump between a rim and the line.
+// points on the rims; resolved as two points with friction, they resist the cylinder turning about
+// the normal (a caster wheel swivelling) with up to mu N w / 2 (w the cylinder's length), and how
+// the rigid line's load splits between them is indeterminate: the solver loads either, and the
+// point that grips sets a wheel's track, and a base's turn rate with it. lineContact replaces them
+// by three: the points at a quarter and three quarters of the line steady the cylinder and have no
+// friction; the line's middle carries nearly all its load (kLineSupportCfm) and its friction,
+// bounded by the whole line's normal force (exactStep), with the first friction direction along the
+// cylinder's axis, so that the friction pyramid's sides are the wheel's lateral and rolling
+// directions whatever its heading. That is the line's resultant, as Bullet's engine resolves it: a
+// wheel's track is its middle's, and no friction torque about the normal holds a caster from
+// swivelling (a flat cylinder's evenly loaded line, mu N w / 4, holds the book's mobot's 8 cm
+// casters straight against its 5 N m wheel motors, and the mobot cannot turn; a real caster's
+// crowned tyre scrubs far less). A cylinder tilted within kLyingTilt with one rim clear of the face
+// gives that rim's point alone; rimContact adds the line's other end, so that the contact does not
+// jump between a rim and the line.
 //
 // Friction follows Coulomb's law, which dWorldStep alone does not: its Dantzig solver bounds
 // each friction force by mu times the normal force its contact had before any friction was
 // solved (ODE's lcp.cpp sets the bounds at the first friction row), not the one the step ends
 // with. A base whose wheel motors push against a sliding caster loads the caster with the
-// motors' reaction until the wheels' traction takes it off again: the caster's friction came to
-// 1.5 mu N, as much as the motors could push, and the base stood. exactStep checks the law at
+// motors' reaction until the wheels' traction takes it off again: the caster's friction comes to
+// 1.5 mu N, as much as the motors can push, and the base stands still. exactStep checks the law at
 // every contact with the normal forces the step ended with (dJointFeedback), and where it
 // fails takes the step again from its start with those bounds fixed (box friction), until it
-// holds: each retake's normal forces are closer (3 to 7 retakes while that base accelerates,
-// none at a steady speed). A contact sliding faster than kSlidingSpeed (engine.h) gets one
+// holds: each retake's normal forces are closer (5 or 6 retakes a step while that base
+// accelerates, hardly any at a steady speed). A contact sliding faster than kSlidingSpeed (engine.h) gets one
 // friction row, along its slip: Coulomb's cone. ODE's pyramid, its directions fixed in the
-// contact plane, braked a dragged caster along one of them and held it across the other, which
-// pinned the base's tail: it could not turn, and swung off its line when driven straight.
+// contact plane, brakes a dragged caster along one of them and holds it across the other, which
+// pins the base's tail: it cannot turn.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -77,9 +81,16 @@ namespace {
 // own double-precision default CFM, 1e-10 (a compliance of 0.1 nm per N), regularises that and
 // removed every such failure in those scenes; it is a floor for contacts only, so joints and the
 // reported cfm stay exact. Friction rows take it too (ODE's slip1 and slip2, a creep of 0.1 nm/s
-// per N): the two points of a lying cylinder's line have the same row across the line, and a
-// two-wheeled base with a caster failed more than half its steps without it.
+// per N): with Gazebo's 0 there, the exact solve of the book's mobot fails about one step in ten
+// (its wheels' and casters' rows across their lines), and none with it.
 constexpr double kMinContactCfm = 1e-10;
+
+// The CFM of the two points that hold a lying cylinder's line up (lineContact): 10^4 times its
+// middle's, so that the middle, which carries the line's friction, carries nearly all its load
+// too and ODE's friction bound from that load (dContactApprox1) is the line's from the first
+// solve; at ODE's default ERP and a 1 ms step they still push back at 2e8 N/m, so that a
+// cylinder that tips about its middle is held level to microradians.
+constexpr double kLineSupportCfm = 1e-6;
 
 // A cylinder lies on a face when its axis is square to the contact normal within this (the sine
 // of the angle between the axis and the face): 10 mrad, 0.7 mm of height over the book's 7 cm
@@ -99,28 +110,30 @@ double dot3(const dReal* a, const dReal* b) { return a[0] * b[0] + a[1] * b[1] +
 
 // The two contacts of `cylinder` (cylinder against a flat face) when they are the ends of a side
 // line, as dCollide gives them for a lying cylinder: the same normal, square to the axis, and the
-// segment between them along the axis. Replaces them by the line's quarter points and sets
-// `axis` (unit, in the contact plane) for the first friction direction.
+// segment between them along the axis. Replaces them by the line's quarter points, adds its
+// middle as points[2] (points has room for three), and sets `axis` (unit, in the contact plane)
+// for the first friction direction.
 bool lineContact(dGeomID cylinder, dContactGeom* points, dVector3 axis) {
   if (dGeomGetClass(cylinder) != dCylinderClass) return false;
   const dReal* rotation = dGeomGetRotation(cylinder);
   const dVector3 z = {rotation[2], rotation[6], rotation[10]};  // the cylinder's axis
-  dContactGeom& p = points[0];
-  dContactGeom& q = points[1];
+  const dContactGeom& p = points[0];
+  const dContactGeom& q = points[1];
   const dVector3 segment = {q.pos[0] - p.pos[0], q.pos[1] - p.pos[1], q.pos[2] - p.pos[2]};
   const double length = std::sqrt(dot3(segment, segment));
   if (dot3(p.normal, q.normal) < 1 - 1e-9 || std::fabs(dot3(z, p.normal)) > kLyingTilt ||
       length == 0 || std::fabs(dot3(segment, z)) < length * (1 - 1e-6))
     return false;
   const dContactGeom ends[2] = {p, q};
-  const double at[2] = {0.25, 0.75};
-  for (int i = 0; i < 2; ++i) {
+  const double at[3] = {0.25, 0.75, 0.5};
+  for (int i = 0; i < 3; ++i) {
     dContactGeom& point = points[i];
+    point = ends[0];
     for (int k = 0; k < 3; ++k) point.pos[k] = ends[0].pos[k] + at[i] * segment[k];
     point.depth = ends[0].depth + at[i] * (ends[1].depth - ends[0].depth);
   }
-  const double across = dot3(z, p.normal);
-  for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * p.normal[k];
+  const double across = dot3(z, points[0].normal);
+  for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * points[0].normal[k];
   const double norm = std::sqrt(dot3(axis, axis));
   for (int k = 0; k < 3; ++k) axis[k] /= norm;
   return true;
@@ -632,40 +645,44 @@ class OdeEngine : public Engine {
     const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
     int count = collide(a, b);
-    dContactGeom line[2];
+    // A lying cylinder's line: its quarter points hold it up (no friction), its middle carries
+    // the line's friction (see the top of the file).
+    dContactGeom line[3];
     dVector3 axis;
     bool lying = false;
-    if (count == 2 || (count == 1 && contact_buffer_.size() >= 2)) {
+    if ((count == 2 || count == 1) && contact_buffer_.size() >= 3) {
       line[0] = contact_buffer_[0].geom, line[1] = contact_buffer_[1].geom;
       const bool ends = count == 2 || rimContact(a, line) || rimContact(b, line);
       lying = ends && (lineContact(a, line, axis) || lineContact(b, line, axis));
       if (lying) {
-        contact_buffer_[0].geom = line[0], contact_buffer_[1].geom = line[1];
-        count = 2;
+        for (int i = 0; i < 3; ++i) contact_buffer_[i].geom = line[i];
+        count = 3;
       }
     }
+    const int first = static_cast<int>(contacts_.size());
     for (int i = 0; i < count; ++i) {
       dContact& contact = contact_buffer_[i];
       contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM |
                              dContactSlip1 | dContactSlip2;
+      const bool support = lying && i < 2;
       if (lying) {
         contact.surface.mode |= dContactFDir1;
         for (int k = 0; k < 3; ++k) contact.fdir1[k] = axis[k];
       }
-      contact.surface.mu = std::min(surface_a->mu, surface_b->mu);
-      contact.surface.mu2 = std::min(surface_a->mu2, surface_b->mu2);
+      contact.surface.mu = support ? 0 : std::min(surface_a->mu, surface_b->mu);
+      contact.surface.mu2 = support ? 0 : std::min(surface_a->mu2, surface_b->mu2);
       contact.surface.soft_erp = params_.erp;
-      contact.surface.soft_cfm = std::max(params_.cfm, kMinContactCfm);
+      contact.surface.soft_cfm = std::max(params_.cfm, support ? kLineSupportCfm : kMinContactCfm);
       contact.surface.slip1 = contact.surface.slip2 = contact.surface.soft_cfm;
       dVector3 slip_direction;
-      if (contact.surface.mu == contact.surface.mu2 &&
+      if (!support && contact.surface.mu == contact.surface.mu2 &&
           slidingDirection(body_a, body_b, contact.geom, slip_direction)) {
         contact.surface.mode |= dContactFDir1;
         for (int k = 0; k < 3; ++k) contact.fdir1[k] = slip_direction[k];
         contact.surface.mu2 = 0;  // one friction row, along the slip
       }
-      const int partner = lying ? static_cast<int>(contacts_.size()) + (i == 0 ? 1 : -1) : -1;
-      contacts_.push_back({contact, body_a, body_b, {}, partner, {}});
+      const bool carries_line = lying && i == 2;
+      contacts_.push_back({contact, body_a, body_b, {}, carries_line ? first : -1, {}});
       StepContact& recorded = contacts_.back();
       for (int b = 0; b < 2; ++b)
         if (dBodyID body = b == 0 ? body_a : body_b)
@@ -688,7 +705,7 @@ class OdeEngine : public Engine {
     dContact contact;
     dBodyID body_a, body_b;
     dVector3 arm[2];  // from body_a's and body_b's centres at the step's start to the contact
-    int partner;      // the other point of its side line (lineContact), or -1
+    int line;         // the middle of a side line: the first of its three points, else -1
     dJointFeedback feedback;
   };
 
@@ -774,16 +791,17 @@ class OdeEngine : public Engine {
     return holds;
   }
 
-  // The normal force a contact's friction is bounded by: its own, or for a point of a side line
-  // half the line's, as under the line's even pressure (which side of a wheel the solver loads
-  // is no matter of physics, and would set the wheel's track).
+  // The normal force a contact's friction is bounded by: its own, or for the middle of a side
+  // line the whole line's (its three points').
   double pressingForce(const StepContact& contact) const {
     auto normalForce = [](const StepContact& c) {
       const double into_first = c.body_a ? 1 : -1;  // feedback.f1 is on the joint's first body
       return std::max(0.0, into_first * dot3(c.feedback.f1, c.contact.geom.normal));
     };
-    if (contact.partner < 0) return normalForce(contact);
-    return (normalForce(contact) + normalForce(contacts_[contact.partner])) / 2;
+    if (contact.line < 0) return normalForce(contact);
+    double line = 0;
+    for (int i = contact.line; i < contact.line + 3; ++i) line += normalForce(contacts_[i]);
+    return line;
   }
 
   // Whether the bodies slide over each other at the contact at the step's start, faster than
