@@ -85,7 +85,7 @@ namespace {
 // (its wheels' and casters' rows across their lines), and none with it.
 constexpr double kMinContactCfm = 1e-10;
 
-// The CFM of the two points that hold a lying cylinder's line up (lineContact): 10^4 times its
+// The CFM of the two points that steady a lying cylinder's line (lineContact): 10^4 times its
 // middle's, so that the middle, which carries the line's friction, carries nearly all its load
 // too and ODE's friction bound from that load (dContactApprox1) is the line's from the first
 // solve; at ODE's default ERP and a 1 ms step they still push back at 2e8 N/m, so that a
@@ -645,8 +645,8 @@ class OdeEngine : public Engine {
     const auto* surface_a = static_cast<const Surface*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const Surface*>(dGeomGetData(b));
     int count = collide(a, b);
-    // A lying cylinder's line: its quarter points hold it up (no friction), its middle carries
-    // the line's friction (see the top of the file).
+    // A lying cylinder's line: its quarter points steady it (no friction), its middle carries
+    // its load and friction (see the top of the file).
     dContactGeom line[3];
     dVector3 axis;
     bool lying = false;
@@ -718,9 +718,9 @@ class OdeEngine : public Engine {
 
   // dWorldStep, with Coulomb's law at every contact (see the top of the file): where a friction
   // force of the step departs from mu times the normal force the step ended with, the step is
-  // taken again from its start with each contact's friction bounded by mu times its last normal
-  // force, until the law holds. False when the solver failed; the contacts' joints are then the
-  // ones collision made.
+  // taken again from its start with each contact's friction bounded by mu times that force
+  // (pressingForce), until the law holds. False when the solver failed; the contacts' joints are
+  // then the ones collision made.
   bool exactStep(double dt) {
     dWorldStep(world_, dt);
     if (stepping_message_set) return false;
@@ -832,7 +832,7 @@ class OdeEngine : public Engine {
       const dReal* w = dBodyGetAngularVel(bodies[b]);
       dVector3 spin;
       dCalcVectorCross3(spin, w, contact.arm[b]);
-      const double sign = (b == 0) == (contact.body_a != nullptr) ? 1 : -1;
+      const double sign = b == 0 || !contact.body_a ? 1 : -1;  // the first body's way
       for (int k = 0; k < 3; ++k) slip[k] += sign * (v[k] + spin[k]);
     }
   }
