@@ -201,8 +201,9 @@ def test_a_diff_drive_base_drives_the_commanded_twist_and_reports_it(
 # at, forward, and turns at their rate, on every engine.
 def drive_caster_base(ros, rospy, engine, angular):
     sim = start_sim(ros, engine, args=['-u'])
+    # The timeout only bounds a failure: on a loaded machine rosrun and spawn_model take minutes.
     result = run_command(ros, 'rosrun', 'gazebo_ros', 'spawn_model', '-file', CASTER_URDF,
-                         '-urdf', '-model', 'caster_base', '-z', '0.1')
+                         '-urdf', '-model', 'caster_base', '-z', '0.1', timeout=600)
     assert result.returncode == 0, output(result)
     out = command_and_sample(GazeboApi(rospy), rospy, 'caster_base', LINEAR, angular)
     out.sim = sim
