@@ -32,6 +32,13 @@ class EngineFault : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Friction at a contact whose bodies slide over each other, at the step's start, faster than
+// this (m/s) is Coulomb's: mu times the normal force, against the slip, whatever its direction.
+// Slower, each engine's friction pyramid holds the contact, its directions fixed in the contact
+// plane: a pyramid on a sliding contact brakes the slip along one of its directions only and
+// holds it across the other, so that a caster dragged at an angle to it pins its base sideways.
+constexpr double kSlidingSpeed = 0.01;
+
 struct ShapeSpec {
   // Box, Cylinder (along z), Sphere or Mesh; Plane (the plane z = 0 of its pose) only among a
   // model's anchored shapes (the world's ground is addGroundPlane).

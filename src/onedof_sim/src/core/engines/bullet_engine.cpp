@@ -44,6 +44,7 @@
 #include <deque>
 #include <limits>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "engine.h"
 #include "onedof_sim/pose_math.h"
@@ -307,6 +308,72 @@ class LyingCylinderPlane : public btCollisionAlgorithm {
  private:
   btConvexPlaneCollisionAlgorithm general_;  // owns the manifold
   bool swapped_;  // the plane is the first object
+};
+
+// The sequential-impulse solver with Coulomb's friction at sliding contacts (engine.h,
+// kSlidingSpeed). Each contact point's two friction directions are set before the solver makes
+// its constraints: at a point sliding faster than kSlidingSpeed at the step's start, the
+// diagonals of the slip and the direction across it, each bounded by mu / sqrt(2) times the
+// normal impulse: while the point slides both are at their bounds, and together brake it with
+// mu N against the slip and nothing across it; elsewhere btPlaneSpace1's, fixed in the contact
+// plane, as Bullet's own with SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION. Where a
+// point's directions change, the friction impulse it carries over from the last step (warm
+// starting) is carried over onto the new ones.
+class CoulombFrictionSolver : public btSequentialImpulseConstraintSolver {
+ protected:
+  void convertContacts(btPersistentManifold** manifolds, int count,
+                       const btContactSolverInfo& info) override {
+    sliding_.clear();
+    for (int m = 0; m < count; ++m) {
+      btPersistentManifold& manifold = *manifolds[m];
+      const btRigidBody* a = btRigidBody::upcast(manifold.getBody0());
+      const btRigidBody* b = btRigidBody::upcast(manifold.getBody1());
+      for (int p = 0; p < manifold.getNumContacts(); ++p)
+        setFrictionDirections(manifold.getContactPoint(p), a, b);
+    }
+    btSequentialImpulseConstraintSolver::convertContacts(manifolds, count, info);
+    for (int f = 0; f < m_tmpSolverContactFrictionConstraintPool.size(); ++f) {
+      btSolverConstraint& friction = m_tmpSolverContactFrictionConstraintPool[f];
+      const void* point =
+          m_tmpSolverContactConstraintPool[friction.m_frictionIndex].m_originalContactPoint;
+      if (sliding_.count(point)) friction.m_friction *= SIMDSQRT12;
+    }
+  }
+
+ private:
+  void setFrictionDirections(btManifoldPoint& point, const btRigidBody* a, const btRigidBody* b) {
+    const btVector3& normal = point.m_normalWorldOnB;  // from b to a
+    btVector3 slip(0, 0, 0);
+    if (a) slip += velocityAt(*a, point.getPositionWorldOnA());
+    if (b) slip -= velocityAt(*b, point.getPositionWorldOnB());
+    slip -= normal * normal.dot(slip);
+    const btScalar speed = slip.length();
+    btVector3 first, second;
+    if (speed > kSlidingSpeed) {
+      const btVector3 along = slip / speed, across = normal.cross(along);
+      first = (along + across) * SIMDSQRT12;
+      second = (along - across) * SIMDSQRT12;
+      sliding_.insert(&point);
+    } else {
+      btPlaneSpace1(normal, first, second);
+    }
+    if (!(point.m_contactPointFlags & BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED) ||
+        first != point.m_lateralFrictionDir1 || second != point.m_lateralFrictionDir2) {
+      const btVector3 carried = point.m_appliedImpulseLateral1 * point.m_lateralFrictionDir1 +
+                                point.m_appliedImpulseLateral2 * point.m_lateralFrictionDir2;
+      point.m_appliedImpulseLateral1 = carried.dot(first);
+      point.m_appliedImpulseLateral2 = carried.dot(second);
+      point.m_lateralFrictionDir1 = first;
+      point.m_lateralFrictionDir2 = second;
+    }
+    point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
+  }
+
+  static btVector3 velocityAt(const btRigidBody& body, const btVector3& point) {
+    return body.getVelocityInLocalPoint(point - body.getCenterOfMassPosition());
+  }
+
+  std::unordered_set<const void*> sliding_;  // this step's sliding points
 };
 
 // Objects carry their model's id as user index (-1: the ground); one model never collides with
@@ -654,8 +721,11 @@ class BulletEngine : public Engine {
     // contact plane, as ODE's: along a sliding velocity they turn from step to step, and the
     // friction impulses the solver starts each step from (warm starting) then push along the
     // last step's directions. A two-wheeled base yawed 2.5 % faster than its wheels turned.
+    // CoulombFrictionSolver sets each point's directions (SOLVER_ENABLE_FRICTION_DIRECTION_CACHING
+    // has the solver take them), turned to the slip where a point slides.
     solver.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS |
-                           SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
+                           SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION |
+                           SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
     plane_cylinder_.m_swapped = true;
     dispatcher_.registerCollisionCreateFunc(CYLINDER_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE,
                                             &cylinder_plane_);
@@ -824,7 +894,7 @@ class BulletEngine : public Engine {
   LyingCylinderPlane::CreateFunc cylinder_plane_, plane_cylinder_;
   btCollisionDispatcher dispatcher_{&configuration_};
   btDbvtBroadphase broadphase_;
-  btSequentialImpulseConstraintSolver solver_;
+  CoulombFrictionSolver solver_;
   ModelFilter filter_;
   btStaticPlaneShape ground_shape_{btVector3(0, 0, 1), 0};
   btCollisionObject ground_;

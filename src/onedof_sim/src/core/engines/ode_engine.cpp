@@ -20,20 +20,44 @@
 // default, so that the jobs a fault leaves behind cannot reach another world.
 //
 // dWorldStep's Dantzig LCP with friction can fail to solve a well-posed step ("LCP internal
-// error, s <= 0") and keeps the failed, partial solution: the diff-drive base of
-// tests/test_diff_drive.py fails about one step in ten, and still fails with every joint welded,
-// one rigid body on four sphere contacts. Such a step is taken again,
-// from the state it started in, with dWorldQuickStep (ODE's iterative solver, Gazebo's default),
-// and only trouble that solver reports too reaches the world.
+// error, s <= 0") and keeps the failed, partial solution: contact rows that hold the same motion
+// many times over make its matrix singular. With Gazebo's CFM of 0 on the friction rows, the
+// diff-drive base of tests/test_diff_drive.py fails about one step in ten, even with every joint
+// welded, one rigid body on four sphere contacts; the CFM floor (kMinContactCfm) on every contact
+// row takes those failures away there. Such a step is taken again, from the state it started
+// in, with dWorldQuickStep (ODE's iterative solver, Gazebo's default), and only trouble that
+// solver reports too reaches the world.
 //
 // A cylinder lying on a flat face touches it along a line. dCollide gives that line's two end
-// points on the rims; resolved as two points, their friction opposes the cylinder turning about
-// the normal with mu N w / 2 (w the cylinder's length), twice what a line under uniform pressure
-// does, and drags a wheel's contact to whichever rim the solver loads. lineContact replaces them
-// by the two points at a quarter and three quarters of the line: sharing the load evenly, they
-// give the same total force and the same torque about the normal as the uniform line
-// (mu N w / 4), with the first friction direction along the cylinder's axis, so that the
-// friction pyramid's sides are the wheel's lateral and rolling directions whatever its heading.
+// points on the rims; resolved as two points with friction, they resist the cylinder turning about
+// the normal (a caster wheel swivelling) with up to mu N w / 2 (w the cylinder's length), and how
+// the rigid line's load splits between them is indeterminate: the solver loads either, and the
+// point that grips sets a wheel's track, and a base's turn rate with it. lineContact replaces them
+// by three: the points at a quarter and three quarters of the line steady the cylinder and have no
+// friction; the line's middle carries nearly all its load (kLineSupportCfm) and its friction,
+// bounded by the whole line's normal force (exactStep), with the first friction direction along the
+// cylinder's axis, so that the friction pyramid's sides are the wheel's lateral and rolling
+// directions whatever its heading. That is the line's resultant, as Bullet's engine resolves it: a
+// wheel's track is its middle's, and no friction torque about the normal holds a caster from
+// swivelling (a flat cylinder's evenly loaded line, mu N w / 4, holds the book's mobot's 8 cm
+// casters straight against its 5 N m wheel motors, and the mobot cannot turn; a real caster's
+// crowned tyre scrubs far less). A cylinder tilted within kLyingTilt with one rim clear of the face
+// gives that rim's point alone; rimContact adds the line's other end, so that the contact does not
+// jump between a rim and the line.
+//
+// Friction follows Coulomb's law, which dWorldStep alone does not: its Dantzig solver bounds
+// each friction force by mu times the normal force its contact had before any friction was
+// solved (ODE's lcp.cpp sets the bounds at the first friction row), not the one the step ends
+// with. A base whose wheel motors push against a sliding caster loads the caster with the
+// motors' reaction until the wheels' traction takes it off again: the caster's friction comes to
+// 1.5 mu N, as much as the motors can push, and the base stands still. exactStep checks the law at
+// every contact with the normal forces the step ended with (dJointFeedback), and where it
+// fails takes the step again from its start with those bounds fixed (box friction), until it
+// holds: each retake's normal forces are closer (5 or 6 retakes a step while that base
+// accelerates, hardly any at a steady speed). A contact sliding faster than kSlidingSpeed (engine.h) gets one
+// friction row, along its slip: Coulomb's cone. ODE's pyramid, its directions fixed in the
+// contact plane, brakes a dragged caster along one of them and holds it across the other, which
+// pins the base's tail: it cannot turn.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -56,42 +80,89 @@ namespace {
 // error") in the tutorial's own scenes, the arm lying on the ground or pressing the table. ODE's
 // own double-precision default CFM, 1e-10 (a compliance of 0.1 nm per N), regularises that and
 // removed every such failure in those scenes; it is a floor for contacts only, so joints and the
-// reported cfm stay exact.
+// reported cfm stay exact. Friction rows take it too (ODE's slip1 and slip2, a creep of 0.1 nm/s
+// per N): with Gazebo's 0 there, the exact solve of the book's mobot fails about one step in ten
+// (its wheels' and casters' rows across their lines), and none with it.
 constexpr double kMinContactCfm = 1e-10;
+
+// The CFM of the two points that steady a lying cylinder's line (lineContact): 10^4 times its
+// middle's, so that the middle, which carries the line's friction, carries nearly all its load
+// too and ODE's friction bound from that load (dContactApprox1) is the line's from the first
+// solve; at ODE's default ERP and a 1 ms step they still push back at 2e8 N/m, so that a
+// cylinder that tips about its middle is held level to microradians.
+constexpr double kLineSupportCfm = 1e-6;
 
 // A cylinder lies on a face when its axis is square to the contact normal within this (the sine
 // of the angle between the axis and the face): 10 mrad, 0.7 mm of height over the book's 7 cm
 // wheel. Beyond it only one rim touches, and dCollide's points stand.
 constexpr double kLyingTilt = 0.01;
 
+// Coulomb's law at a contact, as exactStep holds the step to it: a friction force within this
+// fraction (and kFrictionForceFloor newtons) of mu times its normal force counts as at that
+// bound; a contact slides along a friction direction faster than kSlipFloor (m/s). At most
+// kFrictionPasses retakes of a step.
+constexpr double kFrictionTolerance = 1e-3;
+constexpr double kFrictionForceFloor = 1e-6;
+constexpr double kSlipFloor = 1e-6;
+constexpr int kFrictionPasses = 10;
+
 double dot3(const dReal* a, const dReal* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The two contacts of `cylinder` (cylinder against a flat face) when they are the ends of a side
 // line, as dCollide gives them for a lying cylinder: the same normal, square to the axis, and the
-// segment between them along the axis. Replaces them by the line's quarter points and sets
-// `axis` (unit, in the contact plane) for the first friction direction.
+// segment between them along the axis. Replaces them by the line's quarter points, adds its
+// middle as points[2] (points has room for three), and sets `axis` (unit, in the contact plane)
+// for the first friction direction.
 bool lineContact(dGeomID cylinder, dContactGeom* points, dVector3 axis) {
   if (dGeomGetClass(cylinder) != dCylinderClass) return false;
   const dReal* rotation = dGeomGetRotation(cylinder);
   const dVector3 z = {rotation[2], rotation[6], rotation[10]};  // the cylinder's axis
-  dContactGeom& p = points[0];
-  dContactGeom& q = points[1];
+  const dContactGeom& p = points[0];
+  const dContactGeom& q = points[1];
   const dVector3 segment = {q.pos[0] - p.pos[0], q.pos[1] - p.pos[1], q.pos[2] - p.pos[2]};
   const double length = std::sqrt(dot3(segment, segment));
   if (dot3(p.normal, q.normal) < 1 - 1e-9 || std::fabs(dot3(z, p.normal)) > kLyingTilt ||
       length == 0 || std::fabs(dot3(segment, z)) < length * (1 - 1e-6))
     return false;
   const dContactGeom ends[2] = {p, q};
-  const double at[2] = {0.25, 0.75};
-  for (int i = 0; i < 2; ++i) {
+  const double at[3] = {0.25, 0.75, 0.5};
+  for (int i = 0; i < 3; ++i) {
     dContactGeom& point = points[i];
+    point = ends[0];
     for (int k = 0; k < 3; ++k) point.pos[k] = ends[0].pos[k] + at[i] * segment[k];
     point.depth = ends[0].depth + at[i] * (ends[1].depth - ends[0].depth);
   }
-  const double across = dot3(z, p.normal);
-  for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * p.normal[k];
+  const double across = dot3(z, points[0].normal);
+  for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * points[0].normal[k];
   const double norm = std::sqrt(dot3(axis, axis));
   for (int k = 0; k < 3; ++k) axis[k] /= norm;
+  return true;
+}
+
+// A cylinder lying within kLyingTilt with one rim a little higher than the other: dCollide gives
+// the lower rim's point alone. Adds, as points[1], the other end of the side line it lies on, at
+// that end's depth (negative when it is clear of the face), so that lineContact takes the two
+// as it takes a lying cylinder's: the contact no longer jumps from the line to a rim and back as
+// the cylinder rocks by microradians.
+bool rimContact(dGeomID cylinder, dContactGeom* points) {
+  if (dGeomGetClass(cylinder) != dCylinderClass) return false;
+  dReal radius, length;
+  dGeomCylinderGetParams(cylinder, &radius, &length);
+  const dReal* rotation = dGeomGetRotation(cylinder);
+  const dReal* centre = dGeomGetPosition(cylinder);
+  const dVector3 z = {rotation[2], rotation[6], rotation[10]};
+  const dContactGeom& p = points[0];
+  const dVector3 offset = {p.pos[0] - centre[0], p.pos[1] - centre[1], p.pos[2] - centre[2]};
+  const double along = dot3(offset, z);
+  if (std::fabs(dot3(z, p.normal)) > kLyingTilt || std::fabs(along) < length / 2 * (1 - 1e-6))
+    return false;
+  // The normal points into the contact's first geom: out of the face towards the cylinder when
+  // the cylinder is that geom.
+  const double into_cylinder = p.g1 == cylinder ? 1 : -1;
+  dContactGeom& q = points[1];
+  q = p;
+  for (int k = 0; k < 3; ++k) q.pos[k] = p.pos[k] - 2 * along * z[k];
+  q.depth = p.depth + 2 * along * into_cylinder * dot3(z, p.normal);
   return true;
 }
 
@@ -471,16 +542,8 @@ class OdeEngine : public Engine {
 
   std::vector<BodyRef> contactBodies() const override { return contact_bodies_; }
 
-  // Each contact joint's feedback: f1 is the force on the joint's first body, which ODE makes the
-  // geom's that has one (a body-less first geom swaps the two).
-  void contacts(std::vector<EngineContact>* out) const override {
-    *out = contacts_;
-    for (size_t i = 0; i < out->size(); ++i) {
-      const dReal* f = contact_feedback_[i].f1;
-      const double sign = contact_a_moves_[i] ? 1 : -1;
-      (*out)[i].force = {sign * f[0], sign * f[1], sign * f[2]};
-    }
-  }
+  // The last step's contacts, with the forces their joints' feedback gave (see reportContacts).
+  void contacts(std::vector<EngineContact>* out) const override { *out = reported_contacts_; }
 
   // One dGeomRay, in no space, collided with the world's space as Gazebo's ODE ray sensor does
   // (dSpaceCollide2, then dCollide with the closest hit of each geom).
@@ -514,15 +577,13 @@ class OdeEngine : public Engine {
     stepping_message_set = false;
     contact_bodies_.clear();
     contacts_.clear();
-    contact_feedback_.clear();
-    contact_a_moves_.clear();
+    reported_contacts_.clear();
     try {
       dSpaceCollide(space_, this, &nearCallback);
       bool quick = params_.quick_step || retake;
       if (!quick) {
         saveBodies();
-        dWorldStep(world_, dt);
-        if (stepping_message_set) {  // the exact solve failed: see the top of the file
+        if (!exactStep(dt)) {  // the exact solve failed: see the top of the file
           restoreBodies();
           solver_message->clear();
           stepping_message_set = false;
@@ -532,10 +593,13 @@ class OdeEngine : public Engine {
       if (quick) dWorldQuickStep(world_, dt);
     } catch (const EngineFault&) {
       stepping_message = nullptr;
+      contacts_.clear();
       throw;
     }
     stepping_message = nullptr;
+    reportContacts();
     dJointGroupEmpty(contact_group_);
+    contacts_.clear();
   }
 
  private:
@@ -597,34 +661,52 @@ class OdeEngine : public Engine {
     if ((!body_a && !body_b) || contact_buffer_.empty()) return;
     const auto* surface_a = static_cast<const GeomInfo*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const GeomInfo*>(dGeomGetData(b));
-    const int count = collide(a, b);
-    dContactGeom line[2];
+    int count = collide(a, b);
+    // A lying cylinder's line: its quarter points steady it (no friction), its middle carries
+    // its load and friction (see the top of the file).
+    dContactGeom line[3];
     dVector3 axis;
     bool lying = false;
-    if (count == 2) {
+    if ((count == 2 || count == 1) && contact_buffer_.size() >= 3) {
       line[0] = contact_buffer_[0].geom, line[1] = contact_buffer_[1].geom;
-      lying = lineContact(a, line, axis) || lineContact(b, line, axis);
-      if (lying) contact_buffer_[0].geom = line[0], contact_buffer_[1].geom = line[1];
+      const bool ends = count == 2 || rimContact(a, line) || rimContact(b, line);
+      lying = ends && (lineContact(a, line, axis) || lineContact(b, line, axis));
+      if (lying) {
+        for (int i = 0; i < 3; ++i) contact_buffer_[i].geom = line[i];
+        count = 3;
+      }
     }
+    const int first = static_cast<int>(contacts_.size());
     for (int i = 0; i < count; ++i) {
       dContact& contact = contact_buffer_[i];
-      contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM;
+      contact.surface.mode = dContactApprox1 | dContactMu2 | dContactSoftERP | dContactSoftCFM |
+                             dContactSlip1 | dContactSlip2;
+      const bool support = lying && i < 2;
       if (lying) {
         contact.surface.mode |= dContactFDir1;
         for (int k = 0; k < 3; ++k) contact.fdir1[k] = axis[k];
       }
-      contact.surface.mu = std::min(surface_a->mu, surface_b->mu);
-      contact.surface.mu2 = std::min(surface_a->mu2, surface_b->mu2);
+      contact.surface.mu = support ? 0 : std::min(surface_a->mu, surface_b->mu);
+      contact.surface.mu2 = support ? 0 : std::min(surface_a->mu2, surface_b->mu2);
       contact.surface.soft_erp = params_.erp;
-      contact.surface.soft_cfm = std::max(params_.cfm, kMinContactCfm);
-      dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
-      dJointAttach(joint, body_a, body_b);
-      contact_feedback_.emplace_back();
-      dJointSetFeedback(joint, &contact_feedback_.back());
-      const dContactGeom& geom = contact.geom;
-      contacts_.push_back({surface_a->shape, surface_b->shape, toVec3(geom.pos),
-                           toVec3(geom.normal), geom.depth, Vec3()});
-      contact_a_moves_.push_back(body_a != nullptr);
+      contact.surface.soft_cfm = std::max(params_.cfm, support ? kLineSupportCfm : kMinContactCfm);
+      contact.surface.slip1 = contact.surface.slip2 = contact.surface.soft_cfm;
+      dVector3 slip_direction;
+      if (!support && contact.surface.mu == contact.surface.mu2 &&
+          slidingDirection(body_a, body_b, contact.geom, slip_direction)) {
+        contact.surface.mode |= dContactFDir1;
+        for (int k = 0; k < 3; ++k) contact.fdir1[k] = slip_direction[k];
+        contact.surface.mu2 = 0;  // one friction row, along the slip
+      }
+      const bool carries_line = lying && i == 2;
+      contacts_.push_back({contact, body_a, body_b, {}, carries_line ? first : -1, {},
+                           surface_a->shape, surface_b->shape});
+      StepContact& recorded = contacts_.back();
+      for (int b = 0; b < 2; ++b)
+        if (dBodyID body = b == 0 ? body_a : body_b)
+          for (int k = 0; k < 3; ++k)
+            recorded.arm[b][k] = contact.geom.pos[k] - dBodyGetPosition(body)[k];
+      attachContact(&recorded, contact);
     }
     if (count > 0)
       for (dBodyID body : {body_a, body_b})
@@ -633,6 +715,158 @@ class OdeEngine : public Engine {
           if (std::find(contact_bodies_.begin(), contact_bodies_.end(), ref) == contact_bodies_.end())
             contact_bodies_.push_back(ref);
         }
+  }
+
+  // A contact of the step: the dContact its joint is made from (surface.mu and mu2 the friction
+  // coefficients), the bodies it is attached to, and what the step put on the first of them.
+  struct StepContact {
+    dContact contact;
+    dBodyID body_a, body_b;
+    dVector3 arm[2];  // from body_a's and body_b's centres at the step's start to the contact
+    int line;         // the middle of a side line: the first of its three points, else -1
+    dJointFeedback feedback;
+    ShapeRef shape_a, shape_b;  // the geoms' shapes, for the contacts the engine reports
+  };
+
+  // The step's contacts as the engine reports them: feedback.f1 is the force on the joint's
+  // first body, body_a's where it has one (dJointAttach with a null body_a makes body_b first).
+  void reportContacts() {
+    reported_contacts_.reserve(contacts_.size());
+    for (const StepContact& c : contacts_) {
+      const dContactGeom& geom = c.contact.geom;
+      const double sign = c.body_a ? 1 : -1;
+      const dReal* f = c.feedback.f1;
+      reported_contacts_.push_back({c.shape_a, c.shape_b, toVec3(geom.pos), toVec3(geom.normal),
+                                    geom.depth, {sign * f[0], sign * f[1], sign * f[2]}});
+    }
+  }
+
+  // The joint of `step_contact` made from `contact` (its own, or with other friction bounds).
+  void attachContact(StepContact* step_contact, const dContact& contact) {
+    dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
+    dJointAttach(joint, step_contact->body_a, step_contact->body_b);
+    dJointSetFeedback(joint, &step_contact->feedback);
+  }
+
+  // dWorldStep, with Coulomb's law at every contact (see the top of the file): where a friction
+  // force of the step departs from mu times the normal force the step ended with, the step is
+  // taken again from its start with each contact's friction bounded by mu times that force
+  // (pressingForce), until the law holds. False when the solver failed; the contacts' joints are
+  // then the ones collision made.
+  bool exactStep(double dt) {
+    dWorldStep(world_, dt);
+    if (stepping_message_set) return false;
+    for (int pass = 0; pass < kFrictionPasses && !frictionFollowsCoulomb(); ++pass) {
+      restoreBodies();
+      dJointGroupEmpty(contact_group_);
+      for (size_t i = 0; i < contacts_.size(); ++i) {
+        dContact bounded = contacts_[i].contact;
+        bounded.surface.mode &= ~dContactApprox1;
+        bounded.surface.mu = friction_bounds_[i].first;
+        bounded.surface.mu2 = friction_bounds_[i].second;
+        attachContact(&contacts_[i], bounded);
+      }
+      dWorldStep(world_, dt);
+      if (stepping_message_set) {
+        dJointGroupEmpty(contact_group_);
+        for (StepContact& contact : contacts_) attachContact(&contact, contact.contact);
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // Whether each contact's friction forces in the step just taken hold to Coulomb's law, in
+  // ODE's friction pyramid: within mu times the normal force along each friction direction,
+  // and at that bound where the contact slides along it. Sets friction_bounds_ to those bounds.
+  bool frictionFollowsCoulomb() {
+    friction_bounds_.resize(contacts_.size());
+    bool holds = true;
+    for (size_t i = 0; i < contacts_.size(); ++i) {
+      const StepContact& c = contacts_[i];
+      const dSurfaceParameters& surface = c.contact.surface;
+      // The joint's first body is body_a, or body_b when body_a is none; its normal points into
+      // that body, and feedback.f1 is the force on it.
+      const double into_first = c.body_a ? 1 : -1;
+      dVector3 normal, t1, t2;
+      for (int k = 0; k < 3; ++k) normal[k] = into_first * c.contact.geom.normal[k];
+      if (surface.mode & dContactFDir1) {
+        for (int k = 0; k < 3; ++k) t1[k] = c.contact.fdir1[k];
+        dCalcVectorCross3(t2, normal, t1);
+      } else {
+        dPlaneSpace(normal, t1, t2);
+      }
+      // An infinite coefficient is a row without bound, as ODE makes it.
+      const double pressing = pressingForce(c);
+      const double coefficient[2] = {surface.mu, surface.mu2};
+      double bound[2];
+      for (int row = 0; row < 2; ++row)
+        bound[row] = std::isinf(coefficient[row]) ? coefficient[row] : coefficient[row] * pressing;
+      friction_bounds_[i] = {bound[0], bound[1]};
+      // The friction rows ODE gives the contact (dxJointContact::getInfo1): one per positive
+      // coefficient, along fdir1 first, bounded by mu and then mu2.
+      const int rows = (surface.mu > 0) + (surface.mu2 > 0);
+      dVector3 slip;
+      contactSlip(c, slip);
+      const dReal* direction[2] = {t1, t2};
+      for (int row = 0; row < rows; ++row) {
+        const double limit = bound[row];
+        if (std::isinf(limit)) continue;
+        const double force = std::fabs(dot3(c.feedback.f1, direction[row]));
+        const double margin = kFrictionTolerance * limit + kFrictionForceFloor;
+        // A row that holds its contact still creeps at slip times its force (ODE's slip1, slip2).
+        const double creep = (row == 0 ? surface.slip1 : surface.slip2) * force;
+        const bool slides = std::fabs(dot3(slip, direction[row])) > kSlipFloor + 2 * creep;
+        if (force > limit + margin || (slides && force < limit - margin)) holds = false;
+      }
+    }
+    return holds;
+  }
+
+  // The normal force a contact's friction is bounded by: its own, or for the middle of a side
+  // line the whole line's (its three points').
+  double pressingForce(const StepContact& contact) const {
+    auto normalForce = [](const StepContact& c) {
+      const double into_first = c.body_a ? 1 : -1;  // feedback.f1 is on the joint's first body
+      return std::max(0.0, into_first * dot3(c.feedback.f1, c.contact.geom.normal));
+    };
+    if (contact.line < 0) return normalForce(contact);
+    double line = 0;
+    for (int i = contact.line; i < contact.line + 3; ++i) line += normalForce(contacts_[i]);
+    return line;
+  }
+
+  // Whether the bodies slide over each other at the contact at the step's start, faster than
+  // kSlidingSpeed, and along which unit direction (in the contact plane, body_a's way).
+  static bool slidingDirection(dBodyID body_a, dBodyID body_b, const dContactGeom& geom,
+                               dVector3 direction) {
+    dVector3 va = {0, 0, 0}, vb = {0, 0, 0};
+    if (body_a) dBodyGetPointVel(body_a, geom.pos[0], geom.pos[1], geom.pos[2], va);
+    if (body_b) dBodyGetPointVel(body_b, geom.pos[0], geom.pos[1], geom.pos[2], vb);
+    for (int k = 0; k < 3; ++k) direction[k] = va[k] - vb[k];
+    const double along_normal = dot3(direction, geom.normal);
+    for (int k = 0; k < 3; ++k) direction[k] -= along_normal * geom.normal[k];
+    const double speed = std::sqrt(dot3(direction, direction));
+    if (!(speed > kSlidingSpeed)) return false;
+    for (int k = 0; k < 3; ++k) direction[k] /= speed;
+    return true;
+  }
+
+  // The velocity of the contact's first body relative to its second (none: the static
+  // environment) at the contact after the step, about the centres the bodies had before it, as
+  // the step's constraint rows measure it.
+  static void contactSlip(const StepContact& contact, dVector3 slip) {
+    for (int k = 0; k < 3; ++k) slip[k] = 0;
+    const dBodyID bodies[2] = {contact.body_a, contact.body_b};
+    for (int b = 0; b < 2; ++b) {
+      if (!bodies[b]) continue;
+      const dReal* v = dBodyGetLinearVel(bodies[b]);
+      const dReal* w = dBodyGetAngularVel(bodies[b]);
+      dVector3 spin;
+      dCalcVectorCross3(spin, w, contact.arm[b]);
+      const double sign = b == 0 || !contact.body_a ? 1 : -1;  // the first body's way
+      for (int k = 0; k < 3; ++k) slip[k] += sign * (v[k] + spin[k]);
+    }
   }
 
   // The bodies' state before a dWorldStep, for taking the step again: with the forces and
@@ -691,17 +925,15 @@ class OdeEngine : public Engine {
   std::vector<dBodyID> bodies_;  // every model's, in the world
   std::vector<SavedBody> saved_;
   std::vector<BodyRef> contact_bodies_;  // in the contacts of the last step (contactBodies)
-  // The last step's contact points (their forces are read from the feedback), the feedback ODE
-  // fills in for each (a deque: ODE keeps pointers into it) and whether a's geom has the body.
-  std::vector<EngineContact> contacts_;
-  std::deque<dJointFeedback> contact_feedback_;
-  std::vector<bool> contact_a_moves_;
+  std::vector<EngineContact> reported_contacts_;  // the last step's (contacts())
   dWorldID world_ = nullptr;
   dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
   GeomInfo ground_info_;
   std::vector<dContact> contact_buffer_;
+  std::deque<StepContact> contacts_;  // the step's; a deque: ODE keeps pointers to the feedback
+  std::vector<std::pair<double, double>> friction_bounds_;  // per contact: along fdir1, fdir2
   std::vector<dContactGeom> mesh_candidates_;
   dGeomID ray_ = nullptr;  // castRays' ray, made at its first call
   double ray_hit_ = 0;     // the nearest hit of the ray being cast
