@@ -30,9 +30,10 @@ PYTEST_ARGS ?=
 # Every command the targets and tests run, with its Debian package (or requirements.txt).
 REQUIRED_COMMANDS := $(WS)/scripts/required-commands
 COMMAND_PACKAGES := $(shell awk '!/^\#/ && NF && $$2 !~ /^(requirements.txt|workspace)$$/ {print $$2}' $(REQUIRED_COMMANDS) | sort -u)
+# What the book's packages build against or run beside the simulator, each with the book's packages
+# that need it.
+BOOK_PACKAGES := $(shell awk '!/^\#/ && NF {print $$1}' $(WS)/scripts/book-packages)
 # The libraries, headers and Python modules the build and the nodes use, and those commands' packages.
-# libtf-dev and libimage-view-dev carry the manifests rosrun needs to find tf's and image_view's
-# tools; Eigen 3 and cmake_modules (ros-cmake-modules) are what the book's C++ packages build with.
 # The camera renderer: OpenGL and EGL through libglvnd (libegl-dev, libopengl-dev, libgl-dev's
 # headers), Mesa's EGL driver and its software rasteriser (libegl-mesa0, libgl1-mesa-dri).
 APT_PACKAGES := \
@@ -44,8 +45,7 @@ APT_PACKAGES := \
   python3-matplotlib python3-numpy python3-venv python3-pip python3-psutil \
   python3-pytest python3-pytest-forked python3-pytest-xdist python3-pytest-timeout \
   procps python3-tk \
-  libtf-dev libimage-view-dev libeigen3-dev ros-cmake-modules \
-  $(COMMAND_PACKAGES)
+  $(COMMAND_PACKAGES) $(BOOK_PACKAGES)
 
 # Set-up steps print one line each (what, how long); their full output goes to SETUP_LOG, and a
 # failing step prints its own in full (scripts/step).
@@ -88,12 +88,13 @@ commands: | deps venv build
 	if [ -n "$$missing" ]; then \
 	  echo "set-up: these commands are missing (from $(REQUIRED_COMMANDS)):"; echo "$$missing"; exit 1; fi
 
-# Installs the Debian packages only when one is missing (dpkg-query answers in well under a second).
+# Installs the Debian packages only when one is missing (dpkg-query answers in well under a second;
+# a package named twice, as a command's and as the book's, is one).
 # The step says how many packages apt installs (a simulated install counts them: those named here
 # and what they depend on, which depends on what the machine has); the names go to the log.
 deps:
 	@missing=$$( { dpkg-query -W -f='$${Package} $${db:Status-Status}\n' $(APT_PACKAGES) 2>/dev/null || true; } \
-	  | awk '$$2 == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(APT_PACKAGES)" | grep . | sort)); \
+	  | awk '$$2 == "installed" {print $$1}' | sort | comm -13 - <(tr ' ' '\n' <<< "$(APT_PACKAGES)" | grep . | sort -u)); \
 	if [ -n "$$missing" ]; then \
 	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo=sudo; \
 	  $(STEP) "deps: apt-get update" $$sudo apt-get update; \
