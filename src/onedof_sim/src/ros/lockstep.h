@@ -28,6 +28,8 @@
 
 #include <onedof_sim/world.h>
 
+#include "process_activity.h"
+
 namespace onedof_sim {
 
 class Lockstep {
@@ -79,13 +81,13 @@ class Lockstep {
 
   // The process of an accepted command's caller on this machine (empty: elsewhere or unknown),
   // and its threads' runs (ProcessThreads::runs) when the command came.
-  void commandedFrom(const std::string& caller, std::optional<int> pid, uint64_t runs);
+  void commandedFrom(const std::string& caller, std::optional<int> pid, ProcessRuns runs);
 
   // A lock-stepped controller's process on this machine, which a stop's clock waits for.
   struct Watched {
     std::string caller;
     int pid = 0;
-    uint64_t runs_at_command = 0;
+    ProcessRuns runs_at_command;
   };
   // The processes of the lock-stepped joints' callers on this machine, each once.
   std::vector<Watched> watched(const World& world) const;
@@ -111,7 +113,7 @@ class Lockstep {
   struct Caller {
     Clock::time_point last_request;
     std::optional<int> pid;
-    uint64_t runs_at_command = 0;
+    ProcessRuns runs_at_command;
   };
 
   // The lock-stepped joints of models in the world, each with its caller.

@@ -47,7 +47,7 @@ ProcessThreads& viewOf(std::map<int, std::unique_ptr<ProcessThreads>>* views, in
   if (view) return *view;
   view = std::make_unique<ProcessThreads>(pid);
   for (auto it = views->begin(); it != views->end();)
-    it = it->first != pid && !processExists(it->first) ? views->erase(it) : std::next(it);
+    it = it->first != pid && !processLives(it->first) ? views->erase(it) : std::next(it);
   return *view;
 }
 
@@ -350,7 +350,7 @@ bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) {
 
 ProcessThreads& SimLoop::loopView(int pid) { return viewOf(&loop_views_, pid); }
 
-uint64_t SimLoop::commandRuns(int pid) {
+ProcessRuns SimLoop::commandRuns(int pid) {
   std::lock_guard<std::mutex> lock(command_views_mutex_);
   return viewOf(&command_views_, pid).runs();
 }
@@ -394,7 +394,7 @@ std::optional<int> SimLoop::controllerPid(const std::string& caller) {
   {
     std::lock_guard<std::mutex> lock(pids_mutex_);
     auto found = controller_pids_.find(caller);
-    if (found != controller_pids_.end() && (!found->second || processExists(*found->second)))
+    if (found != controller_pids_.end() && (!found->second || processLives(*found->second)))
       return found->second;
   }
   std::optional<int> pid = localNodePid(caller);
@@ -499,7 +499,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
   // The caller's process and its runs before the reply: the stop's clock waits until it has run
   // since (awaitAsleep).
   std::optional<int> pid;
-  uint64_t runs = 0;
+  ProcessRuns runs;
   if (lockstep_.enabled()) {
     pid = controllerPid(command.caller);
     if (pid) runs = commandRuns(*pid);
@@ -531,7 +531,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
     }
     if (result.status.ok() && result.job.queued) {
       last_command_at_ = Lockstep::Clock::now();
-      lockstep_.commandedFrom(command.caller, pid, runs);
+      lockstep_.commandedFrom(command.caller, pid, std::move(runs));
       result.joined_lockstep =
           lockstep_.heard(command.joint, command.caller, command.duration_ns < 0,
                           world_.timeNs(), command.duration_ns);

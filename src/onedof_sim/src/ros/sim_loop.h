@@ -141,7 +141,7 @@ class SimLoop {
   // A controller's process as the loop looks at it (awaitAsleep, awaitedAsleep).
   ProcessThreads& loopView(int pid);
   // Its threads' runs, as the thread serving apply_joint_effort reads them.
-  uint64_t commandRuns(int pid);
+  ProcessRuns commandRuns(int pid);
   // Lock held: moves out the plugins of models no longer in the world, stopped.
   void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
