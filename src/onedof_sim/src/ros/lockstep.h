@@ -14,7 +14,7 @@
 //
 // Each caller's process, when it runs on this machine, is kept with its threads' runs at its
 // latest command: the owner publishes a stop's clock only once those processes rest (see
-// SimLoop::awaitAsleep and the package README).
+// SimLoop::awaitAsleep and the package README), and gives up on the joints of one that exits.
 //
 // Not thread-safe: the owner calls it under the lock it holds around the world.
 #pragma once

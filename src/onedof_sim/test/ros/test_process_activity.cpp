@@ -1,11 +1,13 @@
 // ProcessThreads: a child process blocked reads asleep, one spinning does not, one gone (or a
 // zombie) reads gone; a thread that exits takes nothing from the runs of those that stay; its
-// files kept open stay within their budget however many views look.
+// files kept open stay within their budget however many views look. ProcessExits: a child's exit
+// is told at once.
 #include <dirent.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <thread>
@@ -14,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "../../src/ros/process_activity.h"
+#include "../../src/ros/process_exits.h"
 
 namespace onedof_sim {
 namespace {
@@ -208,6 +211,28 @@ TEST(ProcessThreads, AThreadThatExitsTakesNothingFromTheRunsOfThoseThatStay) {
   EXPECT_TRUE(after.restedSince(at_command));
   // Asleep with no run since: not rested since.
   EXPECT_FALSE(after.ranSince(view.runs()));
+}
+
+TEST(ProcessExits, AWatchedChildsExitIsToldAtOnceBeforeItIsReaped) {
+  std::atomic<int> told{0};
+  ProcessExits exits([&told] { ++told; });
+  Child child(false);
+  EXPECT_EQ(exits.watch(child.pid()), ProcessExits::Watch::kWatched);
+  EXPECT_EQ(exits.watch(child.pid()), ProcessExits::Watch::kWatched);  // once
+  EXPECT_FALSE(exits.exited(child.pid()));
+  const int pid = child.pid();
+  child.end(/*reap=*/false);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (told.load() == 0 && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(told.load(), 1);
+  EXPECT_TRUE(exits.exited(pid));
+  EXPECT_EQ(::access(("/proc/" + std::to_string(pid)).c_str(), F_OK), 0);  // not reaped yet
+  // Watched again, a zombie or reaped, it has exited.
+  EXPECT_EQ(exits.watch(pid), ProcessExits::Watch::kExited);
+  child.end();
+  EXPECT_EQ(exits.watch(pid), ProcessExits::Watch::kExited);
+  EXPECT_TRUE(exits.exited(pid));
 }
 
 TEST(ProcessThreads, FilesKeptOpenStayWithinTheirBudget) {
