@@ -1,0 +1,260 @@
+"""Lock-step with the tutorial's controller while other clients come and go, and when the
+controller exits, on every engine, over real ROS.
+
+Only the controllers the lock-step serves hold the world: a command publisher, a `rostopic echo`
+or any other client coming and going never does, and a controller whose process exits is let go
+of at once. The tutorial's setting throughout: `_lockstep:=true` at the default max_update_rate
+(real-time factor 1), the tutorial robot, `rosrun minimal_joint_controller
+minimal_joint_controller`.
+
+The world's pace is timed by the arrivals of /clock on this test's wall clock. Tests never assert
+wall-clock speed: each compares a wait against the machine's own, measured the same way in the
+same run. On a busy machine this test's own process is sometimes kept from reading for a second
+and more while the simulator publishes on (its log says so, and the messages then arrive at once):
+what the world did is told apart by the sim time that arrives right after a gap (world_gaps).
+"""
+import os
+import re
+import signal
+import threading
+import time
+
+import pytest
+
+from api_client import GazeboApi
+from conftest import start_sim
+from onedof_harness.private_ros import wait_until
+
+CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
+PERIOD_S = 0.01  # the controller's period (100 Hz), of sim time and, at real-time factor 1, wall
+ROUNDS = 20
+# A /clock gap the clients may add to the machine's own before the world counts as held.
+MARGIN_S = 0.05
+# The sim time with no client before each client's run, in which the machine's own gaps are
+# measured.
+OWN_EACH_S = 1.0
+# The share of the clients' runs that may hold a gap beyond the largest with no client: the
+# machine alone (the simulator or the controller kept from a CPU) puts a few such gaps anywhere;
+# a client that held the world did so at most of its exits.
+BEYOND_OWN_SHARE = 0.1
+# How long after a gap the messages that make up for it in sim time may arrive (a backlog read at
+# once by a process that was kept from reading).
+MADE_UP_WITHIN_S = 0.1
+# How long the machine's own /clock gaps are measured before the controller is stopped.
+OWN_S = 3.0
+CLIENT_TIMEOUT_S = 120  # bounds a client that hangs; rostopic pub -1 itself takes 3 s and more
+ROSTOPIC_PUB_ONCE = ['rostopic', 'pub', '-1']
+ROSTOPIC_ECHO_ONCE = ['rostopic', 'echo', '-n', '1']
+
+
+class ClockArrivals:
+    """Every /clock message: (wall time of its arrival here, monotonic, s; its sim time, ns)."""
+
+    def __init__(self, rospy):
+        from rosgraph_msgs.msg import Clock
+        self._lock = threading.Lock()
+        self._arrivals = []
+        rospy.Subscriber('/clock', Clock, self._on_clock, queue_size=10000)
+
+    def _on_clock(self, msg):
+        with self._lock:
+            self._arrivals.append((time.monotonic(), msg.clock.to_nsec()))
+
+    def arrivals(self):
+        with self._lock:
+            return list(self._arrivals)
+
+    def latest(self):
+        arrivals = self.arrivals()
+        return arrivals[-1] if arrivals else (None, -1)
+
+    def world_gaps(self):
+        """(wall time it starts, its length, the world's part of it) of each gap between two
+        arrivals. The world's part is what the sim time arriving within MADE_UP_WITHIN_S after it
+        does not make up: none when the simulator published on while this process did not read
+        (the backlog arrives at once), all of it when the world stood still (once more than 0.1 s
+        behind its pace, the simulator goes on from the wall time it is at, making up nothing)."""
+        arrivals = self.arrivals()
+        gaps = []
+        last = 0  # the last arrival within MADE_UP_WITHIN_S after the gap
+        for i in range(len(arrivals) - 1):
+            (start, start_ns), (end, _) = arrivals[i], arrivals[i + 1]
+            last = max(last, i + 1)
+            while last + 1 < len(arrivals) and arrivals[last + 1][0] <= end + MADE_UP_WITHIN_S:
+                last += 1
+            lost = (arrivals[last][0] - start) - (arrivals[last][1] - start_ns) * 1e-9
+            gaps.append((start, end - start, max(0.0, min(end - start, lost))))
+        return gaps
+
+    def largest_gaps(self, windows):
+        """For each (start, end) window of wall time, of the gaps that start in it: the largest
+        world's part, and the largest gap as this process heard it."""
+        gaps = self.world_gaps()
+        largest = []
+        for start, end in windows:
+            inside = [(world, gap) for at, gap, world in gaps if start <= at <= end]
+            largest.append((max((world for world, _ in inside), default=0.0),
+                            max((gap for _, gap in inside), default=0.0)))
+        return largest
+
+
+def lockstepped_tutorial(ros, engine, rospy_client, sim_args=()):
+    """The tutorial in lock-step: the simulator, the controller, the robot spawned once the
+    controller looks for its joint; returns (simulator, controller, ClockArrivals) once the
+    controller's joint has joined the lock-step."""
+    sim = start_sim(ros, engine, ['_lockstep:=true'] + list(sim_args))
+    clock = ClockArrivals(rospy_client)
+    controller = ros.start(CONTROLLER, name='controller')
+    ros.wait_until(lambda: 'cannot read joint joint1' in ros.log_text(controller), 60,
+                   what='the controller to look for joint1')
+    GazeboApi(rospy_client).spawn_robot()
+    ros.wait_until(lambda: 'lock-step: joint1 is commanded by /minimal_joint_controller'
+                   in ros.log_text(sim), 60, what='the controller to join the lock-step')
+    return sim, controller, clock
+
+
+def threads_of(pid):
+    """The ids of the threads of process pid."""
+    return set(os.listdir('/proc/%d/task' % pid))
+
+
+def wait_for_clock_after(clock, moment, what):
+    """Waits until a /clock message has arrived after the wall time `moment` (the gap that
+    starts before it is then known)."""
+    wait_until(lambda: clock.latest()[0] is not None and clock.latest()[0] > moment, 60,
+               interval=0.005, what=what)
+
+
+def test_clients_coming_and_going_never_hold_the_lockstepped_world(ros, engine, rospy_client):
+    """20 `rostopic pub -1 /pos_cmd` and 20 `rostopic echo -n 1 /jnt_pos` in a row, each after
+    OWN_EACH_S of sim time with no client: the world's gaps in /clock while a client runs exceed
+    the largest with none by more than MARGIN_S in at most BEYOND_OWN_SHARE of the clients' runs.
+    A client that held the world (its connection's thread in the controller ending and taking its
+    runs with it, so that the controller never seemed to have run since its command) stopped
+    /clock for a second and more at most of its exits. A client's run lasts until the controller
+    has ended the threads it started for it (rospy ends a subscriber's connection thread up to a
+    second after its publisher has gone): what the client does to the world falls in its run."""
+    sim, controller, clock = lockstepped_tutorial(ros, engine, rospy_client)
+    own, runs = [], []  # the wall-time windows with no client, and those of the clients' runs
+
+    def run(command):
+        start = time.monotonic()
+        start_ns = clock.latest()[1]
+        wait_until(lambda: clock.latest()[1] >= start_ns + round(OWN_EACH_S * 1e9), 60,
+                   interval=0.01, what='%g s of sim time with no client' % OWN_EACH_S)
+        own.append((start, time.monotonic()))
+        start = time.monotonic()
+        threads = threads_of(controller.pid)
+        result = ros.run(command, timeout=CLIENT_TIMEOUT_S)
+        assert result.returncode == 0, '%s exited with %d:\n%s%s' % (
+            ' '.join(command), result.returncode, result.stdout, result.stderr)
+        ros.wait_until(lambda: threads_of(controller.pid) <= threads, 60, interval=0.01,
+                       what='the controller to end the threads it started for a client')
+        runs.append((start, time.monotonic()))
+        return result
+
+    for k in range(ROUNDS):
+        run(ROSTOPIC_PUB_ONCE + ['/pos_cmd', 'std_msgs/Float64', '--', '0.2' if k % 2 else '-0.2'])
+    for _ in range(ROUNDS):
+        assert 'data: ' in run(ROSTOPIC_ECHO_ONCE + ['/jnt_pos']).stdout
+    wait_for_clock_after(clock, runs[-1][1] + MADE_UP_WITHIN_S, 'the clock after the last client')
+    ros.check_running('the clients')  # the controller among them
+
+    without = clock.largest_gaps(own)
+    held = clock.largest_gaps(runs)
+    bound = max(world for world, _ in without) + MARGIN_S
+    beyond = sorted((world for world, _ in held if world > bound), reverse=True)
+    figures = ('the world\'s largest /clock gap (wall) with a client running %.1f ms, with none '
+               '%.1f ms; the largest as this test heard them %.1f and %.1f ms' % tuple(
+                   1e3 * max(gaps[i] for gaps in windows)
+                   for i in (0, 1) for windows in (held, without)))
+    print(engine + ': ' + figures)
+    assert len(beyond) <= BEYOND_OWN_SHARE * len(held), \
+        '%d of the %d clients\' runs held a gap over %.1f ms: %s ms; %s' % (
+            len(beyond), len(held), 1e3 * bound, ', '.join('%.0f' % (1e3 * gap) for gap in beyond),
+            figures)
+    log = ros.log_text(sim)
+    assert 'the world waited' not in log
+    assert 'did not rest' not in log
+
+
+def exited_in_proc(pid):
+    """Whether /proc shows process pid exited: gone, or every thread of it exited (a zombie its
+    parent has not reaped; its leader reads exited as soon as it ends, the others a little
+    later)."""
+    try:
+        tids = os.listdir('/proc/%d/task' % pid)
+    except FileNotFoundError:
+        return True
+    for tid in tids:
+        try:
+            with open('/proc/%d/task/%s/stat' % (pid, tid)) as f:
+                state = f.read().rpartition(')')[2].split()[0]
+        except FileNotFoundError:
+            continue  # it has just exited
+        if state not in ('Z', 'X', 'x'):
+            return False
+    return True
+
+
+@pytest.mark.parametrize('signal_name', ['SIGKILL', 'SIGINT'])
+def test_a_controller_that_exits_is_let_go_at_once(ros, engine, rospy_client, signal_name):
+    """The controller stopped (SIGSTOP), so that the world stands at the stop where its last job
+    ends, then killed (SIGKILL: it never unregisters) or interrupted as Ctrl-C does (SIGINT, and
+    SIGCONT to act on it: it may command a few periods more while rospy shuts down). The world
+    waits for it, however long ~lockstep_timeout, until its exit shows in /proc (a zombie that
+    this test, its parent, has not reaped yet), then goes on at once. In sim time: the killed
+    controller's joint is let go of at the stop the world stood at when it was stopped (a period
+    later if its command for that stop was still on its way), where its last job ends. In wall
+    time, against the machine's own: from the exit showing in /proc to /clock going past that stop
+    takes at most a period more than the largest /clock gap while the controller ran, plus
+    MARGIN_S."""
+    sim, controller, clock = lockstepped_tutorial(ros, engine, rospy_client,
+                                                  ['_lockstep_timeout:=600'])
+    api = GazeboApi(rospy_client)
+    with open('/proc/%d/cmdline' % controller.pid, 'rb') as f:
+        assert b'minimal_joint_controller' in f.read()  # rosrun execs the node itself
+    start = time.monotonic()
+    wait_for_clock_after(clock, start + OWN_S + MADE_UP_WITHIN_S,
+                         '%g s of the lock-stepped world' % OWN_S)
+    own = clock.largest_gaps([(start, start + OWN_S)])[0][0]
+
+    controller.stopped = True
+    os.kill(controller.pid, signal.SIGSTOP)
+    # A request lands where the world stops: the end of the job commanded last (or of the one
+    # before, if the controller's last command is still on its way).
+    stop_ns = api.sim_time_ns()
+    if signal_name == 'SIGKILL':
+        os.kill(controller.pid, signal.SIGKILL)
+    else:
+        os.kill(controller.pid, signal.SIGINT)
+        os.kill(controller.pid, signal.SIGCONT)
+    visible = wait_until(lambda: exited_in_proc(controller.pid) and time.monotonic(), 60,
+                         interval=0.001, what='the controller\'s exit to show in /proc')
+    controller.wait(timeout=60)
+    assert not os.path.exists('/proc/%d' % controller.pid)
+
+    let_go = re.escape('lock-step: the process of /minimal_joint_controller (pid %d) has exited; '
+                       'the world goes on at sim time ' % controller.pid) + \
+        r'([0-9.]+) s without joint1 until commanded again'
+    found = ros.wait_until(lambda: re.search(let_go, ros.log_text(sim)), 60,
+                           what='the simulator to let go of the controller')
+    let_go_ns = round(float(found.group(1)) * 1e9)
+    assert let_go_ns >= stop_ns
+    if signal_name == 'SIGKILL':
+        assert let_go_ns <= stop_ns + round(PERIOD_S * 1e9)
+    # Let go of, the world runs free at real-time factor 1, publishing every step: a message's
+    # sim time past the stop says when, at the latest, the world went on. The message least
+    # delayed on its way here tells it best: a second of them.
+    wait_until(lambda: clock.latest()[1] > let_go_ns + 10 ** 9, 60, interval=0.001,
+               what='/clock a second past %.3f s' % (let_go_ns * 1e-9))
+    went_on = min(t - (ns - let_go_ns) * 1e-9 for t, ns in clock.arrivals() if ns > let_go_ns)
+    took = went_on - visible
+    figures = ('the world went on %.1f ms (wall) after the exit showed in /proc; its largest '
+               '/clock gap while the controller ran: %.1f ms' % (1e3 * took, 1e3 * own))
+    print('%s, %s: %s' % (engine, signal_name, figures))
+    assert took <= own + PERIOD_S + MARGIN_S, figures
+    log = ros.log_text(sim)
+    assert 'the world waited' not in log
+    assert 'did not rest' not in log
+    assert log.count('has exited') == 1
