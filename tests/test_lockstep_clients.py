@@ -24,6 +24,7 @@ import pytest
 from api_client import GazeboApi
 from conftest import start_sim
 from onedof_harness.private_ros import wait_until
+from onedof_harness.process_rest import thread_states
 
 CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
 PERIOD_S = 0.01  # the controller's period (100 Hz), of sim time and, at real-time factor 1, wall
@@ -182,19 +183,7 @@ def exited_in_proc(pid):
     """Whether /proc shows process pid exited: gone, or every thread of it exited (a zombie its
     parent has not reaped; its leader reads exited as soon as it ends, the others a little
     later)."""
-    try:
-        tids = os.listdir('/proc/%d/task' % pid)
-    except FileNotFoundError:
-        return True
-    for tid in tids:
-        try:
-            with open('/proc/%d/task/%s/stat' % (pid, tid)) as f:
-                state = f.read().rpartition(')')[2].split()[0]
-        except FileNotFoundError:
-            continue  # it has just exited
-        if state not in ('Z', 'X', 'x'):
-            return False
-    return True
+    return all(state in ('Z', 'X', 'x') for state in thread_states(pid).values())
 
 
 @pytest.mark.parametrize('signal_name', ['SIGKILL', 'SIGINT'])
