@@ -28,15 +28,15 @@ from onedof_harness.process_rest import thread_states
 
 CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
 PERIOD_S = 0.01  # the controller's period (100 Hz), of sim time and, at real-time factor 1, wall
-ROUNDS = 20
+ROUNDS = 10
 # A /clock gap the clients may add to the machine's own before the world counts as held.
 MARGIN_S = 0.05
-# The sim time with no client before the clients, in which the machine's own gaps are measured.
-OWN_BEFORE_CLIENTS_S = 20.0
-# How many gaps beyond the largest with no client (plus MARGIN_S) the ROUNDS clients may hold: the
-# machine alone (the simulator or the controller kept from a CPU) puts a few such gaps anywhere; a
-# client that held the world did so at most of its exits.
-BEYOND_OWN_MOST = 2
+# A gap that counts as a hold: a client that held the world stopped /clock for a second and more
+# at most of its exits; a busy machine alone stops it for a few hundred ms now and then.
+HOLD_S = 0.5
+# How many holds the clients may have beyond those of as long a time with no client: the machine
+# alone puts a few anywhere.
+HOLDS_BEYOND_OWN_MOST = 2
 # How long after a gap the messages that make up for it in sim time may arrive (a backlog read at
 # once by a process that was kept from reading).
 MADE_UP_WITHIN_S = 0.1
@@ -137,23 +137,19 @@ def wait_for_clock_after(clock, moment, what):
 @pytest.mark.parametrize('client', sorted(CLIENTS))
 def test_clients_coming_and_going_never_hold_the_lockstepped_world(ros, engine, rospy_client,
                                                                     client):
-    """20 `rostopic pub -1 /pos_cmd` or 20 `rostopic echo -n 1 /jnt_pos` in a row, after
-    OWN_BEFORE_CLIENTS_S of sim time with no client: from the first client's start until the
-    controller has ended the threads it started for them (rospy ends a connection's thread when it
-    sees the publisher gone, up to a minute and more after it exits), the world's gaps in /clock
-    exceed the largest with no client by more than MARGIN_S at most BEYOND_OWN_MOST times. A client
-    that held the world (its connection's thread in the controller ending and taking its runs with
-    it, so that the controller never seemed to have run since its command) stopped /clock for a
-    second and more at most of its exits."""
+    """ROUNDS `rostopic pub -1 /pos_cmd` or `rostopic echo -n 1 /jnt_pos` in a row, then as much
+    sim time again with no client: from the first client's start until the controller has ended
+    the threads it started for them (rospy ends a connection's thread when it sees the publisher
+    gone, up to a minute and more after it exits), the world stops /clock for HOLD_S and more at
+    most HOLDS_BEYOND_OWN_MOST times more often than with no client. A client that held the world
+    (its connection's thread in the controller ending and taking its runs with it, so that the
+    controller never seemed to have run since its command) stopped /clock for a second and more
+    at most of its exits. The largest gaps with and without the clients are printed: on a quiet
+    machine they are within MARGIN_S of each other."""
     sim, controller, clock = lockstepped_tutorial(ros, engine, rospy_client)
     threads = threads_of(controller.pid)
     start = time.monotonic()
     start_ns = clock.latest()[1]
-    wait_until(lambda: clock.latest()[1] >= start_ns + round(OWN_BEFORE_CLIENTS_S * 1e9), 600,
-               interval=0.01, what='%g s of sim time with no client' % OWN_BEFORE_CLIENTS_S)
-    own = (start, time.monotonic())
-
-    start = time.monotonic()
     for k in range(ROUNDS):
         command = CLIENTS[client](k)
         result = ros.run(command, timeout=CLIENT_TIMEOUT_S)
@@ -163,22 +159,27 @@ def test_clients_coming_and_going_never_hold_the_lockstepped_world(ros, engine, 
             assert 'data: ' in result.stdout
     ros.wait_until(lambda: threads_of(controller.pid) <= threads, THREADS_END_TIMEOUT_S,
                    interval=0.01, what='the controller to end the threads it started for clients')
+    wait_for_clock_after(clock, time.monotonic() + MADE_UP_WITHIN_S, 'the clock after the clients')
     clients = (start, time.monotonic())
-    wait_for_clock_after(clock, clients[1] + MADE_UP_WITHIN_S, 'the clock after the clients')
+    clients_ns = clock.latest()[1] - start_ns
+    own_start_ns = clock.latest()[1]
+    wait_until(lambda: clock.latest()[1] >= own_start_ns + clients_ns, THREADS_END_TIMEOUT_S,
+               interval=0.01, what='%.0f s of sim time with no client' % (clients_ns * 1e-9))
+    wait_for_clock_after(clock, time.monotonic() + MADE_UP_WITHIN_S, 'the clock after the time with no client')
+    own = (clients[1], time.monotonic())
     ros.check_running('the clients')  # the controller among them
 
     (own_world, own_heard), (clients_world, clients_heard) = clock.largest_gaps([own, clients])
-    bound = own_world + MARGIN_S
-    beyond = sorted((world for at, _, world in clock.world_gaps()
-                     if clients[0] <= at <= clients[1] and world > bound), reverse=True)
+    gaps = clock.world_gaps()
+    holds = [sum(1 for at, _, world in gaps if span[0] <= at <= span[1] and world >= HOLD_S)
+             for span in (clients, own)]
     figures = ('the world\'s largest /clock gap (wall) with the clients %.1f ms, with none %.1f ms; '
-               'the largest as this test heard them %.1f and %.1f ms; %.0f s of clients' % (
+               'the largest as this test heard them %.1f and %.1f ms; holds of %g s and more: %d '
+               'and %d; %.0f s of clients' % (
                    1e3 * clients_world, 1e3 * own_world, 1e3 * clients_heard, 1e3 * own_heard,
-                   clients[1] - clients[0]))
+                   HOLD_S, holds[0], holds[1], clients[1] - clients[0]))
     print('%s, %s: %s' % (engine, client, figures))
-    assert len(beyond) <= BEYOND_OWN_MOST, \
-        'the clients held %d gaps over %.1f ms: %s ms; %s' % (
-            len(beyond), 1e3 * bound, ', '.join('%.0f' % (1e3 * gap) for gap in beyond), figures)
+    assert holds[0] <= holds[1] + HOLDS_BEYOND_OWN_MOST, figures
     log = ros.log_text(sim)
     assert 'the world waited' not in log
     assert 'did not rest' not in log
