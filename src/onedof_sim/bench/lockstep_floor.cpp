@@ -22,6 +22,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -34,6 +35,7 @@
 namespace {
 
 using onedof_sim::ProcessActivity;
+using onedof_sim::ProcessRuns;
 using onedof_sim::ProcessThreads;
 
 constexpr auto kRestLimit = std::chrono::seconds(5);
@@ -57,7 +59,8 @@ class Floor {
       command_view_.reset();
       if (pid) command_view_ = std::make_unique<ProcessThreads>(*pid);
     }
-    const uint64_t runs = command_view_ ? command_view_->runs() : 0;
+    ProcessRuns runs;
+    if (command_view_) runs = command_view_->runs();
     const int64_t duration_ns = event.getRequest().duration.toNSec();
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -68,7 +71,7 @@ class Floor {
         period_ns_ = duration_ns;
       }
       pid_ = command_view_ ? std::optional<int>(command_view_->pid()) : std::nullopt;
-      runs_at_command_ = runs;
+      runs_at_command_ = std::move(runs);
     }
     onedof_sim::bench::fixedEffortReply(&event.getResponse());
     return true;
@@ -77,7 +80,7 @@ class Floor {
   // After a reply is written: the next period's clock once the controller rests.
   void replied(const ros::Publisher& clock_pub) {
     std::optional<int> pid;
-    uint64_t runs_at_command = 0;
+    ProcessRuns runs_at_command;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       pid = pid_;
@@ -152,7 +155,7 @@ class Floor {
   bool shown_ahead_ = false;  // the clock was shown a period ahead (wakeIfSilent)
   std::chrono::steady_clock::time_point last_clock_at_;
   std::optional<int> pid_;  // the commanding controller's process, if on this machine
-  uint64_t runs_at_command_ = 0;
+  ProcessRuns runs_at_command_;
   int periods_;
   int warm_up_;
   int commands_ = 0;

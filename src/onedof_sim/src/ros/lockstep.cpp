@@ -1,6 +1,7 @@
 #include "lockstep.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace onedof_sim {
 
@@ -62,10 +63,10 @@ Lockstep::Clock::time_point Lockstep::lastRequest(const std::vector<Awaited>& jo
   return latest;
 }
 
-void Lockstep::commandedFrom(const std::string& caller, std::optional<int> pid, uint64_t runs) {
+void Lockstep::commandedFrom(const std::string& caller, std::optional<int> pid, ProcessRuns runs) {
   Caller& known = callers_[caller];
   known.pid = pid;
-  known.runs_at_command = runs;
+  known.runs_at_command = std::move(runs);
 }
 
 template <class F>

@@ -14,7 +14,7 @@
 //
 // Each caller's process, when it runs on this machine, is kept with its threads' runs at its
 // latest command: the owner publishes a stop's clock only once those processes rest (see
-// SimLoop::awaitAsleep and the package README).
+// SimLoop::awaitAsleep and the package README), and gives up on the joints of one that exits.
 //
 // Not thread-safe: the owner calls it under the lock it holds around the world.
 #pragma once
@@ -27,6 +27,8 @@
 #include <vector>
 
 #include <onedof_sim/world.h>
+
+#include "process_activity.h"
 
 namespace onedof_sim {
 
@@ -79,13 +81,13 @@ class Lockstep {
 
   // The process of an accepted command's caller on this machine (empty: elsewhere or unknown),
   // and its threads' runs (ProcessThreads::runs) when the command came.
-  void commandedFrom(const std::string& caller, std::optional<int> pid, uint64_t runs);
+  void commandedFrom(const std::string& caller, std::optional<int> pid, ProcessRuns runs);
 
   // A lock-stepped controller's process on this machine, which a stop's clock waits for.
   struct Watched {
     std::string caller;
     int pid = 0;
-    uint64_t runs_at_command = 0;
+    ProcessRuns runs_at_command;
   };
   // The processes of the lock-stepped joints' callers on this machine, each once.
   std::vector<Watched> watched(const World& world) const;
@@ -111,7 +113,7 @@ class Lockstep {
   struct Caller {
     Clock::time_point last_request;
     std::optional<int> pid;
-    uint64_t runs_at_command = 0;
+    ProcessRuns runs_at_command;
   };
 
   // The lock-stepped joints of models in the world, each with its caller.

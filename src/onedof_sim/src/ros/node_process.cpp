@@ -65,7 +65,8 @@ bool isThisMachine(const std::string& host) {
 
 }  // namespace
 
-std::optional<int> localNodePid(const std::string& node) {
+std::optional<int> localNodePid(const std::string& node, bool* silent_here) {
+  if (silent_here) *silent_here = false;
   XmlRpcValue request, response, uri;
   request[0] = ros::this_node::getName();
   request[1] = node;
@@ -81,8 +82,12 @@ std::optional<int> localNodePid(const std::string& node) {
   params[0] = ros::this_node::getName();
   const bool answered = client.execute("getPid", params, answer);
   client.close();
+  if (!answered) {
+    if (silent_here) *silent_here = true;
+    return std::nullopt;
+  }
   // The slave API answers [code, status message, value]; code 1 is success.
-  if (!answered || answer.getType() != XmlRpcValue::TypeArray || answer.size() != 3 ||
+  if (answer.getType() != XmlRpcValue::TypeArray || answer.size() != 3 ||
       answer[0].getType() != XmlRpcValue::TypeInt || int(answer[0]) != 1 ||
       answer[2].getType() != XmlRpcValue::TypeInt)
     return std::nullopt;

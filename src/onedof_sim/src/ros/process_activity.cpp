@@ -1,12 +1,10 @@
 #include "process_activity.h"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,6 +24,33 @@ bool readAgain(int fd, char* buffer, size_t size) {
 void closeFile(int* fd) {
   if (*fd >= 0) ::close(*fd);
   *fd = -1;
+}
+
+// A thread's state in the text of its stat: the field after the command name, which may hold
+// spaces and parentheses, so after the last ')'. 0 if the text has none.
+char stateIn(const char* stat_text) {
+  const char* close_paren = std::strrchr(stat_text, ')');
+  if (!close_paren || close_paren[1] != ' ') return 0;
+  return close_paren[2];
+}
+
+// The state in the stat file at path, 0 if it cannot be read (its thread gone).
+char stateAt(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  char buffer[1024];
+  const bool read = readAgain(fd, buffer, sizeof buffer);
+  ::close(fd);
+  return read ? stateIn(buffer) : 0;
+}
+
+// A thread that has exited: a zombie (its process not yet reaped, or its leader waiting for the
+// other threads) or dead.
+bool hasExited(char state) { return state == 'Z' || state == 'X' || state == 'x'; }
+
+void sortByTid(std::vector<ThreadRuns>* threads) {
+  std::sort(threads->begin(), threads->end(),
+            [](const ThreadRuns& a, const ThreadRuns& b) { return a.tid < b.tid; });
 }
 
 // The threads' files kept open between looks, in every view of this process together, are at
@@ -72,9 +97,8 @@ const ProcessThreads::ThreadFiles* ProcessThreads::filesOf(long tid,
   return &listed->back();
 }
 
-// Every listed thread's state (from stat: the field after the command name, which may hold spaces
-// and parentheses, so after the last ')') and run count (the third field of schedstat).
-bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* threads,
+// Every listed thread's state (from stat) and run count (the third field of schedstat).
+bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* threads,
                                        bool* all_blocked) {
   threads->clear();
   *all_blocked = true;
@@ -90,23 +114,23 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* 
   while (const dirent* entry = ::readdir(task_dir_)) {
     if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
     const ThreadFiles* files = filesOf(std::strtol(entry->d_name, nullptr, 10), &listed);
-    ThreadSample sample;
+    ThreadRuns sample;
     sample.tid = files->tid;
     if (what == LookFor::kRest) {
       if (files->stat_fd < 0 || !readAgain(files->stat_fd, buffer, sizeof buffer)) {
         complete = false;
         break;
       }
-      const char* close_paren = std::strrchr(buffer, ')');
-      if (!close_paren || close_paren[1] != ' ') {
+      const char state = stateIn(buffer);
+      if (state == 0) {
         complete = false;
         break;
       }
-      sample.state = close_paren[2];
+      if (hasExited(state)) continue;  // it will never run again
       // Blocked in the kernel waiting for an event (a futex, a socket, a timer). Not D
       // (uninterruptible: a page fault or disk wait in the middle of running code), T or t
       // (stopped anywhere), R: the process does not rest, whatever its other threads do.
-      if (sample.state != 'S') {
+      if (state != 'S') {
         *all_blocked = false;
         threads->push_back(sample);
         break;
@@ -115,6 +139,7 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* 
     unsigned long long on_cpu_ns = 0, waited_ns = 0, runs = 0;
     if (files->schedstat_fd < 0 || !readAgain(files->schedstat_fd, buffer, sizeof buffer) ||
         std::sscanf(buffer, "%llu %llu %llu", &on_cpu_ns, &waited_ns, &runs) != 3) {
+      if (what == LookFor::kRuns) continue;  // a thread that ended since the listing
       complete = false;
       break;
     }
@@ -142,7 +167,7 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* 
   return complete && !threads->empty();
 }
 
-bool ProcessThreads::look(LookFor what, std::vector<ThreadSample>* threads, bool* all_blocked) {
+bool ProcessThreads::look(LookFor what, std::vector<ThreadRuns>* threads, bool* all_blocked) {
   if (lookWithOpenFiles(what, threads, all_blocked)) return true;
   // Files opened before may be of threads gone, or of a process gone whose pid was taken again:
   // the same look from fresh files, as the first look ever made.
@@ -152,10 +177,10 @@ bool ProcessThreads::look(LookFor what, std::vector<ThreadSample>* threads, bool
 
 ProcessActivity ProcessThreads::activity() {
   ProcessActivity activity;
-  std::vector<ThreadSample> first, second;
+  std::vector<ThreadRuns> first, second;
   bool first_blocked = false, second_blocked = false;
   if (!look(LookFor::kRest, &first, &first_blocked)) {
-    activity.gone = ::access(("/proc/" + std::to_string(pid_)).c_str(), F_OK) != 0;
+    activity.gone = !processLives(pid_);
     return activity;
   }
   if (!first_blocked) return activity;
@@ -166,19 +191,47 @@ ProcessActivity ProcessThreads::activity() {
   for (size_t i = 0; i < first.size(); ++i)
     if (first[i].tid != second[i].tid || first[i].runs != second[i].runs) return activity;
   activity.asleep = true;
-  for (const ThreadSample& thread : second) activity.runs += thread.runs;
+  sortByTid(&second);
+  activity.threads = std::move(second);
   return activity;
 }
 
-uint64_t ProcessThreads::runs() {
-  std::vector<ThreadSample> threads;
+ProcessRuns ProcessThreads::runs() {
+  std::vector<ThreadRuns> threads;
   bool unused;
-  if (!look(LookFor::kRuns, &threads, &unused)) return 0;
-  uint64_t runs = 0;
-  for (const ThreadSample& thread : threads) runs += thread.runs;
-  return runs;
+  if (!look(LookFor::kRuns, &threads, &unused)) return {};
+  sortByTid(&threads);
+  return threads;
 }
 
-bool processExists(int pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
+bool ProcessActivity::ranSince(const ProcessRuns& at_command) const {
+  if (at_command.empty()) return true;  // nothing known of the command's time: resting suffices
+  for (const ThreadRuns& now : threads) {
+    const auto then = std::lower_bound(
+        at_command.begin(), at_command.end(), now.tid,
+        [](const ThreadRuns& thread, long tid) { return thread.tid < tid; });
+    if (then != at_command.end() && then->tid == now.tid && now.runs > then->runs) return true;
+  }
+  return false;
+}
+
+bool processLives(int pid) {
+  const std::string dir = "/proc/" + std::to_string(pid);
+  // The leader's state first, one file: a process that lives has it anything but exited, unless
+  // its leader ended alone (pthread_exit) while other threads run on.
+  const char leader = stateAt(dir + "/stat");
+  if (leader == 0) return false;
+  if (!hasExited(leader)) return true;
+  DIR* tasks = ::opendir((dir + "/task").c_str());
+  if (!tasks) return false;
+  bool lives = false;
+  while (const dirent* entry = lives ? nullptr : ::readdir(tasks)) {
+    if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+    const char state = stateAt(dir + "/task/" + entry->d_name + "/stat");
+    lives = state != 0 && !hasExited(state);
+  }
+  ::closedir(tasks);
+  return lives;
+}
 
 }  // namespace onedof_sim

@@ -1,6 +1,7 @@
 // What a process on this machine is doing, read from Linux's /proc: whether every thread of it is
-// blocked, and how many times its threads have been put on a CPU. Lock-step reads it to publish a
-// stop's clock only while a controller cannot be between the two clock readings of its Rate.
+// blocked, and how many times each of its threads has been put on a CPU. Lock-step reads it to
+// publish a stop's clock only while a controller cannot be between the two clock readings of its
+// Rate.
 #pragma once
 
 #include <dirent.h>
@@ -11,15 +12,33 @@
 
 namespace onedof_sim {
 
-struct ProcessActivity {
-  bool gone = false;    // no such process (or /proc unreadable)
-  bool asleep = false;  // every thread blocked (state S) at two looks, none put on a CPU between
-  uint64_t runs = 0;    // when asleep: times its threads have been put on a CPU (schedstat), summed
+// A thread and the times it has been put on a CPU (the third field of its schedstat).
+struct ThreadRuns {
+  long tid = 0;
+  uint64_t runs = 0;
+};
+// A process's threads' runs, by thread id (ascending).
+using ProcessRuns = std::vector<ThreadRuns>;
 
-  // Lock-step's rule for publishing a stop's clock: the process has run since `runs_at_command`
-  // (its call returned) and rests now, or it is gone.
-  bool restedSince(uint64_t runs_at_command) const {
-    return gone || (asleep && runs > runs_at_command);
+struct ProcessActivity {
+  // No such process, or every thread of it has exited (a process killed is a zombie in /proc until
+  // its parent reaps it: it will never run again), or /proc unreadable.
+  bool gone = false;
+  bool asleep = false;  // every thread blocked (state S) at two looks, none put on a CPU between
+  ProcessRuns threads;  // when asleep: each thread's runs
+
+  // Whether a thread that was there at `at_command` has been put on a CPU since. Threads that
+  // came or went meanwhile are left out: a node's threads come and go with its peers (rospy has
+  // one for each connection of a topic, and one for each XML-RPC request the master or a peer
+  // sends), and a thread's runs go with it when it exits. The thread that made the call was there
+  // when the command came, and is still there. With no thread known at the command (its process
+  // unreadable then), true.
+  bool ranSince(const ProcessRuns& at_command) const;
+
+  // Lock-step's rule for publishing a stop's clock: the process has run since `at_command` (its
+  // call returned) and rests now, or it is gone.
+  bool restedSince(const ProcessRuns& at_command) const {
+    return gone || (asleep && ranSince(at_command));
   }
 };
 
@@ -44,8 +63,8 @@ class ProcessThreads {
   // blocked (the first ends at a thread that is not).
   ProcessActivity activity();
 
-  // One look: the runs alone (0 if gone).
-  uint64_t runs();
+  // One look: each thread's runs alone (none if gone).
+  ProcessRuns runs();
 
  private:
   struct ThreadFiles {
@@ -54,17 +73,13 @@ class ProcessThreads {
     int schedstat_fd = -1;
     bool kept = false;  // open between looks (within the budget of kept files)
   };
-  struct ThreadSample {
-    long tid = 0;
-    char state = '?';
-    uint64_t runs = 0;
-  };
   enum class LookFor { kRest, kRuns };
   // One look with the files open (fresh ones when those open fail: a thread or the process went
   // away meanwhile). False if the process is gone or a thread went away between the listing and
-  // the reading. For kRest, the look ends at the first thread not blocked (*all_blocked false).
-  bool look(LookFor what, std::vector<ThreadSample>* threads, bool* all_blocked);
-  bool lookWithOpenFiles(LookFor what, std::vector<ThreadSample>* threads, bool* all_blocked);
+  // the reading. For kRest, threads that have exited (a zombie) are left out, and the look ends at
+  // the first thread not blocked (*all_blocked false); false also when no thread is left.
+  bool look(LookFor what, std::vector<ThreadRuns>* threads, bool* all_blocked);
+  bool lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* threads, bool* all_blocked);
   // The files of thread tid, opened if they are not yet.
   const ThreadFiles* filesOf(long tid, std::vector<ThreadFiles>* listed);
   // Closes a thread's files.
@@ -77,7 +92,7 @@ class ProcessThreads {
   std::vector<ThreadFiles> threads_;  // in the listing's order
 };
 
-// Whether a process with this pid exists.
-bool processExists(int pid);
+// Whether a process with this pid has a thread that has not exited: not gone, nor a zombie.
+bool processLives(int pid);
 
 }  // namespace onedof_sim

@@ -47,7 +47,7 @@ ProcessThreads& viewOf(std::map<int, std::unique_ptr<ProcessThreads>>* views, in
   if (view) return *view;
   view = std::make_unique<ProcessThreads>(pid);
   for (auto it = views->begin(); it != views->end();)
-    it = it->first != pid && !processExists(it->first) ? views->erase(it) : std::next(it);
+    it = it->first != pid && !processLives(it->first) ? views->erase(it) : std::next(it);
   return *view;
 }
 
@@ -77,6 +77,7 @@ struct SimLoop::StepOutput {
   gazebo_msgs::LinkStates link_states;
   std::vector<CollisionShape> shapes;
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
+  std::vector<std::string> notes;     // what lock-step did that a user may want to know
   std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
   // At a lock-step stop: the controllers' processes the stop's clock waits to see asleep.
   std::vector<Lockstep::Watched> watched;
@@ -104,6 +105,11 @@ SimLoop::SimLoop(const NodeOptions& options)
       paused_(options.paused),
       max_update_rate_(options.max_update_rate),
       lockstep_(options.lockstep),
+      exits_([this] {
+        // Under the lock, so that the loop cannot miss the wake between its look and its wait.
+        { std::lock_guard<std::mutex> lock(mutex_); }
+        wake_loop_.notify_all();
+      }),
       states_publish_frequency_(options.states_publish_frequency),
       ros_network_(options.enable_ros_network) {
   const Status params = world_.setParams(options.physics);
@@ -142,6 +148,7 @@ void SimLoop::run() {
     // loop held back unpublished is from before the reset, and publishClock drops it.
     if (out.reset_clock_ns >= 0) publishClock(out.reset_clock_ns);
     for (const auto& warning : out.warnings) ROS_WARN_STREAM(warning);
+    for (const auto& note : out.notes) ROS_INFO_STREAM(note);
     if (!out.stepped) {
       was_stepping = false;
       publishHeldClock();
@@ -297,6 +304,7 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
   for (;;) {
     const std::vector<Lockstep::Awaited> awaited = lockstep_.awaited(world_, world_.timeNs());
     if (awaited.empty()) return true;
+    if (letGoOfExited(awaited, out)) continue;
     const auto now = Lockstep::Clock::now();
     if (now >= deadline) {
       lockstep_.giveUp(awaited);
@@ -317,6 +325,22 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
     if (!ros::ok()) return false;
     if (paused_ && !step_request_.active) return false;
   }
+}
+
+// A controller on this machine whose process has exited commands no more: its joints leave the
+// lock-step at once (the exit wakes the loop), each caller said once. Returns whether any left.
+bool SimLoop::letGoOfExited(const std::vector<Lockstep::Awaited>& awaited, StepOutput* out) {
+  std::map<std::string, std::vector<Lockstep::Awaited>> exited;  // by caller
+  for (const Lockstep::Awaited& joint : awaited) {
+    const std::optional<int> pid = lockstep_.pidOf(joint.caller);
+    if (pid && exits_.exited(*pid)) exited[joint.caller].push_back(joint);
+  }
+  for (const auto& [caller, joints] : exited) {
+    lockstep_.giveUp(joints);
+    out->notes.push_back(
+        lockstepExitedText(caller, *lockstep_.pidOf(caller), joints, world_.timeNs()));
+  }
+  return !exited.empty();
 }
 
 // roscpp's Rate (the book's C++ loop) and rospy's read the clock twice, before and after their
@@ -352,7 +376,7 @@ bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) {
 
 ProcessThreads& SimLoop::loopView(int pid) { return viewOf(&loop_views_, pid); }
 
-uint64_t SimLoop::commandRuns(int pid) {
+ProcessRuns SimLoop::commandRuns(int pid) {
   std::lock_guard<std::mutex> lock(command_views_mutex_);
   return viewOf(&command_views_, pid).runs();
 }
@@ -391,16 +415,30 @@ void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
   }
 }
 
-// The process on this machine of a controller (asked once; again if that process is gone).
+// The process on this machine of a controller (asked once; again if that process is gone),
+// watched for its exit from then on.
 std::optional<int> SimLoop::controllerPid(const std::string& caller) {
+  std::optional<int> known;
   {
     std::lock_guard<std::mutex> lock(pids_mutex_);
     auto found = controller_pids_.find(caller);
-    if (found != controller_pids_.end() && (!found->second || processExists(*found->second)))
-      return found->second;
+    if (found != controller_pids_.end()) {
+      if (!found->second || processLives(*found->second)) return found->second;
+      known = found->second;
+    }
   }
-  std::optional<int> pid = localNodePid(caller);
+  bool silent_here = false;
+  std::optional<int> pid = localNodePid(caller, &silent_here);
   if (pid && *pid == int(::getpid())) pid.reset();  // a client inside this node: it never rests
+  if (pid) {
+    int error = 0;
+    if (exits_.watch(*pid, &error) == ProcessExits::Watch::kCannot)
+      ROS_WARN_STREAM(lockstepUnwatchedExitText(caller, *pid, error, lockstep_.timeout()));
+  } else if (silent_here) {
+    // Its process has exited and the master still names it, here, where nothing answers: a
+    // command it sent before it exited, served after. The caller stays that process.
+    pid = known;
+  }
   std::lock_guard<std::mutex> lock(pids_mutex_);
   controller_pids_[caller] = pid;
   return pid;
@@ -521,7 +559,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
   // The caller's process and its runs before the reply: the stop's clock waits until it has run
   // since (awaitAsleep).
   std::optional<int> pid;
-  uint64_t runs = 0;
+  ProcessRuns runs;
   if (lockstep_.enabled()) {
     pid = controllerPid(command.caller);
     if (pid) runs = commandRuns(*pid);
@@ -553,7 +591,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
     }
     if (result.status.ok() && result.job.queued) {
       last_command_at_ = Lockstep::Clock::now();
-      lockstep_.commandedFrom(command.caller, pid, runs);
+      lockstep_.commandedFrom(command.caller, pid, std::move(runs));
       result.joined_lockstep =
           lockstep_.heard(command.joint, command.caller, command.duration_ns < 0,
                           world_.timeNs(), command.duration_ns);

@@ -30,6 +30,7 @@
 #include "physics_config.h"
 #include "plugins/model_plugin.h"
 #include "process_activity.h"
+#include "process_exits.h"
 
 namespace onedof_sim {
 
@@ -134,6 +135,7 @@ class SimLoop {
   void collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
                      bool want_markers);
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
+  bool letGoOfExited(const std::vector<Lockstep::Awaited>& awaited, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
   bool awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited);
   void awaitAsleep(const std::vector<Lockstep::Watched>& controllers);
@@ -141,7 +143,7 @@ class SimLoop {
   // A controller's process as the loop looks at it (awaitAsleep, awaitedAsleep).
   ProcessThreads& loopView(int pid);
   // Its threads' runs, as the thread serving apply_joint_effort reads them.
-  uint64_t commandRuns(int pid);
+  ProcessRuns commandRuns(int pid);
   // Lock held: moves out the plugins of models no longer in the world, stopped.
   void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
@@ -193,6 +195,8 @@ class SimLoop {
   // The processes of apply_joint_effort's callers on this machine (empty: elsewhere), by name.
   std::mutex pids_mutex_;
   std::map<std::string, std::optional<int>> controller_pids_;
+  // Those processes, watched for their exit, which wakes the loop (awaitControllers).
+  ProcessExits exits_;
   // Those processes' threads, by pid: as apply_joint_effort reads them (guarded by
   // command_views_mutex_), and as the loop reads them (loop thread only).
   std::mutex command_views_mutex_;

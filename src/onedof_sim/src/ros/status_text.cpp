@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "conversions.h"
@@ -214,6 +215,26 @@ std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock
        << std::chrono::duration<double>(waited).count()
        << " s (wall) after its command (a thread of it never blocks); its stops' clock goes out "
           "without waiting for it to sleep, so on a busy machine it may sleep past a stop";
+  return text.str();
+}
+
+std::string lockstepExitedText(const std::string& caller, int pid,
+                               const std::vector<Lockstep::Awaited>& joints, int64_t t_ns) {
+  std::ostringstream text;
+  text << "lock-step: the process of " << caller << " (pid " << pid
+       << ") has exited; the world goes on at sim time " << simSeconds(t_ns) << " without";
+  for (const Lockstep::Awaited& joint : joints) text << " " << joint.joint;
+  text << " until commanded again";
+  return text.str();
+}
+
+std::string lockstepUnwatchedExitText(const std::string& caller, int pid, int error,
+                                      Lockstep::Clock::duration timeout) {
+  std::ostringstream text;
+  text << "lock-step: cannot watch the process of " << caller << " (pid " << pid
+       << ") for its exit (pidfd_open: " << std::strerror(error)
+       << "); if it exits, the world waits for it "
+       << std::chrono::duration<double>(timeout).count() << " s (wall, ~lockstep_timeout)";
   return text.str();
 }
 

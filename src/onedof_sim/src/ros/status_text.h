@@ -101,6 +101,10 @@ std::string lockstepTimeoutText(const std::vector<Lockstep::Awaited>& awaited, i
 // A lock-stepped command whose period had ended where the world is (at now_ns).
 std::string lockstepPeriodOverNote(int64_t now_ns);
 std::string lockstepBusyText(const std::string& caller, int pid, Lockstep::Clock::duration waited);
+std::string lockstepExitedText(const std::string& caller, int pid,
+                               const std::vector<Lockstep::Awaited>& joints, int64_t t_ns);
+std::string lockstepUnwatchedExitText(const std::string& caller, int pid, int error,
+                                      Lockstep::Clock::duration timeout);
 
 // Bad input: the call succeeds with success False and the reason, and the node says it too.
 template <class Response>

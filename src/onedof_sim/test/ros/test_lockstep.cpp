@@ -112,17 +112,21 @@ TEST_F(LockstepTest, AJointOfNoModelInTheWorldHoldsNothingUp) {
 TEST_F(LockstepTest, KeepsTheControllersProcessesAndTheirLatestRequests) {
   command(&lockstep_, "arm::j1", "/c1", 10 * kMs, 10 * kMs);
   command(&lockstep_, "arm::j2", "/c2", 10 * kMs, 10 * kMs);
-  lockstep_.commandedFrom("/c1", 4242, 17);
-  lockstep_.commandedFrom("/c2", std::nullopt, 0);  // on another machine
+  const ProcessRuns runs{{4242, 17}, {4243, 5}};
+  lockstep_.commandedFrom("/c1", 4242, runs);
+  lockstep_.commandedFrom("/c2", std::nullopt, {});  // on another machine
   const std::vector<Lockstep::Watched> watched = lockstep_.watched(world_);
   ASSERT_EQ(watched.size(), 1u);
   EXPECT_EQ(watched[0].caller, "/c1");
   EXPECT_EQ(watched[0].pid, 4242);
-  EXPECT_EQ(watched[0].runs_at_command, 17u);
+  ASSERT_EQ(watched[0].runs_at_command.size(), 2u);
+  EXPECT_EQ(watched[0].runs_at_command[0].tid, 4242);
+  EXPECT_EQ(watched[0].runs_at_command[0].runs, 17u);
+  EXPECT_EQ(watched[0].runs_at_command[1].runs, 5u);
   EXPECT_TRUE(lockstep_.someUnwatched(world_));
   EXPECT_EQ(lockstep_.pidOf("/c1"), std::optional<int>(4242));
   EXPECT_FALSE(lockstep_.pidOf("/nobody"));
-  lockstep_.commandedFrom("/c2", 4242, 3);  // one process, two joints: watched once
+  lockstep_.commandedFrom("/c2", 4242, {{4242, 3}});  // one process, two joints: watched once
   EXPECT_EQ(lockstep_.watched(world_).size(), 1u);
   EXPECT_FALSE(lockstep_.someUnwatched(world_));
 

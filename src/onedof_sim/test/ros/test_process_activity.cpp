@@ -1,10 +1,13 @@
-// ProcessThreads: a child process blocked reads asleep, one spinning does not, one gone reads
-// gone; its files kept open stay within their budget however many views look.
+// ProcessThreads: a child process blocked reads asleep, one spinning does not, one gone (or a
+// zombie) reads gone; a thread that exits takes nothing from the runs of those that stay; its
+// files kept open stay within their budget however many views look. ProcessExits: a child's exit
+// is told at once.
 #include <dirent.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <thread>
@@ -13,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "../../src/ros/process_activity.h"
+#include "../../src/ros/process_exits.h"
 
 namespace onedof_sim {
 namespace {
@@ -41,9 +45,11 @@ class Child {
     ::close(write_end_);
   }
   int pid() const { return pid_; }
-  void end() {
+  // Killed; reaped too unless asked not to (it stays a zombie until end()).
+  void end(bool reap = true) {
     if (pid_ <= 0) return;
     ::kill(pid_, SIGKILL);
+    if (!reap) return;
     ::waitpid(pid_, nullptr, 0);
     pid_ = -1;
   }
@@ -63,6 +69,12 @@ bool readsAsleep(ProcessThreads& view) {
   return false;
 }
 
+uint64_t runsOf(const ProcessRuns& threads) {
+  uint64_t sum = 0;
+  for (const ThreadRuns& thread : threads) sum += thread.runs;
+  return sum;
+}
+
 int openFiles() {
   int count = 0;
   DIR* dir = ::opendir("/proc/self/fd");
@@ -78,8 +90,14 @@ TEST(ProcessThreads, AChildBlockedReadsAsleepWithItsRuns) {
   const ProcessActivity again = view.activity();  // from the files kept open
   EXPECT_TRUE(again.asleep);
   EXPECT_FALSE(again.gone);
-  EXPECT_GT(again.runs, 0u);
-  EXPECT_EQ(view.runs(), again.runs);  // asleep: not put on a CPU since
+  ASSERT_EQ(again.threads.size(), 1u);
+  EXPECT_EQ(again.threads[0].tid, child.pid());
+  EXPECT_GT(again.threads[0].runs, 0u);
+  const ProcessRuns runs = view.runs();  // asleep: not put on a CPU since
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].runs, again.threads[0].runs);
+  EXPECT_FALSE(again.ranSince(runs));
+  EXPECT_FALSE(again.restedSince(runs));
 }
 
 TEST(ProcessThreads, AChildSpinningNeverReadsAsleep) {
@@ -100,7 +118,121 @@ TEST(ProcessThreads, AChildGoneReadsGoneWithNoRuns) {
   const ProcessActivity gone = view.activity();
   EXPECT_TRUE(gone.gone);
   EXPECT_FALSE(gone.asleep);
-  EXPECT_EQ(view.runs(), 0u);
+  EXPECT_TRUE(view.runs().empty());
+  EXPECT_FALSE(processLives(pid));
+}
+
+TEST(ProcessThreads, AChildKilledReadsGoneBeforeItIsReaped) {
+  Child child(false);
+  const int pid = child.pid();
+  ProcessThreads view(pid);
+  ASSERT_TRUE(readsAsleep(view));
+  EXPECT_TRUE(processLives(pid));
+  child.end(/*reap=*/false);
+  // A zombie: /proc still lists it, with its one thread exited.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (processLives(pid) && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_FALSE(processLives(pid));
+  EXPECT_EQ(::access(("/proc/" + std::to_string(pid)).c_str(), F_OK), 0);
+  const ProcessActivity zombie = view.activity();
+  EXPECT_TRUE(zombie.gone);
+  EXPECT_TRUE(zombie.restedSince({}));
+}
+
+// A child whose main thread blocks on one pipe and a second thread, after many runs, on another;
+// a byte on the second ends that thread, a byte on the first wakes the main thread once.
+class TwoThreadChild {
+ public:
+  TwoThreadChild() {
+    EXPECT_EQ(::pipe(wake_main_), 0);
+    EXPECT_EQ(::pipe(end_helper_), 0);
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      std::thread helper([this] {
+        for (int i = 0; i < 300; ++i) std::this_thread::sleep_for(std::chrono::microseconds(1));
+        char byte;
+        while (::read(end_helper_[0], &byte, 1) < 0) {
+        }
+      });
+      char byte;
+      while (::read(wake_main_[0], &byte, 1) != 0) {
+        if (byte == 'j') helper.join();
+      }
+      ::_exit(0);
+    }
+  }
+  ~TwoThreadChild() {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+  }
+  int pid() const { return pid_; }
+  void endHelper() { EXPECT_EQ(::write(end_helper_[1], "x", 1), 1); }
+  void wakeMain(char byte) { EXPECT_EQ(::write(wake_main_[1], &byte, 1), 1); }
+
+ private:
+  int pid_ = -1;
+  int wake_main_[2];
+  int end_helper_[2];
+};
+
+TEST(ProcessThreads, AThreadThatExitsTakesNothingFromTheRunsOfThoseThatStay) {
+  TwoThreadChild child;
+  ProcessThreads view(child.pid());
+  // Both threads blocked, the helper after its many runs.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  ProcessRuns at_command;
+  while (std::chrono::steady_clock::now() < give_up) {
+    const ProcessActivity activity = view.activity();
+    if (activity.asleep && activity.threads.size() == 2) {
+      const ThreadRuns& helper = activity.threads[activity.threads[0].tid == child.pid()];
+      if (helper.runs >= 300) {
+        at_command = view.runs();
+        break;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_EQ(at_command.size(), 2u);
+  // The helper exits (joined by the main thread, which runs for that) and the main thread rests:
+  // the process has run since, with fewer runs in all than the two threads had.
+  child.endHelper();
+  child.wakeMain('j');
+  ProcessActivity after;
+  while (std::chrono::steady_clock::now() < give_up) {
+    after = view.activity();
+    if (after.asleep && after.threads.size() == 1) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(after.asleep);
+  ASSERT_EQ(after.threads.size(), 1u);
+  EXPECT_LT(runsOf(after.threads), runsOf(at_command));
+  EXPECT_TRUE(after.ranSince(at_command));
+  EXPECT_TRUE(after.restedSince(at_command));
+  // Asleep with no run since: not rested since.
+  EXPECT_FALSE(after.ranSince(view.runs()));
+}
+
+TEST(ProcessExits, AWatchedChildsExitIsToldAtOnceBeforeItIsReaped) {
+  std::atomic<int> told{0};
+  ProcessExits exits([&told] { ++told; });
+  Child child(false);
+  EXPECT_EQ(exits.watch(child.pid()), ProcessExits::Watch::kWatched);
+  EXPECT_EQ(exits.watch(child.pid()), ProcessExits::Watch::kWatched);  // once
+  EXPECT_FALSE(exits.exited(child.pid()));
+  const int pid = child.pid();
+  child.end(/*reap=*/false);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (told.load() == 0 && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(told.load(), 1);
+  EXPECT_TRUE(exits.exited(pid));
+  EXPECT_EQ(::access(("/proc/" + std::to_string(pid)).c_str(), F_OK), 0);  // not reaped yet
+  // Watched again, a zombie or reaped, it has exited.
+  EXPECT_EQ(exits.watch(pid), ProcessExits::Watch::kExited);
+  child.end();
+  EXPECT_EQ(exits.watch(pid), ProcessExits::Watch::kExited);
+  EXPECT_TRUE(exits.exited(pid));
 }
 
 TEST(ProcessThreads, FilesKeptOpenStayWithinTheirBudget) {

@@ -1,0 +1,255 @@
+"""Lock-step with the tutorial's controller while other clients come and go, and when the
+controller exits, on every engine, over real ROS.
+
+Only the controllers the lock-step serves hold the world: a command publisher, a `rostopic echo`
+or any other client coming and going never does, and a controller whose process exits is let go
+of at once. The tutorial's setting throughout: `_lockstep:=true` at the default max_update_rate
+(real-time factor 1), the tutorial robot, `rosrun minimal_joint_controller
+minimal_joint_controller`.
+
+The world's pace is timed by the arrivals of /clock on this test's wall clock. Tests never assert
+wall-clock speed: each compares a wait against the machine's own, measured the same way in the
+same run. On a busy machine this test's own process is sometimes kept from reading for a second
+and more while the simulator publishes on (its log says so, and the messages then arrive at once):
+what the world did is told apart by the sim time that arrives right after a gap (world_gaps).
+"""
+import os
+import re
+import signal
+import threading
+import time
+
+import pytest
+
+from api_client import GazeboApi
+from conftest import start_sim
+from onedof_harness.private_ros import wait_until
+from onedof_harness.process_rest import thread_states
+
+CONTROLLER = ['rosrun', 'minimal_joint_controller', 'minimal_joint_controller']
+PERIOD_S = 0.01  # the controller's period (100 Hz), of sim time and, at real-time factor 1, wall
+ROUNDS = 10
+# A /clock gap the clients may add to the machine's own before the world counts as held.
+MARGIN_S = 0.05
+# A gap that counts as a hold: a client that held the world stopped /clock for a second and more
+# at most of its exits; a busy machine alone stops it for a few hundred ms now and then.
+HOLD_S = 0.5
+# How many holds the clients may have beyond those of as long a time with no client: the machine
+# alone puts a few anywhere.
+HOLDS_BEYOND_OWN_MOST = 2
+# How long after a gap the messages that make up for it in sim time may arrive (a backlog read at
+# once by a process that was kept from reading).
+MADE_UP_WITHIN_S = 0.1
+# How long the machine's own /clock gaps are measured before the controller is stopped.
+OWN_S = 3.0
+CLIENT_TIMEOUT_S = 120  # bounds a client that hangs; rostopic pub -1 itself takes 3 s and more
+# How long the controller may take to end the threads it started for the clients: rospy retries a
+# dropped connection with growing waits (a minute and more) before it sees its publisher gone.
+THREADS_END_TIMEOUT_S = 600
+# The clients, each run ROUNDS times in a row (its k-th run's command): a command publisher to the
+# controller, which then exits, and a subscriber to what the controller publishes. Each kind is a
+# test of its own, so that a test's clients fit its time on a busy machine.
+CLIENTS = {
+    'rostopic_pub': lambda k: ['rostopic', 'pub', '-1', '/pos_cmd', 'std_msgs/Float64', '--',
+                               '0.2' if k % 2 else '-0.2'],
+    'rostopic_echo': lambda k: ['rostopic', 'echo', '-n', '1', '/jnt_pos'],
+}
+
+
+class ClockArrivals:
+    """Every /clock message: (wall time of its arrival here, monotonic, s; its sim time, ns)."""
+
+    def __init__(self, rospy):
+        from rosgraph_msgs.msg import Clock
+        self._lock = threading.Lock()
+        self._arrivals = []
+        rospy.Subscriber('/clock', Clock, self._on_clock, queue_size=10000)
+
+    def _on_clock(self, msg):
+        with self._lock:
+            self._arrivals.append((time.monotonic(), msg.clock.to_nsec()))
+
+    def arrivals(self):
+        with self._lock:
+            return list(self._arrivals)
+
+    def latest(self):
+        arrivals = self.arrivals()
+        return arrivals[-1] if arrivals else (None, -1)
+
+    def world_gaps(self):
+        """(wall time it starts, its length, the world's part of it) of each gap between two
+        arrivals. The world's part is what the sim time arriving within MADE_UP_WITHIN_S after it
+        does not make up: none when the simulator published on while this process did not read
+        (the backlog arrives at once), all of it when the world stood still (once more than 0.1 s
+        behind its pace, the simulator goes on from the wall time it is at, making up nothing)."""
+        arrivals = self.arrivals()
+        gaps = []
+        last = 0  # the last arrival within MADE_UP_WITHIN_S after the gap
+        for i in range(len(arrivals) - 1):
+            (start, start_ns), (end, _) = arrivals[i], arrivals[i + 1]
+            last = max(last, i + 1)
+            while last + 1 < len(arrivals) and arrivals[last + 1][0] <= end + MADE_UP_WITHIN_S:
+                last += 1
+            lost = (arrivals[last][0] - start) - (arrivals[last][1] - start_ns) * 1e-9
+            gaps.append((start, end - start, max(0.0, min(end - start, lost))))
+        return gaps
+
+    def largest_gaps(self, windows):
+        """For each (start, end) window of wall time, of the gaps that start in it: the largest
+        world's part, and the largest gap as this process heard it."""
+        gaps = self.world_gaps()
+        largest = []
+        for start, end in windows:
+            inside = [(world, gap) for at, gap, world in gaps if start <= at <= end]
+            largest.append((max((world for world, _ in inside), default=0.0),
+                            max((gap for _, gap in inside), default=0.0)))
+        return largest
+
+
+def lockstepped_tutorial(ros, engine, rospy_client, sim_args=()):
+    """The tutorial in lock-step: the simulator, the controller, the robot spawned once the
+    controller looks for its joint; returns (simulator, controller, ClockArrivals) once the
+    controller's joint has joined the lock-step."""
+    sim = start_sim(ros, engine, ['_lockstep:=true'] + list(sim_args))
+    clock = ClockArrivals(rospy_client)
+    controller = ros.start(CONTROLLER, name='controller')
+    ros.wait_until(lambda: 'cannot read joint joint1' in ros.log_text(controller), 60,
+                   what='the controller to look for joint1')
+    GazeboApi(rospy_client).spawn_robot()
+    ros.wait_until(lambda: 'lock-step: joint1 is commanded by /minimal_joint_controller'
+                   in ros.log_text(sim), 60, what='the controller to join the lock-step')
+    return sim, controller, clock
+
+
+def threads_of(pid):
+    """The ids of the threads of process pid."""
+    return set(os.listdir('/proc/%d/task' % pid))
+
+
+def wait_for_clock_after(clock, moment, what):
+    """Waits until a /clock message has arrived after the wall time `moment` (the gap that
+    starts before it is then known)."""
+    wait_until(lambda: clock.latest()[0] is not None and clock.latest()[0] > moment, 60,
+               interval=0.005, what=what)
+
+
+@pytest.mark.parametrize('client', sorted(CLIENTS))
+def test_clients_coming_and_going_never_hold_the_lockstepped_world(ros, engine, rospy_client,
+                                                                    client):
+    """ROUNDS `rostopic pub -1 /pos_cmd` or `rostopic echo -n 1 /jnt_pos` in a row, then as much
+    sim time again with no client: from the first client's start until the controller has ended
+    the threads it started for them (rospy ends a connection's thread when it sees the publisher
+    gone, up to a minute and more after it exits), the world stops /clock for HOLD_S and more at
+    most HOLDS_BEYOND_OWN_MOST times more often than with no client. A client that held the world
+    (its connection's thread in the controller ending and taking its runs with it, so that the
+    controller never seemed to have run since its command) stopped /clock for a second and more
+    at most of its exits. The largest gaps with and without the clients are printed: on a quiet
+    machine they are within MARGIN_S of each other."""
+    sim, controller, clock = lockstepped_tutorial(ros, engine, rospy_client)
+    threads = threads_of(controller.pid)
+    start = time.monotonic()
+    start_ns = clock.latest()[1]
+    for k in range(ROUNDS):
+        command = CLIENTS[client](k)
+        result = ros.run(command, timeout=CLIENT_TIMEOUT_S)
+        assert result.returncode == 0, '%s exited with %d:\n%s%s' % (
+            ' '.join(command), result.returncode, result.stdout, result.stderr)
+        if client == 'rostopic_echo':
+            assert 'data: ' in result.stdout
+    ros.wait_until(lambda: threads_of(controller.pid) <= threads, THREADS_END_TIMEOUT_S,
+                   interval=0.01, what='the controller to end the threads it started for clients')
+    wait_for_clock_after(clock, time.monotonic() + MADE_UP_WITHIN_S, 'the clock after the clients')
+    clients = (start, time.monotonic())
+    clients_ns = clock.latest()[1] - start_ns
+    own_start_ns = clock.latest()[1]
+    wait_until(lambda: clock.latest()[1] >= own_start_ns + clients_ns, THREADS_END_TIMEOUT_S,
+               interval=0.01, what='%.0f s of sim time with no client' % (clients_ns * 1e-9))
+    wait_for_clock_after(clock, time.monotonic() + MADE_UP_WITHIN_S, 'the clock after the time with no client')
+    own = (clients[1], time.monotonic())
+    ros.check_running('the clients')  # the controller among them
+
+    (own_world, own_heard), (clients_world, clients_heard) = clock.largest_gaps([own, clients])
+    gaps = clock.world_gaps()
+    holds = [sum(1 for at, _, world in gaps if span[0] <= at <= span[1] and world >= HOLD_S)
+             for span in (clients, own)]
+    figures = ('the world\'s largest /clock gap (wall) with the clients %.1f ms, with none %.1f ms; '
+               'the largest as this test heard them %.1f and %.1f ms; holds of %g s and more: %d '
+               'and %d; %.0f s of clients' % (
+                   1e3 * clients_world, 1e3 * own_world, 1e3 * clients_heard, 1e3 * own_heard,
+                   HOLD_S, holds[0], holds[1], clients[1] - clients[0]))
+    print('%s, %s: %s' % (engine, client, figures))
+    assert holds[0] <= holds[1] + HOLDS_BEYOND_OWN_MOST, figures
+    log = ros.log_text(sim)
+    assert 'the world waited' not in log
+    assert 'did not rest' not in log
+
+
+def exited_in_proc(pid):
+    """Whether /proc shows process pid exited: gone, or every thread of it exited (a zombie its
+    parent has not reaped; its leader reads exited as soon as it ends, the others a little
+    later)."""
+    return all(state in ('Z', 'X', 'x') for state in thread_states(pid).values())
+
+
+@pytest.mark.parametrize('signal_name', ['SIGKILL', 'SIGINT'])
+def test_a_controller_that_exits_is_let_go_at_once(ros, engine, rospy_client, signal_name):
+    """The controller stopped (SIGSTOP), so that the world stands at the stop where its last job
+    ends, then killed (SIGKILL: it never unregisters) or interrupted as Ctrl-C does (SIGINT, and
+    SIGCONT to act on it: it may command a few periods more while rospy shuts down). The world
+    waits for it, however long ~lockstep_timeout, until its exit shows in /proc (a zombie that
+    this test, its parent, has not reaped yet), then goes on at once. In sim time: the killed
+    controller's joint is let go of at the stop the world stood at when it was stopped (a period
+    later if its command for that stop was still on its way), where its last job ends. In wall
+    time, against the machine's own: from the exit showing in /proc to /clock going past that stop
+    takes at most a period more than the largest /clock gap while the controller ran, plus
+    MARGIN_S."""
+    sim, controller, clock = lockstepped_tutorial(ros, engine, rospy_client,
+                                                  ['_lockstep_timeout:=600'])
+    api = GazeboApi(rospy_client)
+    with open('/proc/%d/cmdline' % controller.pid, 'rb') as f:
+        assert b'minimal_joint_controller' in f.read()  # rosrun execs the node itself
+    start = time.monotonic()
+    wait_for_clock_after(clock, start + OWN_S + MADE_UP_WITHIN_S,
+                         '%g s of the lock-stepped world' % OWN_S)
+    own = clock.largest_gaps([(start, start + OWN_S)])[0][0]
+
+    controller.stopped = True
+    os.kill(controller.pid, signal.SIGSTOP)
+    # A request lands where the world stops: the end of the job commanded last (or of the one
+    # before, if the controller's last command is still on its way).
+    stop_ns = api.sim_time_ns()
+    if signal_name == 'SIGKILL':
+        os.kill(controller.pid, signal.SIGKILL)
+    else:
+        os.kill(controller.pid, signal.SIGINT)
+        os.kill(controller.pid, signal.SIGCONT)
+    visible = wait_until(lambda: exited_in_proc(controller.pid) and time.monotonic(), 60,
+                         interval=0.001, what='the controller\'s exit to show in /proc')
+    controller.wait(timeout=60)
+    assert not os.path.exists('/proc/%d' % controller.pid)
+
+    let_go = re.escape('lock-step: the process of /minimal_joint_controller (pid %d) has exited; '
+                       'the world goes on at sim time ' % controller.pid) + \
+        r'([0-9.]+) s without joint1 until commanded again'
+    found = ros.wait_until(lambda: re.search(let_go, ros.log_text(sim)), 60,
+                           what='the simulator to let go of the controller')
+    let_go_ns = round(float(found.group(1)) * 1e9)
+    assert let_go_ns >= stop_ns
+    if signal_name == 'SIGKILL':
+        assert let_go_ns <= stop_ns + round(PERIOD_S * 1e9)
+    # Let go of, the world runs free at real-time factor 1, publishing every step: a message's
+    # sim time past the stop says when, at the latest, the world went on. The message least
+    # delayed on its way here tells it best: a second of them.
+    wait_until(lambda: clock.latest()[1] > let_go_ns + 10 ** 9, 60, interval=0.001,
+               what='/clock a second past %.3f s' % (let_go_ns * 1e-9))
+    went_on = min(t - (ns - let_go_ns) * 1e-9 for t, ns in clock.arrivals() if ns > let_go_ns)
+    took = went_on - visible
+    figures = ('the world went on %.1f ms (wall) after the exit showed in /proc; its largest '
+               '/clock gap while the controller ran: %.1f ms' % (1e3 * took, 1e3 * own))
+    print('%s, %s: %s' % (engine, signal_name, figures))
+    assert took <= own + PERIOD_S + MARGIN_S, figures
+    log = ros.log_text(sim)
+    assert 'the world waited' not in log
+    assert 'did not rest' not in log
+    assert log.count('has exited') == 1
