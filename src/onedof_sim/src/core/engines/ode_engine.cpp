@@ -542,8 +542,20 @@ class OdeEngine : public Engine {
 
   std::vector<BodyRef> contactBodies() const override { return contact_bodies_; }
 
-  // The last step's contacts, with the forces their joints' feedback gave (see reportContacts).
-  void contacts(std::vector<EngineContact>* out) const override { *out = reported_contacts_; }
+  // The last step's contacts, with the forces their joints' feedback gave: feedback.f1 is the
+  // force on the joint's first body, body_a's where it has one (dJointAttach with a null body_a
+  // makes body_b first). Made when asked: the step keeps its contact records until the next.
+  void contacts(std::vector<EngineContact>* out) const override {
+    out->clear();
+    out->reserve(contacts_.size());
+    for (const StepContact& c : contacts_) {
+      const dContactGeom& geom = c.contact.geom;
+      const double sign = c.body_a ? 1 : -1;
+      const dReal* f = c.feedback.f1;
+      out->push_back({c.shape_a, c.shape_b, toVec3(geom.pos), toVec3(geom.normal), geom.depth,
+                      {sign * f[0], sign * f[1], sign * f[2]}});
+    }
+  }
 
   // One dGeomRay, in no space, collided with the world's space as Gazebo's ODE ray sensor does
   // (dSpaceCollide2, then dCollide with the closest hit of each geom).
@@ -577,7 +589,6 @@ class OdeEngine : public Engine {
     stepping_message_set = false;
     contact_bodies_.clear();
     contacts_.clear();
-    reported_contacts_.clear();
     try {
       dSpaceCollide(space_, this, &nearCallback);
       bool quick = params_.quick_step || retake;
@@ -597,9 +608,7 @@ class OdeEngine : public Engine {
       throw;
     }
     stepping_message = nullptr;
-    reportContacts();
-    dJointGroupEmpty(contact_group_);
-    contacts_.clear();
+    dJointGroupEmpty(contact_group_);  // the records in contacts_ stay, for contacts()
   }
 
  private:
@@ -727,19 +736,6 @@ class OdeEngine : public Engine {
     dJointFeedback feedback;
     ShapeRef shape_a, shape_b;  // the geoms' shapes, for the contacts the engine reports
   };
-
-  // The step's contacts as the engine reports them: feedback.f1 is the force on the joint's
-  // first body, body_a's where it has one (dJointAttach with a null body_a makes body_b first).
-  void reportContacts() {
-    reported_contacts_.reserve(contacts_.size());
-    for (const StepContact& c : contacts_) {
-      const dContactGeom& geom = c.contact.geom;
-      const double sign = c.body_a ? 1 : -1;
-      const dReal* f = c.feedback.f1;
-      reported_contacts_.push_back({c.shape_a, c.shape_b, toVec3(geom.pos), toVec3(geom.normal),
-                                    geom.depth, {sign * f[0], sign * f[1], sign * f[2]}});
-    }
-  }
 
   // The joint of `step_contact` made from `contact` (its own, or with other friction bounds).
   void attachContact(StepContact* step_contact, const dContact& contact) {
@@ -925,7 +921,6 @@ class OdeEngine : public Engine {
   std::vector<dBodyID> bodies_;  // every model's, in the world
   std::vector<SavedBody> saved_;
   std::vector<BodyRef> contact_bodies_;  // in the contacts of the last step (contactBodies)
-  std::vector<EngineContact> reported_contacts_;  // the last step's (contacts())
   dWorldID world_ = nullptr;
   dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;
