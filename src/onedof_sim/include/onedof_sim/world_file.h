@@ -57,6 +57,8 @@ enum class WorldFileCode {
   Ok,
   NotFound,         // subject: the path; no such file
   Unreadable,       // subject: the path; it exists but cannot be read
+  NotAFile,         // subject: what the path is instead of a regular file: "directory", "FIFO",
+                    // "character device", "block device", "socket" (never opened nor read)
   TooLarge,         // subject: the path; max: the most bytes a world file may have
   InvalidXml,       // subject: why the XML is not well-formed (tinyxml2's words, with the line)
   NotSdf,           // subject: the root element (<gazebo version="1.0">: Gazebo 1's format)
@@ -66,6 +68,9 @@ enum class WorldFileCode {
   NegativeCount,    // subject: the <physics> element (iters, precon_iters, max_contacts) < 0
   IncludeNotFound,  // subject: the <include>'s URI, found in no folder of the model path
   TooManyModels,    // subject: the count; max: the most models a world may place
+  IncludeCycle,     // subject: the files around a cycle of <include>s, "A -> B -> A"
+  TooManyIncludedModels,  // subject: the models its <include>s place, nested ones each time
+                          // (at least); max: the most accepted
 };
 
 struct WorldFileStatus {

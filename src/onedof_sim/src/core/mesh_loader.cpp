@@ -5,17 +5,68 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 
+#include "mesh_precheck.h"
 #include "model_description.h"
 
 namespace onedof_sim {
 namespace core {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// A path below a root once normalised: not absolute, no `..` climbing out of it.
+bool staysInside(const std::string& relative) {
+  const fs::path normal = fs::path(relative).lexically_normal();
+  return !normal.empty() && normal.is_relative() && *normal.begin() != "..";
+}
+
+// A regular file (not a folder, a FIFO or a device) this process may read.
+bool readableFile(const fs::path& path) {
+  std::error_code ignored;
+  return fs::is_regular_file(path, ignored) && ::access(path.c_str(), R_OK) == 0;
+}
+
+enum class FileRead { Ok, Unreadable, TooLarge };
+
+// The bytes of the regular file at `path`, at most max_bytes (*size: its size). Opened without
+// blocking and checked on the open file, so that a FIFO or a device put in its place is never
+// read.
+FileRead readRegularFile(const std::string& path, size_t max_bytes, std::string* bytes,
+                         uintmax_t* size) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) return FileRead::Unreadable;
+  struct stat info {};
+  FileRead result = FileRead::Ok;
+  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) result = FileRead::Unreadable;
+  *size = result == FileRead::Ok ? uintmax_t(info.st_size) : 0;
+  if (result == FileRead::Ok && *size > max_bytes) result = FileRead::TooLarge;
+  if (result == FileRead::Ok) {
+    bytes->resize(size_t(*size));
+    size_t done = 0;
+    while (done < bytes->size()) {
+      const ssize_t n = ::read(fd, &(*bytes)[done], bytes->size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    bytes->resize(done);  // a file that shrank as it was read: what it held
+  }
+  ::close(fd);
+  return result;
+}
+
+}  // namespace
 
 std::string resolveMeshUri(const std::string& uri, const std::vector<std::string>& model_path,
                            const std::string& relative_to) {
@@ -24,7 +75,9 @@ std::string resolveMeshUri(const std::string& uri, const std::vector<std::string
   const std::string scheme = scheme_end == std::string::npos ? "" : uri.substr(0, scheme_end);
   const std::string rest = scheme_end == std::string::npos ? uri : uri.substr(scheme_end + 3);
   if (scheme == "model" || scheme == "package") {
-    for (const std::string& folder : model_path) candidates.push_back(fs::path(folder) / rest);
+    if (staysInside(rest))
+      for (const std::string& folder : model_path)
+        candidates.push_back(fs::path(folder) / fs::path(rest).lexically_normal());
   } else if (scheme == "file") {
     candidates.push_back(rest);
   } else if (scheme.empty()) {
@@ -33,10 +86,8 @@ std::string resolveMeshUri(const std::string& uri, const std::vector<std::string
     else if (!relative_to.empty())
       candidates.push_back(fs::path(relative_to) / uri);
   }
-  for (const fs::path& candidate : candidates) {
-    std::error_code ignored;
-    if (fs::is_regular_file(candidate, ignored)) return candidate.string();
-  }
+  for (const fs::path& candidate : candidates)
+    if (readableFile(candidate)) return candidate.string();
   return "";
 }
 
@@ -47,7 +98,8 @@ std::string count(size_t n) { return std::to_string(n); }
 }  // namespace
 
 MeshReader::MeshReader()
-    : limits_{kMaxMeshFileBytes, kMaxMeshTriangles, kMaxModelMeshTriangles} {}
+    : limits_{kMaxMeshFileBytes, kMaxMeshTriangles, kMaxModelMeshTriangles, kMaxMeshPlacements,
+              kMaxMeshDepth} {}
 
 Status MeshReader::readRaw(const std::string& file, std::shared_ptr<const Raw>* out) {
   auto cached = files_.find(file);
@@ -55,28 +107,62 @@ Status MeshReader::readRaw(const std::string& file, std::shared_ptr<const Raw>* 
     *out = cached->second;
     return {};
   }
-  std::error_code error;
-  const uintmax_t bytes = fs::file_size(file, error);
-  if (error) return rejected("cannot read the mesh file " + file + ": " + error.message());
-  if (bytes > limits_.file_bytes)
-    return rejected("the mesh file " + file + " has " + count(bytes) + " bytes; at most " +
-                    count(limits_.file_bytes) + " are accepted");
+  const MeshFormat format = meshFormatOf(file);
+  if (format == MeshFormat::Unknown)
+    return rejected("the mesh file " + file + " is not STL (.stl), COLLADA (.dae) or OBJ (.obj), "
+                    "the formats Gazebo reads");
+  std::string bytes;
+  uintmax_t size = 0;
+  switch (readRegularFile(file, limits_.file_bytes, &bytes, &size)) {
+    case FileRead::Unreadable: return rejected("cannot read the mesh file " + file);
+    case FileRead::TooLarge:
+      return rejected("the mesh file " + file + " has " + count(size) + " bytes; at most " +
+                      count(limits_.file_bytes) + " are accepted");
+    case FileRead::Ok: break;
+  }
+  const auto too_many = [&](size_t triangles) {
+    return rejected("the mesh file " + file + " has " + count(triangles) + " triangles; at most " +
+                    count(limits_.mesh_triangles) + " are accepted per mesh");
+  };
+  // Its structure before assimp reads it: assimp would overflow its stack on a deep or
+  // self-instancing hierarchy, and spend the memory of every placement before it is counted.
+  const MeshShape shape =
+      measureMesh(bytes, format, {limits_.mesh_triangles, limits_.placements, limits_.depth});
+  switch (shape.code) {
+    case MeshShapeCode::Ok: break;
+    case MeshShapeCode::NotWellFormed:
+      return rejected("cannot read the mesh file " + file + ": not well-formed XML: " +
+                      shape.subject);
+    case MeshShapeCode::TooDeep:
+      return rejected("the mesh file " + file + " nests its " + shape.subject + " " +
+                      (shape.subject == "nodes" ? count(shape.depth)
+                                                : "more than " + count(shape.depth - 1)) +
+                      " deep; at most " + count(limits_.depth) + " levels are accepted");
+    case MeshShapeCode::InstanceCycle:
+      return rejected("the mesh file " + file + " has a node that instances itself: " +
+                      shape.subject);
+    case MeshShapeCode::TooManyPlacements:
+      return rejected("the mesh file " + file + " places " + count(shape.placements) +
+                      " nodes and geometry instances; at most " + count(limits_.placements) +
+                      " are accepted");
+    case MeshShapeCode::TooManyTriangles: return too_many(shape.triangles);
+  }
   Assimp::Importer importer;
   // A COLLADA file's coordinates as written: ROS meshes are z-up whatever up_axis says, and
   // assimp would otherwise turn a Z_UP file to y-up. Its <unit> still scales it to metres.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   // Points and lines are no collision surface: dropped.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      file, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+  // The bytes measured, read by the importer of their format (the extension tells it).
+  const aiScene* scene = importer.ReadFileFromMemory(
+      bytes.data(), bytes.size(),
+      aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType,
+      meshFormatExtension(format));
+  bytes = std::string();
   if (!scene || !scene->mRootNode)
     return rejected("cannot read the mesh file " + file + ": " + importer.GetErrorString());
   size_t faces = 0;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) faces += scene->mMeshes[m]->mNumFaces;
-  const auto too_many = [&](size_t triangles) {
-    return rejected("the mesh file " + file + " has " + count(triangles) + " triangles; at most " +
-                    count(limits_.mesh_triangles) + " are accepted per mesh");
-  };
   if (faces > limits_.mesh_triangles) return too_many(faces);
   auto raw = std::make_shared<Raw>();
   // Every node places its meshes by the product of the transforms down to it; a mesh placed by
@@ -156,6 +242,8 @@ Status readVisualMesh(const std::string& file, const Vec3& scale,
   core::MeshReader::Limits limits;
   limits.file_bytes = 10 * core::kMaxMeshFileBytes;
   limits.mesh_triangles = limits.model_triangles = kMaxVisualMeshTriangles;
+  limits.placements = core::kMaxMeshPlacements;
+  limits.depth = core::kMaxMeshDepth;
   return core::MeshReader(limits).read(file, scale, out);
 }
 

@@ -59,6 +59,9 @@ constexpr size_t kMaxModelLinks = 1000;
 // the model path): a robot is built from a handful.
 constexpr size_t kMaxModelXmlBytes = 10000000;
 constexpr size_t kMaxModelIncludes = 100;
+// Models a document's <include>s place in all, an include nested in an included file counted
+// each time that file is placed: a world's worth.
+constexpr size_t kMaxIncludedModels = 1000;
 // Models a world file places (its <model>s and <include>s; a world file has at most
 // kMaxModelXmlBytes too): each is a spawn at start-up, and a large scene has hundreds.
 constexpr size_t kMaxWorldModels = 1000;
@@ -81,6 +84,13 @@ constexpr size_t kMaxModelMeshTriangles = 50000;
 // STL of kMaxMeshTriangles is about 5 MB, a COLLADA file with normals and texture coordinates
 // somewhat less.
 constexpr size_t kMaxMeshFileBytes = 20000000;
+// A mesh file's node hierarchy, measured before assimp reads it (mesh_precheck.h): the nodes
+// and geometry instances it places, each placement of an instanced node counted (a robot's CAD
+// export places hundreds; assimp spends about 1 kB on each), and how deep its nodes nest,
+// instances followed (a robot's: tens; assimp builds it by recursion, and the XML reader
+// refuses elements nested deeper than 100 anyway).
+constexpr size_t kMaxMeshPlacements = 20000;
+constexpr size_t kMaxMeshDepth = 100;
 
 // Sim time ends where ROS time does (32-bit seconds): /clock and every stamp would overflow.
 constexpr int64_t kEndOfTimeNs = int64_t(0xffffffff) * 1000000000;

@@ -190,8 +190,8 @@ Status meshCollision(const std::string& uri, const Vec3& scale, const std::strin
     return rejected(where + " with a zero or non-finite scale");
   const std::string file = resolveMeshUri(uri, model_path, relative_to);
   if (file.empty()) {
-    *left_out = where + ", which is not found (model:// and package:// URIs are looked up in " +
-                joinedPath(model_path) + ")";
+    *left_out = where + ", which is not found or not readable (model:// and package:// URIs are "
+                "looked up within " + joinedPath(model_path) + ")";
     return {};
   }
   c->shape = GeometryShape::Mesh;
@@ -625,6 +625,12 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
   SdfDocument document;
   const std::lock_guard<std::mutex> one_parser(parserMutex());
   readSdfDocument(xml, SdfSource::String, model_path, &document);
+  if (document.includes.code == IncludeCheck::Code::Cycle)
+    return rejected("invalid SDF: its <include>s include themselves: " + document.includes.subject);
+  if (document.includes.code == IncludeCheck::Code::TooMany)
+    return rejected("invalid SDF: its <include>s, nested ones counted each time, place " +
+                    std::to_string(document.includes.count) + " models; at most " +
+                    std::to_string(kMaxIncludedModels) + " are accepted");
   if (!document.missing.empty())
     return rejected(document.missing.front() + " is not in the model path (" +
                     joinedPath(model_path) + ")");

@@ -32,6 +32,25 @@ sdf::ParserConfig modelPathConfig(const std::vector<std::string>& model_path,
 // ModelRejected when the document's SDF version is newer than libsdformat reads.
 Status checkSdfVersion(const sdf::Root& root);
 
+enum class SdfSource { File, String };
+
+// A document's <include>s followed through the files they name (model://NAME as libsdformat
+// finds it: FOLDER/NAME's model.config or model.sdf), each file read once with tinyxml2: the
+// models they place, nested includes counted each time their includer is placed, and a file
+// that includes itself, directly or through others. libsdformat follows includes by recursion,
+// reading each placement again: a cycle never ends, and a file that includes another twice, 17
+// deep, places 2^17 models.
+struct IncludeCheck {
+  enum class Code { Ok, Cycle, TooMany };
+  Code code = Code::Ok;
+  std::string subject;  // Cycle: the files around it, "A -> B -> A"
+  size_t count = 0;     // TooMany: the models placed (at least; counting stops past the most)
+  bool ok() const { return code == Code::Ok; }
+};
+// source and kind as for readSdfDocument; Ok when the includes place at most max_models.
+IncludeCheck checkIncludes(const std::string& source, SdfSource kind,
+                           const std::vector<std::string>& model_path, size_t max_models);
+
 // An SDF document read as Gazebo classic reads it: libsdformat's element API (sdf::readFile,
 // sdf::readString), which takes what its DOM refuses (a <material><script> without <uri> and
 // <name>, which Gazebo shows as no named material; camera formats the DOM does not list; ...),
@@ -43,11 +62,12 @@ struct SdfDocument {
   sdf::SDFPtr elements;
   sdf::Root root;
   std::vector<std::string> missing;  // the model:// URIs found in no folder of the model path
+  IncludeCheck includes;             // not Ok: refused before libsdformat read it
   std::string error;                 // why it cannot be read; empty when it was read
 };
-enum class SdfSource { File, String };
 // source: the file's absolute path (libsdformat tries a relative one against its schema folder
-// first), or the document itself. The caller holds parserMutex().
+// first), or the document itself. Its includes are checked first (checkIncludes, at most
+// kMaxIncludedModels). The caller holds parserMutex().
 void readSdfDocument(const std::string& source, SdfSource kind,
                      const std::vector<std::string>& model_path, SdfDocument* out);
 

@@ -3,6 +3,7 @@
 
 #include <tinyxml2.h>
 
+#include "model_description.h"
 #include "sdf_parsing.h"
 
 namespace onedof_sim {
@@ -46,6 +47,8 @@ std::string whyUnread(const std::string& source, SdfSource kind) {
 
 void readSdfDocument(const std::string& source, SdfSource kind,
                      const std::vector<std::string>& model_path, SdfDocument* out) {
+  out->includes = checkIncludes(source, kind, model_path, kMaxIncludedModels);
+  if (!out->includes.ok()) return;
   out->elements.reset(new sdf::SDF());
   sdf::init(out->elements);
   std::set<const sdf::Element*> seen;

@@ -205,13 +205,31 @@ void listIgnored(const sdf::World& world, WorldFile* out) {
   }
 }
 
+std::string fileKind(std::filesystem::file_type type) {
+  using std::filesystem::file_type;
+  switch (type) {
+    case file_type::directory: return "directory";
+    case file_type::fifo: return "FIFO";
+    case file_type::character: return "character device";
+    case file_type::block: return "block device";
+    case file_type::socket: return "socket";
+    default: return "special file";
+  }
+}
+
 }  // namespace
 
 WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::string>& model_path,
                               const PhysicsParams& base, WorldFile* out) {
   namespace fs = std::filesystem;
   std::error_code error;
-  if (!fs::is_regular_file(path, error)) return {WorldFileCode::NotFound, path};
+  const fs::file_status status_of_path = fs::status(path, error);
+  if (status_of_path.type() == fs::file_type::not_found) return {WorldFileCode::NotFound, path};
+  if (error) return {WorldFileCode::Unreadable, path};
+  // Told apart by its type alone, never opened: a FIFO would block the reader, a device such
+  // as /dev/zero would never end.
+  if (!fs::is_regular_file(status_of_path))
+    return {WorldFileCode::NotAFile, fileKind(status_of_path.type())};
   if (!std::ifstream(path).good()) return {WorldFileCode::Unreadable, path};
   if (fs::file_size(path, error) > kMaxModelXmlBytes)
     return {WorldFileCode::TooLarge, path, double(kMaxModelXmlBytes)};
@@ -235,6 +253,11 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
     core::readSdfDocument(fs::absolute(path).string(), core::SdfSource::File, model_path,
                           &document);
   }
+  if (document.includes.code == core::IncludeCheck::Code::Cycle)
+    return {WorldFileCode::IncludeCycle, document.includes.subject};
+  if (document.includes.code == core::IncludeCheck::Code::TooMany)
+    return {WorldFileCode::TooManyIncludedModels, std::to_string(document.includes.count),
+            double(core::kMaxIncludedModels)};
   if (!document.missing.empty()) return {WorldFileCode::IncludeNotFound, document.missing.front()};
   if (!document.error.empty()) return {WorldFileCode::InvalidSdf, document.error};
   const sdf::Root& root = document.root;

@@ -48,6 +48,8 @@ std::string whyNotLoaded(const WorldFileStatus& status,
     case WorldFileCode::Ok: return "loaded";
     case WorldFileCode::NotFound: return "no such file";
     case WorldFileCode::Unreadable: return "the file cannot be read";
+    case WorldFileCode::NotAFile:
+      return "it is a " + status.subject + ", not a regular file: a world file is an SDF file";
     case WorldFileCode::TooLarge: {
       std::ostringstream text;
       text << "the file is larger than " << status.max << " bytes";
@@ -71,6 +73,14 @@ std::string whyNotLoaded(const WorldFileStatus& status,
     case WorldFileCode::IncludeNotFound:
       return "<include> " + status.subject + " is not in the model path (" + joined(model_path) +
              "; add a folder to GAZEBO_MODEL_PATH)";
+    case WorldFileCode::IncludeCycle:
+      return "its <include>s include themselves: " + status.subject;
+    case WorldFileCode::TooManyIncludedModels: {
+      std::ostringstream text;
+      text << "its <include>s, nested ones counted each time, place " << status.subject
+           << " models; at most " << status.max << " are accepted";
+      return text.str();
+    }
     case WorldFileCode::TooManyModels: {
       std::ostringstream text;
       text << "the world places " << status.subject << " models; at most " << status.max

@@ -3,6 +3,9 @@
 // the codes of a world that cannot be read.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -335,6 +338,83 @@ TEST_F(WorldFileTest, AWorldOfMoreModelsThanTheLimitIsRefused) {
     EXPECT_EQ(status.subject, "1001");
     EXPECT_EQ(status.max, 1000);
   }
+}
+
+// A folder, a FIFO and a device are refused as what they are, never opened: reading a FIFO would
+// wait for a writer, /dev/zero would never end.
+TEST_F(WorldFileTest, APathThatIsNoFileIsRefusedAsWhatItIs) {
+  WorldFile world;
+  WorldFileStatus status = readWorldFile(folder_.string(), kModelPath, {}, &world);
+  EXPECT_EQ(status.code, WorldFileCode::NotAFile);
+  EXPECT_EQ(status.subject, "directory");
+  const std::string fifo = (folder_ / "pipe.world").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  status = readWorldFile(fifo, kModelPath, {}, &world);
+  EXPECT_EQ(status.code, WorldFileCode::NotAFile);
+  EXPECT_EQ(status.subject, "FIFO");
+  status = readWorldFile("/dev/zero", kModelPath, {}, &world);
+  EXPECT_EQ(status.code, WorldFileCode::NotAFile);
+  EXPECT_EQ(status.subject, "character device");
+}
+
+// Model folders of the model path: NAME/model.config naming model.sdf, a model whose content is
+// `content` (links, includes).
+class IncludeGraphTest : public WorldFileTest {
+ protected:
+  void model(const std::string& name, const std::string& content) {
+    const std::filesystem::path dir = folder_ / "models" / name;
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "model.config")
+        << "<?xml version=\"1.0\"?><model><name>" << name
+        << "</name><sdf version=\"1.6\">model.sdf</sdf></model>";
+    std::ofstream(dir / "model.sdf") << "<?xml version=\"1.0\"?><sdf version=\"1.6\"><model name=\""
+                                     << name << "\">" << content << "</model></sdf>";
+  }
+  static std::string include(const std::string& name, const std::string& as) {
+    return "<include><uri>model://" + name + "</uri><name>" + as + "</name></include>";
+  }
+  WorldFileStatus readWithModels(const std::string& world_content, WorldFile* out) {
+    return readWorldFile(write("<sdf version=\"1.6\"><world name=\"w\">" + world_content +
+                               "</world></sdf>"),
+                         {(folder_ / "models").string()}, {}, out);
+  }
+  std::string file(const std::string& name) {
+    return (folder_ / "models" / name / "model.sdf").string();
+  }
+};
+
+TEST_F(IncludeGraphTest, IncludesThatIncludeThemselvesAreRefusedNamingTheCycle) {
+  model("self", "<link name=\"l\"/>" + include("self", "again"));
+  WorldFile world;
+  WorldFileStatus status = readWithModels(include("self", "s"), &world);
+  EXPECT_EQ(status.code, WorldFileCode::IncludeCycle);
+  EXPECT_EQ(status.subject, file("self") + " -> " + file("self"));
+  model("a", "<link name=\"l\"/>" + include("b", "b"));
+  model("b", "<link name=\"l\"/>" + include("a", "a"));
+  status = readWithModels(include("a", "a"), &world);
+  EXPECT_EQ(status.code, WorldFileCode::IncludeCycle);
+  EXPECT_EQ(status.subject, file("a") + " -> " + file("b") + " -> " + file("a"));
+}
+
+// level0 includes level1 twice, ..., level15 level16 twice: with the world's include of level0,
+// 2^17 - 1 models from 17 small files,
+// refused from the counts; 2^9 - 2 are within the limit and load.
+TEST_F(IncludeGraphTest, AnIncludeTreeIsCountedBeforeItIsRead) {
+  const int levels = 17;
+  for (int level = 0; level < levels; ++level) {
+    const std::string next = "level" + std::to_string(level + 1);
+    model("level" + std::to_string(level),
+          "<link name=\"l\"/>" + (level + 1 < levels ? include(next, "x") + include(next, "y")
+                                                     : std::string()));
+  }
+  WorldFile world;
+  WorldFileStatus status = readWithModels(include("level0", "tree"), &world);
+  EXPECT_EQ(status.code, WorldFileCode::TooManyIncludedModels);
+  EXPECT_EQ(status.subject, std::to_string((1 << 17) - 1));
+  EXPECT_EQ(status.max, 1000);
+  status = readWithModels(include("level8", "tree"), &world);
+  EXPECT_TRUE(status.ok()) << status.subject;
+  ASSERT_EQ(world.models.size(), 1u);
 }
 
 }  // namespace
