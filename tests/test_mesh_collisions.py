@@ -108,8 +108,8 @@ def test_meshes_past_the_limit_unreadable_or_unknown_are_refused_missing_left_ou
             ('gone_stl', 'package://onedof_mesh_block/meshes/gone.stl',
              "the mesh '%s/meshes/gone.stl', which is not found" % MODEL),
             ('gone_dae', 'model://onedof_mesh_block/meshes/gone.dae',
-             "the mesh 'model://onedof_mesh_block/meshes/gone.dae', which is not found "
-             "(model:// and package:// URIs are looked up in ")):
+             "the mesh 'model://onedof_mesh_block/meshes/gone.dae', which is not found or not "
+             "readable (model:// and package:// URIs are looked up within ")):
         res = api.spawn_urdf_model(name, static_mesh_urdf(filename), '', pose(), '')
         assert res.success, res.status_message
         assert 'SpawnModel: Successfully spawned entity; warning: link ' in res.status_message

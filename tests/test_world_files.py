@@ -278,6 +278,59 @@ def test_world_that_cannot_be_loaded_ends_gzserver_naming_why(ros, engine, tmp_p
         assert_gzserver_ends_naming_why(ros, tmp_path, case, ['-e', engine])
 
 
+def model_folder(root, name, content):
+    """A model folder NAME (model.config naming model.sdf) whose model holds `content`."""
+    folder = root / name
+    folder.mkdir(parents=True)
+    (folder / 'model.config').write_text(
+        '<?xml version="1.0"?><model><name>%s</name><sdf version="1.6">model.sdf</sdf></model>'
+        % name)
+    (folder / 'model.sdf').write_text('<?xml version="1.0"?><sdf version="1.6"><model name="%s">'
+                                      '<link name="l"/>%s</model></sdf>' % (name, content))
+    return str(folder / 'model.sdf')
+
+
+def include(name, as_name):
+    return '<include><uri>model://%s</uri><name>%s</name></include>' % (name, as_name)
+
+
+def test_world_that_is_no_file_or_includes_itself_ends_gzserver_naming_why(ros, tmp_path):
+    """A folder, a FIFO (never opened: it would wait for a writer) and /dev/zero (never read: it
+    never ends) are refused as what they are; includes that include themselves, directly or
+    through another, are refused naming the files around the cycle, and a tree of includes 17
+    deep, each including the next twice, for the 131,071 models it would place."""
+    fifo = tmp_path / 'pipe.world'
+    os.mkfifo(str(fifo))
+    models = tmp_path / 'models'
+    self_file = model_folder(models, 'self', include('self', 'again'))
+    a_file = model_folder(models, 'a', include('b', 'b'))
+    b_file = model_folder(models, 'b', include('a', 'a'))
+    for level in range(17):
+        model_folder(models, 'level%d' % level,
+                     include('level%d' % (level + 1), 'x') + include('level%d' % (level + 1), 'y')
+                     if level < 16 else '')
+    cases = [(str(tmp_path), 'it is a directory, not a regular file'),
+             (str(fifo), 'it is a FIFO, not a regular file'),
+             ('/dev/zero', 'it is a character device, not a regular file')]
+    for name, content, reason in (
+            ('self', include('self', 's'),
+             'its <include>s include themselves: %s -> %s' % (self_file, self_file)),
+            ('mutual', include('a', 'a'),
+             'its <include>s include themselves: %s -> %s -> %s' % (a_file, b_file, a_file)),
+            ('tree', include('level0', 'tree'),
+             'its <include>s, nested ones counted each time, place 131071 models; at most 1000 '
+             'are accepted')):
+        world = tmp_path / (name + '.world')
+        world.write_text('<sdf version="1.6"><world name="w">%s</world></sdf>' % content)
+        cases.append((str(world), reason))
+    for path, reason in cases:
+        result = run(ros, 'rosrun', 'gazebo_ros', 'gzserver', path,
+                     env={'GAZEBO_MODEL_PATH': str(models)})
+        assert result.returncode == 1, (path, output(result))
+        assert ("world file '%s' cannot be loaded: %s" % (path, reason)
+                in result.stdout + result.stderr), (path, output(result))
+
+
 def test_missing_world_file_ends_gzserver_naming_the_folders_looked_in(ros):
     result = run(ros, 'rosrun', 'gazebo_ros', 'gzserver', 'worlds/no_such.world',
                  env={'GAZEBO_RESOURCE_PATH': '/nonexistent/gazebo'})
