@@ -396,6 +396,19 @@ TEST_F(IncludeGraphTest, IncludesThatIncludeThemselvesAreRefusedNamingTheCycle) 
   EXPECT_EQ(status.subject, file("a") + " -> " + file("b") + " -> " + file("a"));
 }
 
+// A spawned SDF document's includes are checked as a world file's.
+TEST_F(IncludeGraphTest, ASpawnedModelThatIncludesItselfIsRefused) {
+  model("self", "<link name=\"l\"/>" + include("self", "again"));
+  const PreparedModel prepared = World::prepare(
+      "<sdf version=\"1.6\"><model name=\"m\"><link name=\"l\"/>" + include("self", "s") +
+          "</model></sdf>",
+      ModelFormat::Sdf, {(folder_ / "models").string()});
+  EXPECT_EQ(prepared.status().code, StatusCode::ModelRejected);
+  EXPECT_EQ(prepared.status().subject,
+            "invalid SDF: its <include>s include themselves: " + file("self") + " -> " +
+                file("self"));
+}
+
 // level0 includes level1 twice, ..., level15 level16 twice: with the world's include of level0,
 // 2^17 - 1 models from 17 small files,
 // refused from the counts; 2^9 - 2 are within the limit and load.
