@@ -70,7 +70,7 @@ enum class WorldFileCode {
   TooManyModels,    // subject: the count; max: the most models a world may place
   IncludeCycle,     // subject: the files around a cycle of <include>s, "A -> B -> A"
   TooManyIncludedModels,  // subject: the models its <include>s place, nested ones each time
-                          // (at least); max: the most accepted
+                          // ("at least N" when counting stopped early); max: the most accepted
 };
 
 struct WorldFileStatus {

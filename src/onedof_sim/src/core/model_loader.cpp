@@ -629,6 +629,7 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
     return rejected("invalid SDF: its <include>s include themselves: " + document.includes.subject);
   if (document.includes.code == IncludeCheck::Code::TooMany)
     return rejected("invalid SDF: its <include>s, nested ones counted each time, place " +
+                    std::string(document.includes.at_least ? "at least " : "") +
                     std::to_string(document.includes.count) + " models; at most " +
                     std::to_string(kMaxIncludedModels) + " are accepted");
   if (!document.missing.empty())

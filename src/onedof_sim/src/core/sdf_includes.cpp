@@ -120,6 +120,7 @@ IncludeCheck checkIncludes(const std::string& source, SdfSource kind,
     if (names.size() > max_models + 1) {
       check.code = IncludeCheck::Code::TooMany;
       check.count = names.size() - 1;
+      check.at_least = true;
       return check;
     }
     tinyxml2::XMLDocument document;

@@ -44,7 +44,8 @@ struct IncludeCheck {
   enum class Code { Ok, Cycle, TooMany };
   Code code = Code::Ok;
   std::string subject;  // Cycle: the files around it, "A -> B -> A"
-  size_t count = 0;     // TooMany: the models placed (at least; counting stops past the most)
+  size_t count = 0;     // TooMany: the models placed
+  bool at_least = false;  // TooMany: count is a lower bound (more files than models accepted)
   bool ok() const { return code == Code::Ok; }
 };
 // source and kind as for readSdfDocument; Ok when the includes place at most max_models.

@@ -256,7 +256,9 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
   if (document.includes.code == core::IncludeCheck::Code::Cycle)
     return {WorldFileCode::IncludeCycle, document.includes.subject};
   if (document.includes.code == core::IncludeCheck::Code::TooMany)
-    return {WorldFileCode::TooManyIncludedModels, std::to_string(document.includes.count),
+    return {WorldFileCode::TooManyIncludedModels,
+            (document.includes.at_least ? "at least " : "") +
+                std::to_string(document.includes.count),
             double(core::kMaxIncludedModels)};
   if (!document.missing.empty()) return {WorldFileCode::IncludeNotFound, document.missing.front()};
   if (!document.error.empty()) return {WorldFileCode::InvalidSdf, document.error};

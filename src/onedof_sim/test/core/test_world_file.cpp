@@ -425,6 +425,14 @@ TEST_F(IncludeGraphTest, AnIncludeTreeIsCountedBeforeItIsRead) {
   EXPECT_EQ(status.code, WorldFileCode::TooManyIncludedModels);
   EXPECT_EQ(status.subject, std::to_string((1 << 17) - 1));
   EXPECT_EQ(status.max, 1000);
+  // A chain of 1001 files, each including the next: counting stops at the 1001st file.
+  for (int link = 0; link <= 1000; ++link)
+    model("chain" + std::to_string(link),
+          "<link name=\"l\"/>" +
+              (link < 1000 ? include("chain" + std::to_string(link + 1), "next") : std::string()));
+  status = readWithModels(include("chain0", "chain"), &world);
+  EXPECT_EQ(status.code, WorldFileCode::TooManyIncludedModels);
+  EXPECT_EQ(status.subject, "at least 1001");
   status = readWithModels(include("level8", "tree"), &world);
   EXPECT_TRUE(status.ok()) << status.subject;
   ASSERT_EQ(world.models.size(), 1u);
