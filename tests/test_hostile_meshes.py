@@ -163,7 +163,14 @@ def test_paths_out_of_their_folders_unreadable_and_missing_are_alike(api, tmp_pa
             'package://onedof_mesh_block/' + climb,
             'model:///' + str(outside / 'x.stl').lstrip('/'),
             'model://onedof_mesh_block/meshes/gone.stl']
-    if os.geteuid() != 0:  # root reads a file of mode 0
+    # Files that exist but are no readable regular file: a folder and a FIFO (never opened: it
+    # would wait for a writer) named as meshes, and a file of mode 0 (which root reads).
+    folder = tmp_path / 'folder.stl'
+    folder.mkdir()
+    fifo = tmp_path / 'pipe.stl'
+    os.mkfifo(str(fifo))
+    uris += ['file://' + str(folder), 'file://' + str(fifo)]
+    if os.geteuid() != 0:
         uris.append('file://' + str(unreadable))
     for index, uri in enumerate(uris):
         name = 'climb%d' % index
