@@ -23,13 +23,12 @@ namespace core {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// A path below a root once normalised: not absolute, no `..` climbing out of it.
 bool staysInside(const std::string& relative) {
   const fs::path normal = fs::path(relative).lexically_normal();
   return !normal.empty() && normal.is_relative() && *normal.begin() != "..";
 }
+
+namespace {
 
 // A regular file (not a folder, a FIFO or a device) this process may read.
 bool readableFile(const fs::path& path) {

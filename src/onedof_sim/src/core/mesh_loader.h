@@ -27,6 +27,10 @@ namespace core {
 // folder once normalised (`..`, an absolute path) names no file. Empty when no readable regular
 // file is found: a missing file, an unreadable one, a folder and a device are alike to the
 // caller, who learns nothing of which files exist.
+// Whether `relative`, once normalised, stays below the folder it is taken from: not absolute,
+// no `..` climbing out. What confines model:// and package:// paths to the model path.
+bool staysInside(const std::string& relative);
+
 std::string resolveMeshUri(const std::string& uri, const std::vector<std::string>& model_path,
                            const std::string& relative_to);
 

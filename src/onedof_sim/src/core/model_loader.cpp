@@ -632,6 +632,8 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
                     std::string(document.includes.at_least ? "at least " : "") +
                     std::to_string(document.includes.count) + " models; at most " +
                     std::to_string(kMaxIncludedModels) + " are accepted");
+  if (document.includes.code == IncludeCheck::Code::Outside)
+    document.missing.push_back(document.includes.subject);
   if (!document.missing.empty())
     return rejected(document.missing.front() + " is not in the model path (" +
                     joinedPath(model_path) + ")");

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "expansion_graph.h"
+#include "mesh_loader.h"
 #include "onedof_sim/trim.h"
 #include "sdf_parsing.h"
 
@@ -57,6 +58,7 @@ fs::path includedFile(const std::string& uri, const std::vector<std::string>& mo
   std::vector<fs::path> candidates;
   const std::string model_scheme = "model://", file_scheme = "file://";
   if (uri.rfind(model_scheme, 0) == 0) {
+    if (!staysInside(uri.substr(model_scheme.size()))) return {};
     for (const std::string& root : model_path)
       candidates.push_back(fs::path(root) / uri.substr(model_scheme.size()));
   } else if (uri.rfind(file_scheme, 0) == 0) {
@@ -134,6 +136,13 @@ IncludeCheck checkIncludes(const std::string& source, SdfSource kind,
                                 ? fs::path()
                                 : fs::path(names[next]).parent_path();
     for (const std::string& uri : includeUris(*document.RootElement())) {
+      // Confined to the model path as a mesh's model:// is: one that climbs out is said to be
+      // found nowhere, in the words of a missing one.
+      if (uri.rfind("model://", 0) == 0 && !staysInside(uri.substr(8))) {
+        check.code = IncludeCheck::Code::Outside;
+        check.subject = uri;
+        return check;
+      }
       graph.own[next][0] = saturatingAdd(graph.own[next][0], 1);
       const fs::path file = includedFile(uri, model_path, folder);
       if (!file.empty()) graph.edges[next].push_back(node(file));

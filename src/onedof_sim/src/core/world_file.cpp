@@ -260,6 +260,8 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
             (document.includes.at_least ? "at least " : "") +
                 std::to_string(document.includes.count),
             double(core::kMaxIncludedModels)};
+  if (document.includes.code == core::IncludeCheck::Code::Outside)
+    return {WorldFileCode::IncludeNotFound, document.includes.subject};
   if (!document.missing.empty()) return {WorldFileCode::IncludeNotFound, document.missing.front()};
   if (!document.error.empty()) return {WorldFileCode::InvalidSdf, document.error};
   const sdf::Root& root = document.root;

@@ -396,6 +396,24 @@ TEST_F(IncludeGraphTest, IncludesThatIncludeThemselvesAreRefusedNamingTheCycle) 
   EXPECT_EQ(status.subject, file("a") + " -> " + file("b") + " -> " + file("a"));
 }
 
+// model:// is confined to the model path: a model beside it, reached by climbing out, is refused
+// in the words of a missing one.
+TEST_F(IncludeGraphTest, AnIncludeThatClimbsOutOfTheModelPathIsNotFound) {
+  model("../elsewhere", "<link name=\"l\"/>");
+  WorldFile world;
+  const WorldFileStatus status = readWithModels(include("../elsewhere", "e"), &world);
+  EXPECT_EQ(status.code, WorldFileCode::IncludeNotFound);
+  EXPECT_EQ(status.subject, "model://../elsewhere");
+  const PreparedModel prepared = World::prepare(
+      "<sdf version=\"1.6\"><model name=\"m\"><link name=\"l\"/>" +
+          include("inside/../../elsewhere", "e") + "</model></sdf>",
+      ModelFormat::Sdf, {(folder_ / "models").string()});
+  EXPECT_EQ(prepared.status().code, StatusCode::ModelRejected);
+  EXPECT_EQ(prepared.status().subject.find("model://inside/../../elsewhere is not in the model path"),
+            0u)
+      << prepared.status();
+}
+
 // A spawned SDF document's includes are checked as a world file's.
 TEST_F(IncludeGraphTest, ASpawnedModelThatIncludesItselfIsRefused) {
   model("self", "<link name=\"l\"/>" + include("self", "again"));
