@@ -12,6 +12,7 @@ import pytest
 from conftest import session_folder
 from onedof_harness import book_client
 from onedof_sim.tools import workspace_root
+from test_book_perception import answer, in_overlay
 
 PACKAGE = 'book_action_server'
 
@@ -20,10 +21,6 @@ PACKAGE = 'book_action_server'
 def overlay_setup(tmp_path_factory):
     """The overlay's setup.bash, built once for the session's workers."""
     return book_client.shared_overlay(session_folder(tmp_path_factory, PACKAGE), (PACKAGE,))
-
-
-def in_overlay(setup, command):
-    return ['bash', '-c', 'source %s && exec %s' % (setup, command)]
 
 
 def test_the_package_is_shaped_as_the_books_action_packages():
@@ -45,10 +42,7 @@ def test_the_overlay_builds_with_this_workspaces_catkin_simple(overlay_setup):
 def test_the_action_client_gets_its_result_from_the_server(ros, overlay_setup):
     server = ros.start(in_overlay(overlay_setup, 'rosrun %s countdown_server' % PACKAGE),
                        name='countdown_server')
-    result = ros.run(in_overlay(overlay_setup, 'rosrun %s countdown_client 5 7' % PACKAGE),
-                     timeout=600)
-    assert result.returncode == 0, result.stdout + result.stderr + ros.log_text(server)
-    printed = {line.split()[0]: line.split()[1:] for line in result.stdout.splitlines() if line}
+    printed = answer(ros, overlay_setup, 'rosrun %s countdown_client 5 7' % PACKAGE)
     # Five steps down from 5, each with its feedback; the library's steps, the generated
     # message inside the generated action's result, and the generated service.
     assert printed['state'] == ['SUCCEEDED']
