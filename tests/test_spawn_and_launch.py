@@ -312,18 +312,12 @@ BOOK_CYLINDER_SDF = """<?xml version='1.0'?>
 """
 
 
-def test_the_books_thin_cylinder_spawns_with_a_warning_falls_and_rests(ros, shared_sim, engine,
-                                                                       tmp_path, request):
+def test_the_books_thin_cylinder_spawns_with_a_warning_falls_and_rests(ros, shared_sim,
+                                                                       tmp_path):
     """As the book's add_cylinder.launch spawns it: Gazebo spawns it, and so does the simulator,
     warning that its inertia is implausible. It falls from 4 m and comes to rest on an end face
     on the ground, the world stepping finite values throughout. Its implausible inertia shows:
     on ODE it creeps by a millimetre or two a second as it rests."""
-    if engine == 'bullet':
-        # A known defect, marked strictly so that its fix shows: with Bullet's Coulomb friction
-        # directions (CoulombFrictionSolver), the cylinder is thrown as it lands and ends below
-        # the ground (z -0.18 m after 3 s).
-        request.node.add_marker(pytest.mark.xfail(
-            strict=True, reason="Bullet: the book's thin cylinder does not come to rest"))
     model = tmp_path / 'model-1_4.sdf'
     model.write_text(BOOK_CYLINDER_SDF)
     result = spawn_model(ros, '-file', str(model), '-sdf', '-model', 'cylinder', '-x', '2.5',

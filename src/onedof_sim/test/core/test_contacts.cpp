@@ -1,7 +1,8 @@
 // The last step's contacts (World::contacts) on every engine of the registry: a box resting on
-// the ground is held up by m g through points on its bottom face with upward normals, a box in
-// the air touches nothing, a stack shares its weight out pair by pair, the collisions of links
-// welded into one body keep their own names, and the refusals.
+// the ground is held up by m g through points on its bottom face with upward normals, and so is
+// a cylinder of implausibly small inertia dropped on its end face; a box in the air touches
+// nothing, a stack shares its weight out pair by pair, the collisions of links welded into one
+// body keep their own names, and the refusals.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -115,6 +116,48 @@ TEST_P(ContactReport, ABoxRestingOnTheGroundIsHeldUpByItsWeightThroughItsBottomF
   EXPECT_NEAR(from_ground[0].points[0].normal.z, -1, 1e-6);
   // The same point, named from either side.
   EXPECT_EQ(norm(from_ground[0].points[0].position - contact.points[0].position), 0);
+}
+
+// The book's thin cylinder (learning_ros' exmpl_models add_cylinder): 2 m across and 1 m long,
+// 10 kg, with moments of 0.01 kg m^2 some 300 times too small, dropped flat from 4 m. It lands on
+// its end face and stays there, upright, still, held by m g with no torque about its centre of
+// mass: a contact pushing at one rim point would set such a body spinning.
+TEST_P(ContactReport, AThinInertiaCylinderDroppedOnItsEndFaceRestsOnIt) {
+  const double mass = 10, length = 1, radius = 1;
+  spawn("cylinder",
+        "<sdf version=\"1.6\"><model name=\"cylinder\"><link name=\"link\"><inertial><mass>10"
+        "</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial>"
+        "<collision name=\"collision\"><geometry><cylinder><radius>1</radius><length>1</length>"
+        "</cylinder></geometry></collision></link></model></sdf>",
+        ModelFormat::Sdf, at(2.5, 0, 4));
+  steps(3000);
+  Pose landed, rested;
+  Twist twist;
+  ASSERT_TRUE(world_.modelState("cylinder", "", &landed, &twist).ok());
+  steps(1000);
+  ASSERT_TRUE(world_.modelState("cylinder", "", &rested, &twist).ok());
+  for (const Pose& pose : {landed, rested}) {
+    EXPECT_NEAR(pose.position.z, length / 2, 0.002);
+    const Quat& q = pose.orientation;
+    EXPECT_NEAR(1 - 2 * (q.x * q.x + q.y * q.y), 1, 1e-6) << "its axis off the vertical";
+  }
+  EXPECT_LT(norm(rested.position - landed.position), 1e-3);
+  EXPECT_LT(norm(twist.linear), 1e-3);
+  EXPECT_LT(norm(twist.angular), 1e-3);
+
+  const std::vector<Contact> contacts = contactsOf({"cylinder::link::collision"});
+  ASSERT_EQ(contacts.size(), 1u);
+  const Vec3 force = totalForce(contacts[0]);
+  EXPECT_NEAR(force.z, mass * kGravity, 0.01 * mass * kGravity);
+  Vec3 torque;
+  for (const ContactPoint& point : contacts[0].points) {
+    // On the bottom face.
+    const Vec3 local = transformPoint(inverse(rested), point.position);
+    EXPECT_NEAR(local.z, -length / 2, 0.002);
+    EXPECT_LE(std::hypot(local.x, local.y), radius + 1e-3);
+    torque = torque + point.wrench1.torque;
+  }
+  EXPECT_NEAR(norm(torque), 0, 0.01 * mass * kGravity * radius);
 }
 
 TEST_P(ContactReport, ABoxInTheAirTouchesNothing) {

@@ -1,7 +1,8 @@
 // Coulomb friction on every engine: a sliding contact is braked by mu N against its slip, whatever
 // the slip's direction in the contact plane, and no friction force exceeds mu times the normal
-// force its contact ends the step with. Shown on a box slid across the ground and on a base whose
-// wheel motors, at their torque bound, drag a caster that slides.
+// force its contact ends the step with. Shown on a box slid across the ground, on a base whose
+// wheel motors, at their torque bound, drag a caster that slides, and on a cylinder spinning on
+// its end face.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -154,6 +155,48 @@ TEST_P(Friction, ABaseDraggingASlidingCasterTurnsAtItsWheelsRate) {
               GetParam().c_str(), path / seconds, turned / seconds);
   EXPECT_NEAR(path / seconds, linear, 0.02 * linear);
   EXPECT_NEAR(turned / seconds, angular, 0.05 * angular);
+}
+
+// A cylinder standing on an end face, 0.6 m across, 5 kg, mu 0.5, set spinning about its axis at
+// 5 rad/s: its face's friction about the axis stops it, with a torque between a disc's evenly
+// pressed, 2/3 mu m g r, and that of a ring at its rim, mu m g r, the two bounds of a flat
+// face's; it stays where it stood.
+TEST_P(Friction, ACylinderSpinningOnItsEndFaceStopsAsItsFacesFrictionSays) {
+  const double mass = 5, radius = 0.3, inertia = mass * radius * radius / 2, spin = 5;
+  World world(GetParam());
+  ASSERT_TRUE(world.spawn("can",
+                          "<sdf version=\"1.6\"><model name=\"can\"><link name=\"link\"><inertial>"
+                          "<mass>5</mass><inertia><ixx>0.18</ixx><iyy>0.18</iyy><izz>0.225</izz>"
+                          "</inertia></inertial><collision name=\"collision\"><geometry><cylinder>"
+                          "<radius>0.3</radius><length>0.4</length></cylinder></geometry><surface>"
+                          "<friction><ode><mu>0.5</mu><mu2>0.5</mu2></ode></friction></surface>"
+                          "</collision></link></model></sdf>",
+                          ModelFormat::Sdf, at(1, 2, 0.2))
+                  .ok());
+  steps(&world, 500);
+  Pose start;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("can", "", &start, &twist).ok());
+  twist = {};
+  twist.angular = {0, 0, spin};
+  ASSERT_TRUE(world.setModelState("can", start, twist, "").ok());
+  const double weight = mass * kG, mu = 0.5;
+  const double disc_stop = spin * inertia / (2.0 / 3 * mu * weight * radius);
+  const double ring_stop = spin * inertia / (mu * weight * radius);
+  int stopped_at = -1;
+  for (int i = 1; i <= 1000 && stopped_at < 0; ++i) {
+    ASSERT_TRUE(world.step().ok());
+    ASSERT_TRUE(world.modelState("can", "", &start, &twist).ok());
+    if (std::fabs(twist.angular.z) < 1e-3) stopped_at = i;
+  }
+  const double stopped = stopped_at * kStep;
+  std::printf("[ figures  ] %s, cylinder spun at %.1f rad/s on its end face: stopped after %.3f s "
+              "(an even disc %.3f s, a rim ring %.3f s)\n",
+              GetParam().c_str(), spin, stopped, disc_stop, ring_stop);
+  ASSERT_GT(stopped_at, 0) << "still spinning after 1 s";
+  EXPECT_GE(stopped, 0.95 * ring_stop);
+  EXPECT_LE(stopped, 1.05 * disc_stop);
+  EXPECT_LT(std::hypot(start.position.x - 1, start.position.y - 2), 1e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, Friction, ::testing::ValuesIn(World::engineNames()),

@@ -29,8 +29,18 @@
 // cannot tilt about to the one it resolves first (a base's wheels: each on its inner point, the
 // track 3.5 cm narrower). LyingCylinderPlane gives the line's resultant instead, one point at
 // its middle, at the line's depth there; the line's friction torque about the normal (ODE's
-// engine resolves it, ode_engine.cpp) is left out. Any other pose of a cylinder on the ground
-// is Bullet's own collision.
+// engine resolves it, ode_engine.cpp) is left out.
+//
+// A cylinder standing on an end face touches the ground with a disc, of which Bullet's collision
+// likewise finds one rim point a step. Pushed at its rim, a body turns more the smaller its
+// inertia: the book's thin cylinder (moments 300 times too small for its size) landing flat was
+// spun and thrown up by its first rim point, and rim points all round do not hold it either (the
+// sequential-impulse solver, resolving one rim point after another, barely stops the fall of a
+// body that turns a hundred times more than it moves). CylinderPlane gives the face's middle,
+// which carries its weight without turning it and holds the face's friction about the normal
+// (an evenly pressed disc's, as Bullet's spinning friction), and while the face tilts, the rim's
+// lowest point, which rights it. Any other pose of a cylinder on the ground is Bullet's own
+// collision.
 #include <BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btManifoldResult.h>
 #include <BulletCollision/Gimpact/btGImpactCollisionAlgorithm.h>
@@ -61,6 +71,13 @@ constexpr double kMargin = 0.0005;
 // A cylinder lies on the ground when its axis is square to the ground's normal within this (the
 // sine of the angle between axis and ground), as in ode_engine.cpp.
 constexpr double kLyingTilt = 0.01;
+// A cylinder stands on an end face when its axis is along the ground's normal within kLyingTilt
+// (the sine of the angle between them); the face is flat, with no lowest rim point, within this.
+constexpr double kFlatTilt = 1e-9;
+// Two positions the collision pass computed alike (m).
+constexpr double kSamePoint = 1e-9;
+// A rolling friction coefficient (m) too small to act: Bullet's spinning friction comes with one.
+constexpr double kNoRollingFriction = 1e-12;
 
 btVector3 toBt(const Vec3& v) { return {v.x, v.y, v.z}; }
 btQuaternion toBt(const Quat& q) { return {q.x, q.y, q.z, q.w}; }
@@ -245,11 +262,12 @@ bool onContactAdded(btManifoldPoint& point, const btCollisionObjectWrapper* a, i
   return true;
 }
 
-// A cylinder against the ground plane: the middle of its contact line when it lies on it (see
-// the top of the file), Bullet's convex-plane collision otherwise, on one manifold.
-class LyingCylinderPlane : public btCollisionAlgorithm {
+// A cylinder against the ground plane: the middle of its contact line when it lies on it, the
+// middle of its end face (and the rim's lowest point) when it stands on one (see the top of the
+// file), Bullet's convex-plane collision otherwise, on one manifold.
+class CylinderPlane : public btCollisionAlgorithm {
  public:
-  LyingCylinderPlane(const btCollisionAlgorithmConstructionInfo& info,
+  CylinderPlane(const btCollisionAlgorithmConstructionInfo& info,
                      const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
                      bool swapped)
       : btCollisionAlgorithm(info), general_(nullptr, info, a, b, swapped, 1, 0),
@@ -270,19 +288,52 @@ class LyingCylinderPlane : public btCollisionAlgorithm {
     const btScalar across = axis.dot(normal);
     btManifoldArray manifolds;
     general_.getAllContactManifolds(manifolds);
-    if (std::fabs(across) > kLyingTilt || manifolds.size() == 0) {
+    const bool lying = std::fabs(across) <= kLyingTilt;
+    const bool standing = 1 - across * across <= kLyingTilt * kLyingTilt;
+    if ((!lying && !standing) || manifolds.size() == 0) {
       general_.processCollision(a, b, dispatch, result);
       return;
     }
     btPersistentManifold* manifold = manifolds[0];
     result->setPersistentManifold(manifold);
     const btVector3 on_plane = plane_pose * (plane->getPlaneNormal() * plane->getPlaneConstant());
-    const btVector3 down = -(normal - across * axis).normalized();  // to the line, from the axis
-    const btVector3 middle = cylinder_pose.getOrigin() + cylinder->getRadius() * down;
-    const btScalar distance = normal.dot(middle - on_plane);
-    if (distance < manifold->getContactBreakingThreshold())
-      result->addContactPoint(normal, middle - distance * normal, distance);
+    // Adds `point` of the cylinder where it is within the manifold's reach of the plane.
+    const auto touch = [&](const btVector3& point) {
+      const btScalar distance = normal.dot(point - on_plane);
+      if (distance < manifold->getContactBreakingThreshold())
+        result->addContactPoint(normal, point - distance * normal, distance);
+    };
+    if (lying) {
+      const btVector3 down = -(normal - across * axis).normalized();  // to the line, from the axis
+      touch(cylinder_pose.getOrigin() + cylinder->getRadius() * down);
+    } else {
+      // The middle of the face towards the plane, and the rim's lowest point where it tilts.
+      const btScalar half_length = cylinder->getHalfExtentsWithMargin()[up];
+      const btVector3 face = cylinder_pose.getOrigin() - (across > 0 ? 1 : -1) * half_length * axis;
+      touch(face);
+      holdSpin(manifold, face, cylinder->getRadius());
+      const btVector3 tilt = normal - across * axis;  // the normal off the axis, in the face
+      const btScalar tilt_sine = tilt.length();
+      if (tilt_sine > kFlatTilt) touch(face - cylinder->getRadius() / tilt_sine * tilt);
+    }
     result->refreshContactPoints();
+  }
+
+  // The face's friction about the normal, which its middle point alone would not have: Coulomb's
+  // for a disc of `radius` pressed evenly, 2/3 mu N radius, as Bullet's spinning friction of the
+  // manifold's point at `middle` (just added: on the cylinder's side or the plane's). Bullet
+  // takes a spinning friction only with a rolling friction, given here too small to act, and
+  // bounds its impulse by the coefficient itself as well: below Coulomb's once the normal
+  // impulse passes 1 N s a step (1000 N at a 1 ms step).
+  static void holdSpin(btPersistentManifold* manifold, const btVector3& middle, btScalar radius) {
+    for (int p = 0; p < manifold->getNumContacts(); ++p) {
+      btManifoldPoint& point = manifold->getContactPoint(p);
+      if (point.getPositionWorldOnA().distance(middle) > kSamePoint &&
+          point.getPositionWorldOnB().distance(middle) > kSamePoint)
+        continue;
+      point.m_combinedSpinningFriction = btScalar(2) / 3 * point.m_combinedFriction * radius;
+      point.m_combinedRollingFriction = kNoRollingFriction;
+    }
   }
 
   btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
@@ -300,8 +351,8 @@ class LyingCylinderPlane : public btCollisionAlgorithm {
                                                    const btCollisionObjectWrapper* b) override {
       // Outside the dispatcher's pool, whose element size is that of Bullet's own algorithms;
       // the dispatcher frees memory that is not from its pool with btAlignedFree.
-      void* memory = btAlignedAlloc(sizeof(LyingCylinderPlane), 16);
-      return new (memory) LyingCylinderPlane(info, a, b, m_swapped);
+      void* memory = btAlignedAlloc(sizeof(CylinderPlane), 16);
+      return new (memory) CylinderPlane(info, a, b, m_swapped);
     }
   };
 
@@ -891,7 +942,7 @@ class BulletEngine : public Engine {
 
   // Declared in construction order; the world goes first on destruction.
   btDefaultCollisionConfiguration configuration_;
-  LyingCylinderPlane::CreateFunc cylinder_plane_, plane_cylinder_;
+  CylinderPlane::CreateFunc cylinder_plane_, plane_cylinder_;
   btCollisionDispatcher dispatcher_{&configuration_};
   btDbvtBroadphase broadphase_;
   CoulombFrictionSolver solver_;
