@@ -10,8 +10,8 @@ import threading
 
 import pytest
 
-from api_client import (BOX_SDF, ROBOT, STEP_NS, GazeboApi, pose, ros_duration, ros_time,
-                        tutorial_urdf)
+from api_client import (BOX_SDF, ROBOT, STEP_NS, GazeboApi, fixed_chain_sdf, pose,
+                        ros_duration, ros_time, tutorial_urdf)
 from conftest import start_sim
 from onedof_harness.private_ros import wait_until
 
@@ -93,6 +93,14 @@ def test_huge_but_finite_values_are_refused_naming_the_field_and_range(api):
     link = LinkState(link_name=ROBOT + '::link2', pose=pose(y=1.0e308))
     assert_refused(api.set_link_state(link),
                    'SetLinkState: each pose.position component must be in [-1e+06, 1e+06] m')
+    # A quaternion whose norm overflows cannot be normalised: said so, not called zero.
+    overflowing = pose()
+    overflowing.orientation.w = 1.0e308
+    for res in (api.set_model_state(ModelState(model_name=ROBOT, pose=overflowing)),
+                api.spawn_sdf_model('turned', BOX_SDF, '', overflowing, '')):
+        assert_refused(res, 'the orientation quaternion cannot be normalised: its norm is not '
+                       'finite')
+        assert 'is zero' not in res.status_message
     res = api.apply_body_wrench(ROBOT + '::link2', '', _point(x=1.0e308), _wrench(fz=1.0),
                                 ros_time(0), ros_duration(10 * STEP_NS))
     assert_refused(res, 'ApplyBodyWrench: each reference_point component must be in '
@@ -204,21 +212,6 @@ def test_a_model_beyond_the_size_limit_is_refused(api):
     assert_still_running(api)
 
 
-def fixed_chain_sdf(links, name='chain'):
-    """An SDF model of `links` links welded by fixed joints into one body: libsdformat takes
-    seconds to read a thousand."""
-    parts = ['<sdf version="1.6"><model name="%s">' % name]
-    for i in range(links):
-        parts.append('<link name="l%d"><pose>0 0 %g 0 0 0</pose><inertial><mass>1</mass><inertia>'
-                     '<ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz><ixy>0</ixy><ixz>0</ixz>'
-                     '<iyz>0</iyz></inertia></inertial></link>' % (i, 0.001 * i))
-        if i:
-            parts.append('<joint name="j%d" type="fixed"><parent>l%d</parent><child>l%d</child>'
-                         '</joint>' % (i, i - 1, i))
-    parts.append('</model></sdf>')
-    return ''.join(parts)
-
-
 def test_an_sdf_past_the_link_limit_is_refused_and_the_largest_accepted(api):
     """The link count is read off the XML before libsdformat parses it."""
     before = world_state(api)
@@ -317,12 +310,13 @@ def test_time_step_outside_its_range_is_refused_with_the_range(api):
     assert_still_running(api)
 
 
-# --- max_update_rate: 0 or at least 1 step per wall second; a new one at once --------------------
+# --- max_update_rate: 0 or 1 to 1e6 steps per wall second; a new one at once ---------------------
 
 def test_a_crawling_max_update_rate_is_refused_and_a_new_rate_takes_effect_at_once(api):
-    assert_refused(set_physics(api, max_update_rate=0.01),
-                   'SetPhysicsProperties: max_update_rate must be 0 (as fast as possible) or at '
-                   'least 1 step per wall second')
+    for rate in (0.01, 1.0e308):
+        assert_refused(set_physics(api, max_update_rate=rate),
+                       'SetPhysicsProperties: max_update_rate must be 0 (as fast as possible) or '
+                       'between 1 and 1e+06 steps per wall second')
     assert api.get_physics_properties().max_update_rate == DEFAULT_RATE
     # The slowest accepted pace, then back: the loop re-reads the rate while it waits.
     assert set_physics(api, max_update_rate=1.0).success

@@ -251,3 +251,43 @@ def test_a_controller_that_exits_is_let_go_at_once(ros, engine, rospy_client, si
     assert 'the world waited' not in log
     assert 'did not rest' not in log
     assert log.count('has exited') == 1
+
+
+# The timeout of the stopped-controller test: long enough that the wait is told apart from the
+# machine's delays, which at load 20 are far shorter than one more timeout.
+STOPPED_TIMEOUT_S = 10
+
+
+def test_a_stopped_controller_holds_the_world_for_the_timeout_once(ros, engine, rospy_client):
+    """The controller stopped (SIGSTOP) and left stopped: the world waits ~lockstep_timeout of
+    wall time from where it stood, in all, then says so once and goes on without the joint while
+    the controller is still stopped. The wait for the stop's clock (which a stopped process,
+    never resting, holds up) is part of that timeout, not a second one before it: the world goes
+    on after at least one timeout and before two. Continued (SIGCONT), the controller commands
+    again and its joint joins the lock-step again."""
+    sim, controller, clock = lockstepped_tutorial(
+        ros, engine, rospy_client, ['_lockstep_timeout:=%d' % STOPPED_TIMEOUT_S])
+    joined = 'lock-step: joint1 is commanded by /minimal_joint_controller'
+    waited = 'the world waited %d s (wall) at sim time ' % STOPPED_TIMEOUT_S
+    api = GazeboApi(rospy_client)
+    os.kill(controller.pid, signal.SIGSTOP)
+    try:
+        stopped_at = time.monotonic()
+        stop_ns = api.sim_time_ns()
+        wait_until(lambda: waited in ros.log_text(sim), 10 * STOPPED_TIMEOUT_S, interval=0.01,
+                   what='the lock-step timeout line')
+        took = time.monotonic() - stopped_at
+        # Going on without it, the world runs free while the controller is still stopped.
+        wait_until(lambda: clock.latest()[1] > stop_ns + 10 ** 9, 60, interval=0.01,
+                   what='/clock a second past the stop, the controller stopped')
+        log = ros.log_text(sim)
+        assert log.count(waited) == 1, log
+        # The world may have stood at the stop a moment before the controller was stopped,
+        # waiting for its command: a second of room below.
+        assert STOPPED_TIMEOUT_S - 1 <= took < 2 * STOPPED_TIMEOUT_S, \
+            'the world went on %.1f s (wall) after the controller was stopped' % took
+    finally:
+        os.kill(controller.pid, signal.SIGCONT)
+    ros.wait_until(lambda: ros.log_text(sim).count(joined) == 2, 60,
+                   what='the continued controller to join the lock-step again')
+    assert controller.poll() is None

@@ -243,6 +243,11 @@ REFUSED = {
                       '<inertial><mass>1e9</mass></inertial></link></model></world></sdf>',
                       "world 'w': model 'heavy' cannot be spawned: SpawnModel: link 'l' has a "
                       "mass of 1e+09 kg"),
+    'update_rate_too_large': ('<sdf version="1.6"><world name="w"><physics type="ode">'
+                              '<real_time_update_rate>1e308</real_time_update_rate></physics>'
+                              '</world></sdf>',
+                              "the world file's <real_time_update_rate>: max_update_rate must be 0 "
+                              "(as fast as possible) or between 1 and 1e+06 steps per wall second"),
     'gazebo_1_format': ('<gazebo version="1.0"><world name="w"/></gazebo>',
                         'cannot be loaded: its root element is <gazebo version="1.0">, Gazebo 1\'s '
                         'world format from before SDF, which libsdformat (and so Gazebo 11) no '
@@ -251,7 +256,8 @@ REFUSED = {
 
 
 # Refused while the file is read, before the simulator makes its world and engine.
-READ_REFUSED = ('bad_xml', 'gazebo_1_format', 'missing_include', 'negative_count', 'no_world')
+READ_REFUSED = ('bad_xml', 'gazebo_1_format', 'missing_include', 'negative_count', 'no_world',
+                'update_rate_too_large')
 # Refused by the world of the engine asked for: its physics, a model's spawn.
 WORLD_REFUSED = ('model_refused', 'step_out_of_range')
 

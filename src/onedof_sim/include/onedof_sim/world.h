@@ -57,6 +57,8 @@ enum class StatusCode {
   NotFinite,               // subject: the argument, joint or PhysicsParams field
   ZeroQuaternion,          // a pose's orientation has no direction to normalise to (the ROS
                            // layer reads an all-zero one as the identity, as Gazebo does)
+  QuaternionOverflow,      // a pose's orientation is finite but its norm is not (a component
+                           // beyond ~1e154): it cannot be normalised
   ModelRejected,           // subject: why the XML makes no model (the parser's reason)
   JointIsFixed,            // subject: the joint name asked for; it takes no effort
   LinkAnchored,            // subject: the link name asked for; it has no body to move or push

@@ -43,6 +43,41 @@ std::string whyUnread(const std::string& source, SdfSource kind) {
   return "libsdformat cannot read it";
 }
 
+// The schema every document is read against: libsdformat's, relaxed as libsdformat 9's, built
+// once (sdf::init parses the whole schema, several times the cost of reading a model against
+// it). Under parserMutex(), as its readers.
+const sdf::ElementPtr& relaxedSchema() {
+  static const sdf::ElementPtr schema = [] {
+    sdf::SDFPtr built(new sdf::SDF());
+    sdf::init(built);
+    std::set<const sdf::Element*> seen;
+    relaxAsLibsdformat9(built->Root(), &seen);
+    return built->Root();
+  }();
+  return schema;
+}
+
+// A root <sdf> element for one document to fill: the schema's root with its attributes, its
+// element descriptions shared with the schema, not copied. Reading only copies a description into
+// each element it makes (sdf::Element::Clone), so the shared ones stay as they are; a copy of the
+// root's would cost a copy of the whole schema for each document.
+sdf::ElementPtr documentRoot() {
+  const sdf::ElementPtr& schema = relaxedSchema();
+  sdf::ElementPtr root(new sdf::Element);
+  root->SetName(schema->GetName());
+  root->SetRequired(schema->GetRequired());
+  root->SetCopyChildren(schema->GetCopyChildren());
+  for (size_t i = 0; i < schema->GetAttributeCount(); ++i) {
+    const sdf::ParamPtr attribute = schema->GetAttribute(i);
+    root->AddAttribute(attribute->GetKey(), attribute->GetTypeName(),
+                       attribute->GetDefaultAsString(), attribute->GetRequired(),
+                       attribute->GetDescription());
+  }
+  for (size_t i = 0; i < schema->GetElementDescriptionCount(); ++i)
+    root->AddElementDescription(schema->GetElementDescription(i));
+  return root;
+}
+
 }  // namespace
 
 void readSdfDocument(const std::string& source, SdfSource kind,
@@ -50,9 +85,7 @@ void readSdfDocument(const std::string& source, SdfSource kind,
   out->includes = checkIncludes(source, kind, model_path, kMaxIncludedModels);
   if (!out->includes.ok()) return;
   out->elements.reset(new sdf::SDF());
-  sdf::init(out->elements);
-  std::set<const sdf::Element*> seen;
-  relaxAsLibsdformat9(out->elements->Root(), &seen);
+  out->elements->Root(documentRoot());
   const sdf::ParserConfig config = modelPathConfig(model_path, &out->missing);
   sdf::Errors errors;
   bool read = false;

@@ -110,13 +110,21 @@ WorldFileStatus readPhysics(const sdf::World& world, const PhysicsParams& base, 
 // version already; the document says the version its file gave, which converts to them
 // unchanged, so that it is read again with that version's leniency (libsdformat 12 renames a
 // joint named as a link in a file older than 1.8, and refuses it in a newer one).
+// The <pose> is left out of the element's text, not of a clone of the element: a clone copies
+// the schema's whole description of a model with it (a thousand elements), for each model.
 std::string modelDocument(const sdf::Model& model) {
-  sdf::ElementPtr element = model.Element()->Clone();
-  while (element->HasElement("pose")) element->RemoveChild(element->GetElement("pose"));
   const std::string& original = model.Element()->OriginalVersion();
   const std::string version = original.empty() ? sdf::SDF::Version() : original;
-  return "<?xml version=\"1.0\"?>\n<sdf version=\"" + version + "\">\n" +
-         element->ToString("") + "</sdf>\n";
+  const std::string text = "<?xml version=\"1.0\"?>\n<sdf version=\"" + version + "\">\n" +
+                           model.Element()->ToString("") + "</sdf>\n";
+  tinyxml2::XMLDocument document;
+  if (document.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) return text;
+  tinyxml2::XMLElement* element = document.RootElement()->FirstChildElement("model");
+  while (tinyxml2::XMLElement* pose = element ? element->FirstChildElement("pose") : nullptr)
+    element->DeleteChild(pose);
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
 }
 
 // A root element other than <sdf>, with its version attribute if it has one.

@@ -68,7 +68,9 @@ bool withinPosition(const Vec3& v) {
 
 Status checkPose(const Pose& pose) {
   if (!onedof_sim::isFinite(pose)) return {StatusCode::NotFinite, "pose"};
-  if (quatNorm(pose.orientation) < 1e-9) return {StatusCode::ZeroQuaternion, "pose"};
+  const double norm = quatNorm(pose.orientation);
+  if (!std::isfinite(norm)) return {StatusCode::QuaternionOverflow, "pose"};
+  if (norm < 1e-9) return {StatusCode::ZeroQuaternion, "pose"};
   if (!withinPosition(pose.position))
     return outOfRange("pose.position", -kMaxPosition, kMaxPosition);
   return {};
@@ -98,6 +100,7 @@ std::ostream& operator<<(std::ostream& out, StatusCode code) {
     case StatusCode::EmptyModelName: return out << "EmptyModelName";
     case StatusCode::NotFinite: return out << "NotFinite";
     case StatusCode::ZeroQuaternion: return out << "ZeroQuaternion";
+    case StatusCode::QuaternionOverflow: return out << "QuaternionOverflow";
     case StatusCode::ModelRejected: return out << "ModelRejected";
     case StatusCode::JointIsFixed: return out << "JointIsFixed";
     case StatusCode::LinkAnchored: return out << "LinkAnchored";

@@ -19,8 +19,11 @@ Pose toCore(const geometry_msgs::Pose& p) {
   Pose pose;
   pose.position = toCore(p.position);
   const Quat q{p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z};
-  // A zero quaternion stays the identity; a NaN one goes through, for the core to refuse.
-  if (!(quatNorm(q) <= 1e-12)) pose.orientation = normalized(q);
+  // A zero quaternion stays the identity; a NaN one, or one whose norm overflows, goes through
+  // as it is, for the core to refuse.
+  const double norm = quatNorm(q);
+  if (std::isfinite(norm) && norm > 1e-12) pose.orientation = normalized(q);
+  else if (!(norm <= 1e-12)) pose.orientation = q;
   return pose;
 }
 

@@ -20,8 +20,8 @@ constexpr int64_t kNsPerS = 1000000000;
 Vec3 toCore(const geometry_msgs::Vector3& v);
 Vec3 toCore(const geometry_msgs::Point& p);
 // Normalises the quaternion as Gazebo does; an all-zero one (an unset message field) is the
-// identity, so World's ZeroQuaternion never reaches a ROS caller. A non-finite one stays
-// non-finite, for the world to refuse.
+// identity, so World's ZeroQuaternion never reaches a ROS caller. A non-finite one, or one whose
+// norm overflows, stays as it is, for the world to refuse (NotFinite, QuaternionOverflow).
 Pose toCore(const geometry_msgs::Pose& p);
 Twist toCore(const geometry_msgs::Twist& t);
 

@@ -1,5 +1,7 @@
 #include "gazebo_api.h"
 
+#include <malloc.h>
+
 #include <sstream>
 #include <utility>
 
@@ -49,6 +51,11 @@ std::string extrasText(const NodeOptions& options) {
 
 // The threads serving the global queue: while one parses a large model, the other serves the rest.
 constexpr int kServiceThreads = 2;
+
+// Gives the pages the heap holds free back to the system. glibc keeps what a model's parse, a
+// refused spawn or a deleted model freed (in each service thread's arena), so the node's memory
+// would stay at its largest model's peak for ever.
+void releaseFreedMemory() { malloc_trim(0); }
 
 }  // namespace
 
@@ -388,8 +395,10 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
 
 // The model is parsed and checked unlocked (a thousand SDF links take seconds), between two
 // short locked steps that keep World::spawn's order of refusals: the name and frame first, then
-// the model. The model's plugins are created unlocked (they advertise and subscribe) and join the
-// loop if the model is still there; robot_namespace is theirs where they name none.
+// the model, then its plugins' ROS names. The model's plugins are created unlocked (they
+// advertise and subscribe) and join the loop if the model is still there; robot_namespace is
+// theirs where they name none. A spawn is whole or nothing: a plugin that throws as it starts
+// takes the model back out of the world.
 Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFormat format,
                         const Pose& pose, const std::string& reference_frame,
                         const std::string& robot_namespace, const std::string& via,
@@ -406,33 +415,75 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
     spawned = prepared.status();
     implausible = prepared.warnings();
     left_out = prepared.leftOut();
+    if (spawned.ok()) {
+      const std::string bad_name = plugins::invalidPluginName(
+          plugin_types_, plugins::sensorPluginRegistry(), xml, format, robot_namespace);
+      if (!bad_name.empty()) spawned = {StatusCode::ModelRejected, bad_name};
+    }
     if (spawned.ok())
       spawned = loop_.withWorld([&](World& world) {
         return world.spawn(name, std::move(prepared), pose, reference_frame);
       });
+    prepared = PreparedModel();
+    if (!loading_world_) releaseFreedMemory();
   }
-  if (spawned.ok()) {
-    ROS_INFO_STREAM("spawned model '" << name << "' ("
-                    << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via " << via);
-    for (const InertiaWarning& warning : implausible) {
-      ROS_WARN_STREAM("model '" << name << "': " << inertiaWarningText(warning));
-      if (warnings) *warnings += "; warning: " + inertiaWarningText(warning);
-    }
-    // As Gazebo's "Unable to load mesh": an error, and the model goes on without the collision.
-    for (const std::string& reason : left_out) {
-      ROS_ERROR_STREAM("model '" << name << "': " << reason << ": the collision is left out");
-      if (warnings) *warnings += "; warning: " + reason + ": the collision is left out";
-    }
-    loop_.attachPlugins(
-        name, plugins::createModelPlugins(plugin_types_, plugins::sensorPluginRegistry(), name,
+  if (!spawned.ok()) return spawned;
+  std::vector<std::string> plugin_problems;
+  std::vector<std::unique_ptr<plugins::ModelPlugin>> created;
+  try {
+    created = plugins::createModelPlugins(plugin_types_, plugins::sensorPluginRegistry(), name,
                                           xml, format, robot_namespace, loop_.world(),
-                                          loop_.lockWorld()));
+                                          loop_.lockWorld(), &plugin_problems);
+  } catch (const std::exception& e) {
+    loop_.deleteModel(name);
+    releaseFreedMemory();
+    ROS_ERROR_STREAM("model '" << name << "' taken back out of the world: a plugin of it failed "
+                     "to start: " << e.what());
+    return {StatusCode::ModelRejected,
+            std::string("a plugin of the model failed to start, so the model was not spawned: ") +
+                e.what()};
   }
+  ROS_INFO_STREAM("spawned model '" << name << "' ("
+                  << (format == ModelFormat::Urdf ? "URDF" : "SDF") << ") via " << via);
+  std::vector<std::string> said;
+  for (const InertiaWarning& warning : implausible) {
+    ROS_WARN_STREAM("model '" << name << "': " << inertiaWarningText(warning));
+    said.push_back(inertiaWarningText(warning));
+  }
+  // As Gazebo's "Unable to load mesh": an error, and the model goes on without the collision.
+  for (const std::string& reason : left_out) {
+    ROS_ERROR_STREAM("model '" << name << "': " << reason << ": the collision is left out");
+    said.push_back(reason + ": the collision is left out");
+  }
+  // Logged as they happened; the model goes on without those plugins, as in Gazebo.
+  said.insert(said.end(), plugin_problems.begin(), plugin_problems.end());
+  if (warnings)
+    for (const std::string& text : said) *warnings += "; warning: " + text;
+  loop_.attachPlugins(name, std::move(created));
   return spawned;
 }
 
+// The heap is trimmed once, after the last model: a trim walks every free chunk of the heap, which
+// the file's reading left in the millions.
 void GazeboApi::spawnWorldModels(const WorldFile& world) {
+  loading_world_ = true;
+  struct TrimAfter {
+    bool& loading;
+    ~TrimAfter() {
+      loading = false;
+      releaseFreedMemory();
+    }
+  } trim_after{loading_world_};
+  size_t done = 0;
   for (const WorldFileModel& model : world.models) {
+    // SIGINT (roscpp's handler shuts the node down) is honoured between two models: the node
+    // ends instead of loading the rest.
+    if (!ros::ok()) {
+      ROS_INFO_STREAM("world '" << world.name << "': shutting down; loading stopped after "
+                      << done << " of its " << world.models.size() << " models");
+      return;
+    }
+    ++done;
     const Status spawned = spawn(model.name, model.sdf, ModelFormat::Sdf, model.pose, "", "",
                                  "world '" + world.name + "'");
     if (!spawned.ok())
@@ -453,6 +504,7 @@ void GazeboApi::spawnWorldModels(const WorldFile& world) {
 
 bool GazeboApi::deleteModel(gazebo_msgs::DeleteModel::Request& req, gazebo_msgs::DeleteModel::Response& res) {
   const Status deleted = loop_.deleteModel(req.model_name);
+  releaseFreedMemory();
   return answer(res, deleted, statusText(kDeleteModel, deleted));
 }
 

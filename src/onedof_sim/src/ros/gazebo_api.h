@@ -155,6 +155,7 @@ class GazeboApi {
 
   SimLoop loop_;
   std::vector<plugins::ModelPluginType> plugin_types_;
+  bool loading_world_ = false;  // spawnWorldModels: spawns leave the heap untrimmed
   ros::NodeHandle private_nh_;
   ros::Publisher parameter_descriptions_pub_;  // latched
   ros::Publisher parameter_updates_pub_;       // latched

@@ -3,12 +3,16 @@
 #include "node_main.h"
 
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -33,6 +37,40 @@ std::vector<std::string> modelPath() {
       folders.push_back(folder);
   }
   return folders;
+}
+
+// loadWorldFile, while a thread of its own watches for SIGINT (roscpp's handler shuts the node
+// down): a large world takes libsdformat most of a minute to read, which nothing can interrupt,
+// so the node ends without waiting for it, its registrations with the master undone. The file
+// is read on this thread: its gigabytes come from the main heap, which grows at less cost than a
+// thread's.
+bool readWorldFileUnlessInterrupted(const std::string& given,
+                                    const std::vector<std::string>& model_path,
+                                    const onedof_sim::PhysicsParams& base,
+                                    onedof_sim::WorldFile* out, std::string* error) {
+  std::mutex mutex;
+  std::condition_variable read_cv;
+  bool read = false;
+  std::thread watch([&] {
+    std::unique_lock<std::mutex> lock(mutex);
+    while (!read) {
+      if (!ros::ok()) {
+        ROS_INFO_STREAM("onedof_sim: shutting down while the world file " << given << " is read");
+        ros::shutdown();
+        std::fflush(stdout);
+        std::_Exit(0);
+      }
+      read_cv.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  });
+  const bool loaded = onedof_sim::loadWorldFile(given, model_path, base, out, error);
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    read = true;
+  }
+  read_cv.notify_all();
+  watch.join();
+  return loaded;
 }
 
 }  // namespace
@@ -73,8 +111,8 @@ int runSimulatorNode(int argc, char** argv,
   // A world that cannot be loaded ends the node at start-up, as gzserver ends.
   if (!arguments.world_file.empty()) {
     onedof_sim::WorldFile world;
-    if (!onedof_sim::loadWorldFile(arguments.world_file, options.model_path, options.physics,
-                                   &world, &error)) {
+    if (!readWorldFileUnlessInterrupted(arguments.world_file, options.model_path,
+                                        options.physics, &world, &error)) {
       ROS_FATAL_STREAM("onedof_sim: " << error);
       return 1;
     }

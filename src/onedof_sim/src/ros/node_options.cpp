@@ -117,10 +117,11 @@ bool takesValue(const std::string& flag) {
 }  // namespace
 
 std::string maxUpdateRateError(double rate) {
-  if (std::isfinite(rate) && (rate == 0 || rate >= kMinPacedRate)) return "";
+  if (rate == 0 || (rate >= kMinPacedRate && rate <= kMaxPacedRate)) return "";
   std::ostringstream text;
-  text << "max_update_rate must be 0 (as fast as possible) or at least " << kMinPacedRate
-       << " step per wall second (pause_physics stops the world), got " << rate;
+  text << "max_update_rate must be 0 (as fast as possible) or between " << kMinPacedRate
+       << " and " << kMaxPacedRate << " steps per wall second (pause_physics stops the world), got "
+       << rate;
   return text.str();
 }
 

@@ -64,6 +64,10 @@ ServerArguments parseServerArguments(const std::vector<std::string>& args);
 bool readNodeOptions(const ros::NodeHandle& private_nh, const ServerArguments& arguments,
                      NodeOptions* options, std::string* error);
 
+// The highest max_update_rate taken (steps per wall second): a step per microsecond, more than
+// any world here steps; beyond it a rate paces nothing (0 asks for as fast as possible).
+constexpr double kMaxPacedRate = 1e6;
+
 // Empty if the node can pace at max_update_rate (steps per wall second), else why not.
 std::string maxUpdateRateError(double rate);
 

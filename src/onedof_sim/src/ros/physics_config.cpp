@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "node_options.h"
+
 namespace onedof_sim {
 namespace {
 
@@ -25,7 +27,7 @@ const PhysicsField kPhysicsFields[] = {
   {"time_step", "double", "physics step, s", 0, 10,
    [](const PhysicsSettings& s) { return s.params.step; },
    [](PhysicsSettings* s, double v) { s->params.step = v; }},
-  {"max_update_rate", "double", "steps per wall second; 0 = as fast as possible", 0, 1e6,
+  {"max_update_rate", "double", "steps per wall second; 0 = as fast as possible", 0, kMaxPacedRate,
    [](const PhysicsSettings& s) { return s.max_update_rate; },
    [](PhysicsSettings* s, double v) { s->max_update_rate = v; }},
   {"gravity_x", "double", "gravity along x, m/s^2", -100, 100,

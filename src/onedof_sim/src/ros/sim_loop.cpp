@@ -66,6 +66,7 @@ struct SimLoop::StepOutput {
   bool publish_clock = false;  // whatever pub_clock_frequency says: the world stops here
   bool hold_clock = false;     // lock-stepped controllers' efforts run: only stops are published
   Lockstep::Clock::time_point clock_not_before;  // of a lock-step stop (see stepOnce)
+  Lockstep::Clock::time_point stopped_at;        // when the world reached that stop
   bool resumed = false;  // the pacing must restart (after a pause or a rate change)
   int64_t reset_clock_ns = -1;  // a reset's time, published before anything of this output
   int64_t time_ns = 0;
@@ -181,6 +182,7 @@ void SimLoop::stepOnce(StepOutput* out) {
   const bool requested = step_request_.remaining > 0;
   const bool request_ending = step_request_.active && !requested;
   if (paused_ && !requested && !request_ending) {
+    lockstep_stop_.reset();  // a wait at a stop starts afresh once the world runs again
     // Wakes on unpause or a step request; the timeout lets run() notice a shutdown.
     wake_loop_.wait_for(lock, std::chrono::milliseconds(50));
     return;
@@ -252,6 +254,8 @@ void SimLoop::stepOnce(StepOutput* out) {
   // which follow its call's return at once: when its process on this machine rests (awaitAsleep),
   // or, for one elsewhere, no sooner than kLockstepClockDelay after the latest command.
   if (stop && lockstep_.enabled()) {
+    lockstep_stop_ = LockstepStop{out->time_ns, Lockstep::Clock::now()};
+    out->stopped_at = lockstep_stop_->at;
     out->watched = lockstep_.watched(world_);
     if (lockstep_.someUnwatched(world_))
       out->clock_not_before = last_command_at_ + kLockstepClockDelay;
@@ -295,10 +299,15 @@ void SimLoop::collectStates(StepOutput* out, bool want_model_states, bool want_l
 }
 
 // Lock-step: holds the world until every lock-stepped joint has an effort acting in the coming
-// step, giving up (and saying so once) on those silent for the timeout. Returns false when the wait
-// ends for another reason (paused meanwhile, shutdown): the caller starts over.
+// step, giving up (and saying so once) on those silent for the timeout. The timeout counts from
+// when the world reached the stop: the wait for the stop's clock (awaitAsleep, which a stopped
+// or busy controller holds up) is part of it, so a controller that does not answer holds the
+// world ~lockstep_timeout in all. Returns false when the wait ends for another reason (paused
+// meanwhile, shutdown): the caller starts over.
 bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out) {
-  const auto began = Lockstep::Clock::now();
+  const auto began = lockstep_stop_ && lockstep_stop_->time_ns == world_.timeNs()
+                         ? lockstep_stop_->at
+                         : Lockstep::Clock::now();
   const auto deadline = began + lockstep_.timeout();
   bool woken = false;
   for (;;) {
@@ -323,7 +332,10 @@ bool SimLoop::awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* o
     if (!woken && now < wake_at) until = std::min(until, wake_at);
     wake_loop_.wait_until(lock, until);
     if (!ros::ok()) return false;
-    if (paused_ && !step_request_.active) return false;
+    if (paused_ && !step_request_.active) {
+      lockstep_stop_.reset();
+      return false;
+    }
   }
 }
 
@@ -385,10 +397,12 @@ ProcessRuns SimLoop::commandRuns(int pid) {
 // its command (its call has returned) and rests: every thread blocked, none run between two looks.
 // Then none is between the two clock readings of its Rate, which run on from the call's return
 // without blocking, so each wakes where the world stops, however the machine delays it. A process
-// that never rests (a busy thread) holds the clock at most ~lockstep_timeout, and is named once.
-void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers) {
+// that never rests (a busy thread, or one stopped by SIGSTOP) holds the clock at most
+// ~lockstep_timeout after the world reached the stop (`stopped_at`), and is named once.
+void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers,
+                          Lockstep::Clock::time_point stopped_at) {
   if (controllers.empty()) return;
-  const auto give_up_at = Lockstep::Clock::now() + lockstep_.timeout();
+  const auto give_up_at = stopped_at + lockstep_.timeout();
   const uint64_t heard = efforts_heard_.load();
   {
     // Until its reply is written, a controller rests waiting for it. In slices, to notice a
@@ -459,7 +473,7 @@ void SimLoop::publishHeldClock() {
 void SimLoop::publish(const StepOutput& out) {
   if (out.publish_clock) {
     std::this_thread::sleep_until(out.clock_not_before);
-    awaitAsleep(out.watched);
+    awaitAsleep(out.watched, out.stopped_at);
   }
   if (out.publish_clock ||
       (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
@@ -650,6 +664,7 @@ void SimLoop::resetSimulation() {
     lockstep_.reset();
     between_stops_ = false;
     clock_ahead_ns_ = -1;
+    lockstep_stop_.reset();
     for (auto& [model, plugins] : plugins_)
       for (auto& plugin : plugins) plugin->reset(world_);
   }

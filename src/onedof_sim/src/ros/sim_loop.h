@@ -138,7 +138,8 @@ class SimLoop {
   bool letGoOfExited(const std::vector<Lockstep::Awaited>& awaited, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
   bool awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited);
-  void awaitAsleep(const std::vector<Lockstep::Watched>& controllers);
+  void awaitAsleep(const std::vector<Lockstep::Watched>& controllers,
+                   Lockstep::Clock::time_point stopped_at);
   std::optional<int> controllerPid(const std::string& caller);
   // A controller's process as the loop looks at it (awaitAsleep, awaitedAsleep).
   ProcessThreads& loopView(int pid);
@@ -173,6 +174,13 @@ class SimLoop {
   bool between_stops_ = false;  // a lock-stepped controller's period runs (requests wait)
   std::condition_variable at_stop_;
   int64_t clock_ahead_ns_ = -1;  // the wake-up clock shown ahead of the world, until it gets there
+  // The lock-step stop the world stands at (its sim time, and the wall time it got there), from
+  // which awaitControllers counts ~lockstep_timeout; empty after a pause.
+  struct LockstepStop {
+    int64_t time_ns = 0;
+    Lockstep::Clock::time_point at;
+  };
+  std::optional<LockstepStop> lockstep_stop_;
   int64_t reset_clock_ns_ = -1;  // the time reset_simulation went back to, not yet on /clock
   struct StepRequest {
     bool active = false;  // until the steps are done (and, in lock-step, the controllers acted)

@@ -102,6 +102,10 @@ std::string statusText(const Wording& wording, const Status& status) {
     case StatusCode::NotFinite: text = wording.not_finite; break;
     // Not reached over ROS: toCore reads an all-zero quaternion as the identity, as Gazebo does.
     case StatusCode::ZeroQuaternion: text = "the orientation quaternion is zero"; break;
+    case StatusCode::QuaternionOverflow:
+      text = "the orientation quaternion cannot be normalised: its norm is not finite (a component "
+             "is too large; the sum of its squares overflows a double)";
+      break;
     case StatusCode::ModelRejected: text = subject; break;
     case StatusCode::JointIsFixed:
       text = "joint '" + subject + "' is fixed and takes no effort";

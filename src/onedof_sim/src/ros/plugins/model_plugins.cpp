@@ -8,6 +8,8 @@
 
 #include <onedof_sim/trim.h>
 #include <ros/console.h>
+#include <ros/exceptions.h>
+#include <ros/node_handle.h>
 #include <tinyxml2.h>
 
 #include "plugin_params.h"
@@ -151,6 +153,81 @@ std::vector<SensorElement> findSensors(const std::string& model_xml, ModelFormat
 
 namespace {
 
+bool endsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Whether a <plugin> parameter's tag names a topic or a service (see invalidPluginName).
+bool namesTopicOrService(const std::string& tag) {
+  for (const char* suffix : {"Topic", "TopicName", "topicName", "ServiceName", "serviceName"})
+    if (endsWith(tag, suffix)) return true;
+  return false;
+}
+
+// roscpp's refusal of `name` (a topic or service; empty: the namespace itself) in namespace `ns`
+// (empty: the root), as a plugin's node handle and advertise or subscribe meet it; empty if
+// roscpp takes it.
+std::string rosNameRefusal(const std::string& ns, const std::string& name) {
+  try {
+    ros::NodeHandle node(ns.empty() ? "/" : ns);
+    if (!name.empty()) node.resolveName(name);
+  } catch (const ros::InvalidNameException& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string invalidNameIn(const PluginElement& element, const std::string& where) {
+  auto refused = [&](const std::string& tag, const std::string& value, const std::string& why) {
+    return "plugin '" + element.name + "' (" + element.filename + where + "): <" + tag + "> '" +
+           value + "' is not a valid ROS name: " + why;
+  };
+  std::string why = rosNameRefusal(element.robot_namespace, "");
+  if (!why.empty()) return refused("robotNamespace", element.robot_namespace, why);
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(element.xml.c_str(), element.xml.size()) != tinyxml2::XML_SUCCESS) return "";
+  const tinyxml2::XMLElement* plugin = doc.RootElement();
+  for (auto* child = plugin ? plugin->FirstChildElement() : nullptr; child;
+       child = child->NextSiblingElement()) {
+    const std::string tag = child->Name();
+    const std::string value = trimmed(child->GetText());
+    if (tag == "cameraName") why = rosNameRefusal(element.robot_namespace + "/" + value, "");
+    else if (namesTopicOrService(tag)) why = rosNameRefusal(element.robot_namespace, value);
+    if (!why.empty()) return refused(tag, value, why);
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string invalidPluginName(const std::vector<ModelPluginType>& types,
+                              const std::vector<SensorPluginType>& sensor_types,
+                              const std::string& spawned_xml, ModelFormat format,
+                              const std::string& robot_namespace) {
+  const std::string model_xml = withRobotNamespace(spawned_xml, robot_namespace);
+  auto known = [](const auto& registered, const std::string& filename) {
+    return std::any_of(registered.begin(), registered.end(),
+                       [&](const auto& type) { return type.filename == filename; });
+  };
+  for (const PluginElement& element : findModelPlugins(model_xml, format)) {
+    if (!known(types, element.filename)) continue;
+    const std::string why = invalidNameIn(element, "");
+    if (!why.empty()) return why;
+  }
+  for (const SensorElement& sensor : findSensors(model_xml, format)) {
+    if (!sensor.error.empty()) continue;
+    for (const PluginElement& element : sensor.plugins) {
+      if (!known(sensor_types, element.filename)) continue;
+      const std::string why = invalidNameIn(element, " of sensor '" + sensor.name + "'");
+      if (!why.empty()) return why;
+    }
+  }
+  return "";
+}
+
+namespace {
+
 ModelPluginContext pluginContext(const std::string& model, const PluginElement& element,
                                  const std::string& model_xml, ModelFormat format,
                                  const World& world, const LockWorld& lock_world) {
@@ -168,24 +245,34 @@ ModelPluginContext pluginContext(const std::string& model, const PluginElement& 
   return context;
 }
 
-// Each unknown plugin filename and sensor type of one model, logged once.
-struct Unknowns {
+// What keeps a plugin or sensor of one model from working: logged, and kept for the spawn's
+// answer. Each unknown plugin filename and sensor type is said once.
+struct Problems {
+  std::vector<std::string>* said;
   std::set<std::string> plugins, sensor_types;
+  void error(const std::string& text) {
+    ROS_ERROR_STREAM(text);
+    said->push_back(text);
+  }
+  void warn(const std::string& text) {
+    ROS_WARN_STREAM(text);
+    said->push_back(text);
+  }
   void plugin(const std::string& model, const PluginElement& element, const std::string& where) {
     if (plugins.insert(element.filename).second)
-      ROS_ERROR_STREAM("model '" << model << "': Failed to load plugin " << element.filename
-                       << " (plugin '" << element.name << "'" << where
-                       << "): this simulator has no such plugin; the model works without it");
+      error("model '" + model + "': Failed to load plugin " + element.filename + " (plugin '" +
+            element.name + "'" + where +
+            "): this simulator has no such plugin; the model works without it");
   }
 };
 
 void createSensorPlugins(const std::vector<SensorPluginType>& types, const std::string& model,
                          const SensorElement& sensor, const std::string& model_xml,
                          ModelFormat format, const World& world, const LockWorld& lock_world,
-                         Unknowns* unknowns, std::vector<std::unique_ptr<ModelPlugin>>* created) {
+                         Problems* problems, std::vector<std::unique_ptr<ModelPlugin>>* created) {
   const std::string label = "model '" + model + "': sensor '" + sensor.name + "'";
   if (!sensor.error.empty()) {
-    ROS_ERROR_STREAM(label << " is ignored, with its plugins: " << sensor.error);
+    problems->error(label + " is ignored, with its plugins: " + sensor.error);
     return;
   }
   bool known_type = false;
@@ -193,18 +280,19 @@ void createSensorPlugins(const std::vector<SensorPluginType>& types, const std::
     for (const std::string& sensor_type : type.sensor_types)
       known_type = known_type || sensor_type == sensor.type;
   if (!known_type) {
-    if (unknowns->sensor_types.insert(sensor.type).second)
-      ROS_WARN_STREAM(label << " (type " << sensor.type << ") on link '" << sensor.link
-                      << "': sensors of type " << sensor.type << " are not simulated here and "
-                      << "are ignored, with their plugins; the model works without them");
+    if (problems->sensor_types.insert(sensor.type).second)
+      problems->warn(label + " (type " + sensor.type + ") on link '" + sensor.link +
+                     "': sensors of type " + sensor.type + " are not simulated here and are "
+                     "ignored, with their plugins; the model works without them");
     return;
   }
   {
     std::unique_lock<std::mutex> lock = lock_world();
     LinkInfo info;
     if (!world.linkProperties(model + "::" + sensor.link, &info).ok()) {
-      ROS_ERROR_STREAM(label << " is ignored, with its plugins: its link '" << sensor.link
-                       << "' is not a link of the model");
+      lock.unlock();
+      problems->error(label + " is ignored, with its plugins: its link '" + sensor.link +
+                      "' is not a link of the model");
       return;
     }
   }
@@ -213,15 +301,15 @@ void createSensorPlugins(const std::vector<SensorPluginType>& types, const std::
     for (const SensorPluginType& candidate : types)
       if (candidate.filename == element.filename) type = &candidate;
     if (!type) {
-      unknowns->plugin(model, element, " of sensor '" + sensor.name + "'");
+      problems->plugin(model, element, " of sensor '" + sensor.name + "'");
       continue;
     }
     if (std::find(type->sensor_types.begin(), type->sensor_types.end(), sensor.type) ==
         type->sensor_types.end()) {
       std::string wanted;
       for (const std::string& t : type->sensor_types) wanted += (wanted.empty() ? "" : " or ") + t;
-      ROS_ERROR_STREAM(element.filename << " for " << label << " not started: it publishes a "
-                       << wanted << " sensor, and this one is " << sensor.type);
+      problems->error(element.filename + " for " + label + " not started: it publishes a " +
+                      wanted + " sensor, and this one is " + sensor.type);
       continue;
     }
     SensorPluginContext context{
@@ -230,7 +318,7 @@ void createSensorPlugins(const std::vector<SensorPluginType>& types, const std::
     std::unique_ptr<ModelPlugin> plugin = type->create(context, &error);
     if (plugin) created->push_back(std::move(plugin));
     else if (!error.empty())
-      ROS_ERROR_STREAM(element.filename << " for " << label << " not started: " << error);
+      problems->error(element.filename + " for " + label + " not started: " + error);
   }
 }
 
@@ -239,16 +327,17 @@ void createSensorPlugins(const std::vector<SensorPluginType>& types, const std::
 std::vector<std::unique_ptr<ModelPlugin>> createModelPlugins(
     const std::vector<ModelPluginType>& types, const std::vector<SensorPluginType>& sensor_types,
     const std::string& model, const std::string& spawned_xml, ModelFormat format,
-    const std::string& robot_namespace, const World& world, LockWorld lock_world) {
+    const std::string& robot_namespace, const World& world, LockWorld lock_world,
+    std::vector<std::string>* said) {
   const std::string model_xml = withRobotNamespace(spawned_xml, robot_namespace);
   std::vector<std::unique_ptr<ModelPlugin>> created;
-  Unknowns unknowns;
+  Problems problems{said, {}, {}};
   for (const PluginElement& element : findModelPlugins(model_xml, format)) {
     const ModelPluginType* type = nullptr;
     for (const ModelPluginType& candidate : types)
       if (candidate.filename == element.filename) type = &candidate;
     if (!type) {
-      unknowns.plugin(model, element, "");
+      problems.plugin(model, element, "");
       continue;
     }
     std::string error;
@@ -256,11 +345,11 @@ std::vector<std::unique_ptr<ModelPlugin>> createModelPlugins(
         pluginContext(model, element, model_xml, format, world, lock_world), &error);
     if (plugin) created.push_back(std::move(plugin));
     else if (!error.empty())
-      ROS_ERROR_STREAM(element.filename << " for model '" << model << "' not started: " << error);
+      problems.error(element.filename + " for model '" + model + "' not started: " + error);
   }
   for (const SensorElement& sensor : findSensors(model_xml, format))
     createSensorPlugins(sensor_types, model, sensor, model_xml, format, world, lock_world,
-                        &unknowns, &created);
+                        &problems, &created);
   return created;
 }
 
