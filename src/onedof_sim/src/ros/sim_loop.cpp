@@ -42,6 +42,9 @@ constexpr std::chrono::milliseconds kStopWaitSlice(50);
 // The longest a part of a sensor's work holds the world (SensorWork::withWorld): requests that
 // read the world wait at most about this long for it.
 constexpr std::chrono::milliseconds kSensorWorkPart(10);
+// How long the loop waits at a time for callbacks to have had the lock (letCallbacksThrough):
+// it looks again then, should it not have been told.
+constexpr std::chrono::milliseconds kCallbacksWaitSlice(1);
 
 // The view of process pid in views, made when missing. Making one lets go of the views of
 // processes gone (a controller restarted has another pid), and with them their open files.
@@ -90,7 +93,7 @@ struct SimLoop::StepOutput {
   std::vector<std::unique_ptr<plugins::ModelPlugin>> detached_plugins;
 };
 
-SimLoop::Lock::Lock(SimLoop& api, Access access) {
+SimLoop::Lock::Lock(SimLoop& api, Access access) : loop_(api) {
   ++api.waiting_callbacks_;
   lock_ = std::unique_lock<std::mutex>(api.mutex_);
   --api.waiting_callbacks_;
@@ -113,6 +116,16 @@ SimLoop::Lock::Lock(SimLoop& api, Access access) {
       return;
     }
   }
+}
+
+SimLoop::Lock::~Lock() {
+  if (lock_.owns_lock()) lock_.unlock();
+  if (loop_.waiting_callbacks_.load() == 0) loop_.callbacks_through_.notify_all();
+}
+
+void SimLoop::letCallbacksThrough(std::unique_lock<std::mutex>& lock, bool held_back_too) {
+  while (waiting_callbacks_.load() > 0 || (held_back_too && held_back_.load() > 0))
+    callbacks_through_.wait_for(lock, kCallbacksWaitSlice);
 }
 
 SimLoop::SimLoop(const NodeOptions& options)
@@ -185,8 +198,8 @@ void SimLoop::stepOnce(StepOutput* out) {
   const bool want_markers = markers_pub_.getNumSubscribers() > 0;
 
   // Let waiting service callbacks in first; they hold the lock only for one world call.
-  while (waiting_callbacks_.load() > 0 || held_back_.load() > 0) std::this_thread::yield();
   std::unique_lock<std::mutex> lock(mutex_);
+  letCallbacksThrough(lock, true);
   // Taken as the lock is let go, on every return: a reset during a wait below comes before this
   // output's step, so its clock must go out first.
   struct TakeResetClock {
@@ -283,11 +296,8 @@ void SimLoop::doSensorWork(std::unique_lock<std::mutex>& lock, StepOutput* out) 
   if (!out->sensor_work.empty()) {
     sensing_ = true;
     for (const auto& work : out->sensor_work) {
-      while (!work->withWorld(world_, plugins::SensorWork::Clock::now() + kSensorWorkPart)) {
-        lock.unlock();
-        while (waiting_callbacks_.load() > 0) std::this_thread::yield();
-        lock.lock();
-      }
+      while (!work->withWorld(world_, plugins::SensorWork::Clock::now() + kSensorWorkPart))
+        letCallbacksThrough(lock, false);
     }
     sensing_ = false;
     sensed_.notify_all();

@@ -135,11 +135,17 @@ class SimLoop {
   class Lock {
    public:
     Lock(SimLoop& loop, Access access);
+    // Unlocks and tells the loop, which may be waiting for the callbacks to be through.
+    ~Lock();
     std::unique_lock<std::mutex>& held() { return lock_; }
 
    private:
+    SimLoop& loop_;
     std::unique_lock<std::mutex> lock_;
   };
+  // Lock held: lets the callbacks waiting for the lock have it before the loop goes on, waiting
+  // on callbacks_through_ (a loop that spun would take the CPU they need on a busy machine).
+  void letCallbacksThrough(std::unique_lock<std::mutex>& lock, bool held_back_too);
 
   struct StepOutput;
   void stepOnce(StepOutput* out);
@@ -195,6 +201,7 @@ class SimLoop {
   // Ends a step request in progress, lock held: `by` is the request that ends it.
   void endStepRequest(const char* by);
   std::atomic<int> waiting_callbacks_{0};
+  std::condition_variable callbacks_through_;
   // The sensors work on the world a step left (doSensorWork): requests that may change it wait on
   // sensed_, counted in held_back_ so that the loop lets them in before its next step.
   bool sensing_ = false;
