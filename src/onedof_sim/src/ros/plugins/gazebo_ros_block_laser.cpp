@@ -69,14 +69,8 @@ class GazeboRosBlockLaser : public ModelPlugin {
   void afterStep(World& /*world*/, const StepTime& at) override {
     if (!publisher_ || publisher_.getNumSubscribers() == 0 || !gate_.due(at.time_ns)) return;
     const int64_t time_ns = at.time_ns;
-    publications_.addWork(measurementWork(&scanner_, [this, time_ns](const std::string* failure) {
-      if (!failure) {
-        addMeasurement(time_ns);
-      } else if (!failed_) {
-        ROS_ERROR_STREAM(label_ << " measured no scan: " << *failure);
-        failed_ = true;
-      }
-    }));
+    publications_.addWork(measurementWork(&scanner_, label_, "scan", &failed_,
+                                          [this, time_ns] { addMeasurement(time_ns); }));
   }
 
   std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {

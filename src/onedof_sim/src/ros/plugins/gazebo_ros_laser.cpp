@@ -52,14 +52,8 @@ class GazeboRosLaser : public ModelPlugin {
   void afterStep(World& /*world*/, const StepTime& at) override {
     if (!publisher_ || publisher_.getNumSubscribers() == 0 || !gate_.due(at.time_ns)) return;
     const int64_t time_ns = at.time_ns;
-    publications_.addWork(measurementWork(&scanner_, [this, time_ns](const std::string* failure) {
-      if (!failure) {
-        addScan(time_ns);
-      } else if (!failed_) {
-        ROS_ERROR_STREAM(label_ << " measured no scan: " << *failure);
-        failed_ = true;
-      }
-    }));
+    publications_.addWork(measurementWork(&scanner_, label_, "scan", &failed_,
+                                          [this, time_ns] { addScan(time_ns); }));
   }
 
   void reset(World& /*world*/) override { gate_.reset(); }

@@ -77,14 +77,8 @@ class GazeboRosRange : public ModelPlugin {
         !throttle_.due(at.time_ns))
       return;
     const int64_t time_ns = at.time_ns;
-    publications_.addWork(measurementWork(&scanner_, [this, time_ns](const std::string* failure) {
-      if (!failure) {
-        addMeasurement(time_ns);
-      } else if (!failed_) {
-        ROS_ERROR_STREAM(label_ << " measured no range: " << *failure);
-        failed_ = true;
-      }
-    }));
+    publications_.addWork(measurementWork(&scanner_, label_, "range", &failed_,
+                                          [this, time_ns] { addMeasurement(time_ns); }));
   }
 
   std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {

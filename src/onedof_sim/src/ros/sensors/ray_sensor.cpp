@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <onedof_sim/pose_math.h>
+#include <ros/console.h>
 #include <tinyxml2.h>
 
 #include "sensor_xml.h"
@@ -207,37 +208,46 @@ namespace {
 
 class MeasurementWork : public SensorWork {
  public:
-  MeasurementWork(RayScanner* scanner, std::function<void(const std::string*)> measured)
-      : scanner_(scanner), measured_(std::move(measured)) {}
+  MeasurementWork(RayScanner* scanner, std::string label, const char* what, bool* failed,
+                  std::function<void()> measured)
+      : scanner_(scanner), label_(std::move(label)), what_(what), failed_(failed),
+        measured_(std::move(measured)) {}
 
   bool withWorld(World& world, Clock::time_point until) override {
     std::string why;
     if (!started_) {
-      if (!scanner_->start(world, &why)) {
-        measured_(&why);
-        return true;
-      }
+      if (!scanner_->start(world, &why)) return fail(why);
       started_ = true;
     }
     switch (scanner_->castPart(world, until, &why)) {
       case RayScanner::Cast::More: return false;
-      case RayScanner::Cast::Done: measured_(nullptr); return true;
-      case RayScanner::Cast::Failed: measured_(&why); return true;
+      case RayScanner::Cast::Done: measured_(); return true;
+      case RayScanner::Cast::Failed: return fail(why);
     }
     return true;
   }
 
  private:
+  bool fail(const std::string& why) {
+    if (!*failed_) ROS_ERROR_STREAM(label_ << " measured no " << what_ << ": " << why);
+    *failed_ = true;
+    return true;
+  }
+
   RayScanner* scanner_;
-  std::function<void(const std::string*)> measured_;
+  std::string label_;
+  const char* what_;
+  bool* failed_;
+  std::function<void()> measured_;
   bool started_ = false;
 };
 
 }  // namespace
 
-std::shared_ptr<SensorWork> measurementWork(
-    RayScanner* scanner, std::function<void(const std::string* failure)> measured) {
-  return std::make_shared<MeasurementWork>(scanner, std::move(measured));
+std::shared_ptr<SensorWork> measurementWork(RayScanner* scanner, const std::string& label,
+                                            const char* what, bool* failed,
+                                            std::function<void()> measured) {
+  return std::make_shared<MeasurementWork>(scanner, label, what, failed, std::move(measured));
 }
 
 }  // namespace onedof_sim::plugins

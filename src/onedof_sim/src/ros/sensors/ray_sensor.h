@@ -91,8 +91,10 @@ class RayScanner {
 
 // A measurement of `scanner` as sensor work: started and its rays cast part by part with the
 // world locked; then `measured` is called, the world still locked (the plugin that made the work
-// there), with why the measurement failed, or null.
-std::shared_ptr<SensorWork> measurementWork(
-    RayScanner* scanner, std::function<void(const std::string* failure)> measured);
+// there). A measurement that fails is logged once, as "<label> measured no <what>: <why>"
+// (*failed: it has been).
+std::shared_ptr<SensorWork> measurementWork(RayScanner* scanner, const std::string& label,
+                                            const char* what, bool* failed,
+                                            std::function<void()> measured);
 
 }  // namespace onedof_sim::plugins
