@@ -184,7 +184,7 @@ bool GazeboApi::getJointProperties(
   const auto& req = event.getRequest();
   auto& res = event.getResponse();
   JointInfo joint;
-  const Status found = loop_.withWorldFor(event.getCallerName(), [&](World& world) {
+  const Status found = loop_.readWorldFor(event.getCallerName(), [&](const World& world) {
     return world.jointInfo(req.joint_name, &joint);
   });
   if (found.ok()) {
@@ -223,7 +223,7 @@ bool GazeboApi::setJointProperties(gazebo_msgs::SetJointProperties::Request& req
       {"fudge_factor", &config.fudge_factor}, {"fmax", &config.fmax},
       {"vel", &config.vel}};
   JointInfo joint;
-  Status status = loop_.withWorld([&](World& world) { return world.jointInfo(req.joint_name, &joint); });
+  Status status = loop_.readWorld([&](const World& world) { return world.jointInfo(req.joint_name, &joint); });
   if (!status.ok()) return refuse(res, statusText(kSetJointProperties, status));
   for (const auto& field : set_at_spawn) {
     if (!field.second->empty()) {
@@ -277,7 +277,7 @@ bool GazeboApi::clearBodyWrenches(gazebo_msgs::BodyRequest::Request& req, gazebo
 bool GazeboApi::getLinkState(gazebo_msgs::GetLinkState::Request& req, gazebo_msgs::GetLinkState::Response& res) {
   Pose pose;
   Twist twist;
-  const Status state = loop_.withWorld([&](World& world) {
+  const Status state = loop_.readWorld([&](const World& world) {
     return world.linkState(req.link_name, req.reference_frame, &pose, &twist);
   });
   if (state.ok()) {
@@ -310,7 +310,7 @@ bool GazeboApi::getLinkProperties(gazebo_msgs::GetLinkProperties::Request& req,
                                   gazebo_msgs::GetLinkProperties::Response& res) {
   LinkInfo link;
   const Status found =
-      loop_.withWorld([&](World& world) { return world.linkProperties(req.link_name, &link); });
+      loop_.readWorld([&](const World& world) { return world.linkProperties(req.link_name, &link); });
   if (found.ok()) {
     res.com = toMsg(link.com);
     res.gravity_mode = link.gravity_mode;
@@ -512,7 +512,7 @@ bool GazeboApi::getModelState(gazebo_msgs::GetModelState::Request& req, gazebo_m
   Pose pose;
   Twist twist;
   int64_t now_ns = 0;
-  const Status state = loop_.withWorld([&](World& world) {
+  const Status state = loop_.readWorld([&](const World& world) {
     now_ns = world.timeNs();
     return world.modelState(req.model_name, req.relative_entity_name, &pose, &twist);
   });
@@ -555,7 +555,7 @@ bool GazeboApi::getModelProperties(gazebo_msgs::GetModelProperties::Request& req
                                    gazebo_msgs::GetModelProperties::Response& res) {
   ModelInfo model;
   const Status found =
-      loop_.withWorld([&](World& world) { return world.modelProperties(req.model_name, &model); });
+      loop_.readWorld([&](const World& world) { return world.modelProperties(req.model_name, &model); });
   if (found.ok()) {
     // Bare link names, as Gazebo answers (its srv comment says scoped, its code says bare).
     res.canonical_body_name = bareName(model.canonical_link);
@@ -569,7 +569,7 @@ bool GazeboApi::getModelProperties(gazebo_msgs::GetModelProperties::Request& req
 
 bool GazeboApi::getWorldProperties(gazebo_msgs::GetWorldProperties::Request&,
                                    gazebo_msgs::GetWorldProperties::Response& res) {
-  loop_.withWorld([&](World& world) {
+  loop_.readWorld([&](const World& world) {
     res.sim_time = world.time();
     res.model_names = world.modelNames();
   });
@@ -664,7 +664,7 @@ bool GazeboApi::unpausePhysics(std_srvs::Empty::Request&, std_srvs::Empty::Respo
 
 bool GazeboApi::stepSimulation(StepSimulation::Request& req, StepSimulation::Response& res) {
   if (req.steps > SimLoop::kMaxRequestedSteps) {
-    loop_.withWorld([&](World& world) {
+    loop_.readWorld([&](const World& world) {
       res.sim_time.fromNSec(uint64_t(world.timeNs()));
       res.iterations = world.stepCount();
     });

@@ -39,6 +39,12 @@ constexpr std::chrono::milliseconds kLockstepWakeAfter(500);
 // In lock-step, how long a request may wait for the world to reach a stop (WorldLock).
 constexpr std::chrono::seconds kStopWaitLimit(1);
 constexpr std::chrono::milliseconds kStopWaitSlice(50);
+// The longest a part of a sensor's work holds the world (SensorWork::withWorld): requests that
+// read the world wait at most about this long for it.
+constexpr std::chrono::milliseconds kSensorWorkPart(10);
+// How long the loop waits at a time for callbacks to have had the lock (letCallbacksThrough):
+// it looks again then, should it not have been told.
+constexpr std::chrono::milliseconds kCallbacksWaitSlice(1);
 
 // The view of process pid in views, made when missing. Making one lets go of the views of
 // processes gone (a controller restarted has another pid), and with them their open files.
@@ -80,13 +86,15 @@ struct SimLoop::StepOutput {
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
   std::vector<std::string> notes;     // what lock-step did that a user may want to know
   std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
+  // Their sensors' work: its withoutWorld phase is done in publish, unlocked.
+  std::vector<std::shared_ptr<plugins::SensorWork>> sensor_work;
   // At a lock-step stop: the controllers' processes the stop's clock waits to see asleep.
   std::vector<Lockstep::Watched> watched;
   // Plugins of models the world removed in the step, destroyed with this output, unlocked.
   std::vector<std::unique_ptr<plugins::ModelPlugin>> detached_plugins;
 };
 
-SimLoop::Lock::Lock(SimLoop& api) {
+SimLoop::Lock::Lock(SimLoop& api, Access access) : loop_(api) {
   ++api.waiting_callbacks_;
   lock_ = std::unique_lock<std::mutex>(api.mutex_);
   --api.waiting_callbacks_;
@@ -95,9 +103,30 @@ SimLoop::Lock::Lock(SimLoop& api) {
   // request at once, and must find the world at that period's start, as it would have on time.
   // Bounded, so that a world paced very slowly still answers.
   const auto limit = std::chrono::steady_clock::now() + kStopWaitLimit;
-  while (api.between_stops_ && !api.paused_ && ros::ok() &&
-         std::chrono::steady_clock::now() < limit)
-    api.at_stop_.wait_for(lock_, kStopWaitSlice);
+  for (;;) {
+    // Not cut short by a shutdown: the work may hold parts of the world a change would remove
+    // (a deleted model's sensor), and ends by itself.
+    if (access == Access::Change && api.sensing_) {
+      ++api.held_back_;
+      api.sensed_.wait_for(lock_, kStopWaitSlice);
+      --api.held_back_;
+    } else if (api.between_stops_ && !api.paused_ && ros::ok() &&
+               std::chrono::steady_clock::now() < limit) {
+      api.at_stop_.wait_for(lock_, kStopWaitSlice);
+    } else {
+      return;
+    }
+  }
+}
+
+SimLoop::Lock::~Lock() {
+  if (lock_.owns_lock()) lock_.unlock();
+  if (loop_.waiting_callbacks_.load() == 0) loop_.callbacks_through_.notify_all();
+}
+
+void SimLoop::letCallbacksThrough(std::unique_lock<std::mutex>& lock, bool held_back_too) {
+  while (waiting_callbacks_.load() > 0 || (held_back_too && held_back_.load() > 0))
+    callbacks_through_.wait_for(lock, kCallbacksWaitSlice);
 }
 
 SimLoop::SimLoop(const NodeOptions& options)
@@ -170,8 +199,8 @@ void SimLoop::stepOnce(StepOutput* out) {
   const bool want_markers = markers_pub_.getNumSubscribers() > 0;
 
   // Let waiting service callbacks in first; they hold the lock only for one world call.
-  while (waiting_callbacks_.load() > 0) std::this_thread::yield();
   std::unique_lock<std::mutex> lock(mutex_);
+  letCallbacksThrough(lock, true);
   // Taken as the lock is let go, on every return: a reset during a wait below comes before this
   // output's step, so its clock must go out first.
   struct TakeResetClock {
@@ -213,8 +242,7 @@ void SimLoop::stepOnce(StepOutput* out) {
   for (auto& [model, plugins] : plugins_) {
     for (auto& plugin : plugins) {
       plugin->afterStep(world_, {world_.timeNs(), world_.stepCount()});
-      for (auto& publication : plugin->takePublications())
-        out->plugin_publications.push_back(std::move(publication));
+      for (auto& work : plugin->takeSensorWork()) out->sensor_work.push_back(std::move(work));
     }
   }
   if (requested) {
@@ -262,6 +290,26 @@ void SimLoop::stepOnce(StepOutput* out) {
   }
 
   collectStates(out, want_model_states, want_link_states, want_markers);
+  doSensorWork(lock, out);
+}
+
+// The step's sensor work, the parts that need the world (SensorWork::withWorld), with the lock let
+// go between them for the requests that only read it; then every plugin's messages. The rest of
+// the work is done unlocked, in publish.
+void SimLoop::doSensorWork(std::unique_lock<std::mutex>& lock, StepOutput* out) {
+  if (!out->sensor_work.empty()) {
+    sensing_ = true;
+    for (const auto& work : out->sensor_work) {
+      while (!work->withWorld(world_, plugins::SensorWork::Clock::now() + kSensorWorkPart))
+        letCallbacksThrough(lock, false);
+    }
+    sensing_ = false;
+    sensed_.notify_all();
+  }
+  for (auto& [model, plugins] : plugins_)
+    for (auto& plugin : plugins)
+      for (auto& publication : plugin->takePublications())
+        out->plugin_publications.push_back(std::move(publication));
 }
 
 // The states and shapes due at this step that someone subscribes to, world locked.
@@ -486,6 +534,8 @@ void SimLoop::publish(const StepOutput& out) {
     }
   }
   for (const auto& publication : out.plugin_publications) publication();
+  for (const auto& work : out.sensor_work)
+    for (const auto& publication : work->withoutWorld()) publication();
   if (out.has_model_states) model_states_pub_.publish(out.model_states);
   if (out.has_link_states) link_states_pub_.publish(out.link_states);
   if (out.has_markers) {
@@ -579,7 +629,7 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
     if (pid) runs = commandRuns(*pid);
   }
   {
-    Lock lock(*this);
+    Lock lock(*this, Access::Change);
     if (lockstep_.enabled()) lockstep_.heardFrom(command.caller, Lockstep::Clock::now());
     // Under a wake-up clock a client's "now" is the time shown, ahead of the world's: it means
     // the world's.
@@ -620,13 +670,13 @@ SimLoop::EffortResult SimLoop::applyJointEffort(const EffortCommand& command) {
 }
 
 bool SimLoop::paused() {
-  Lock lock(*this);
+  Lock lock(*this, Access::Read);
   return paused_;
 }
 
 void SimLoop::setPaused(bool paused) {
   {
-    Lock lock(*this);
+    Lock lock(*this, Access::Change);
     paused_ = paused;
     endStepRequest(paused ? "pause_physics" : "unpause_physics");
   }
@@ -643,7 +693,7 @@ void SimLoop::endStepRequest(const char* by) {
 
 SimLoop::StepsDone SimLoop::runSteps(uint64_t steps) {
   if (steps > kMaxRequestedSteps) throw std::invalid_argument("more steps than a request takes");
-  Lock lock(*this);
+  Lock lock(*this, Access::Change);
   paused_ = true;
   step_request_ = {true, steps};
   wake_loop_.notify_all();
@@ -657,7 +707,7 @@ SimLoop::StepsDone SimLoop::runSteps(uint64_t steps) {
 
 void SimLoop::resetSimulation() {
   {
-    Lock lock(*this);
+    Lock lock(*this, Access::Change);
     endStepRequest("reset_simulation");
     world_.resetSimulation();
     reset_clock_ns_ = world_.timeNs();
@@ -672,19 +722,19 @@ void SimLoop::resetSimulation() {
 }
 
 void SimLoop::resetWorld() {
-  Lock lock(*this);
+  Lock lock(*this, Access::Change);
   world_.resetWorld();
   for (auto& [model, plugins] : plugins_)
     for (auto& plugin : plugins) plugin->reset(world_);
 }
 
 PhysicsSettings SimLoop::physics() {
-  Lock lock(*this);
+  Lock lock(*this, Access::Read);
   return {world_.params(), max_update_rate_};
 }
 
 Status SimLoop::setPhysics(const PhysicsSettings& settings) {
-  Lock lock(*this);
+  Lock lock(*this, Access::Change);
   const Status set = world_.setParams(settings.params);
   if (set.ok()) max_update_rate_ = settings.max_update_rate;
   return set;
@@ -694,7 +744,7 @@ Status SimLoop::setPhysics(const PhysicsSettings& settings) {
 
 plugins::LockWorld SimLoop::lockWorld() {
   return [this] {
-    Lock lock(*this);
+    Lock lock(*this, Access::Change);
     return std::move(lock.held());
   };
 }
@@ -702,7 +752,7 @@ plugins::LockWorld SimLoop::lockWorld() {
 void SimLoop::attachPlugins(const std::string& model,
                             std::vector<std::unique_ptr<plugins::ModelPlugin>> plugins) {
   if (plugins.empty()) return;
-  Lock lock(*this);
+  Lock lock(*this, Access::Change);
   ModelInfo unused;
   if (!world_.modelProperties(model, &unused).ok()) {
     lock.held().unlock();  // deleted meanwhile: its plugins go, unlocked
@@ -732,7 +782,7 @@ Status SimLoop::deleteModel(const std::string& model) {
   Status deleted;
   std::vector<std::unique_ptr<plugins::ModelPlugin>> detached;
   {
-    Lock lock(*this);
+    Lock lock(*this, Access::Change);
     deleted = world_.deleteModel(model);
     auto found = plugins_.find(model);
     if (deleted.ok() && found != plugins_.end()) {

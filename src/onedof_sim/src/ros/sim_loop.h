@@ -44,18 +44,26 @@ class SimLoop {
   void run();
 
   // Runs f(World&) under the world lock and returns what it returns. In lock-step the lock is
-  // taken where the world stops, never inside a controller's period (see Lock).
+  // taken where the world stops, never inside a controller's period; while sensors work on the
+  // world a step left, it waits until they are done with it (see Lock).
   template <class F>
   auto withWorld(F&& f) {
-    Lock lock(*this);
+    Lock lock(*this, Access::Change);
     return f(world_);
   }
-  // The same for a request of a controller (its caller name): lock-step notes it is at work.
+  // The same for f(const World&), which only reads the world: it is answered between the parts
+  // of the sensors' work too.
   template <class F>
-  auto withWorldFor(const std::string& caller, F&& f) {
-    Lock lock(*this);
+  auto readWorld(F&& f) {
+    Lock lock(*this, Access::Read);
+    return f(static_cast<const World&>(world_));
+  }
+  // readWorld for a request of a controller (its caller name): lock-step notes it is at work.
+  template <class F>
+  auto readWorldFor(const std::string& caller, F&& f) {
+    Lock lock(*this, Access::Read);
     if (lockstep_.enabled()) lockstep_.heardFrom(caller, Lockstep::Clock::now());
-    return f(world_);
+    return f(static_cast<const World&>(world_));
   }
 
   // apply_joint_effort from `caller`: the job, and in lock-step the joint joins or goes on
@@ -118,22 +126,32 @@ class SimLoop {
   plugins::LockWorld lockWorld();
 
  private:
+  // Whether a request only reads the world or may change it.
+  enum class Access { Read, Change };
   // Locks the world for a service callback. Counts waiting callbacks so that the step loop, which
   // re-locks right after unlocking when running as fast as possible, lets them in first. In
-  // lock-step it waits (bounded) until the world is at a stop.
+  // lock-step it waits (bounded) until the world is at a stop. A request that may change the world
+  // waits while the sensors work on it (doSensorWork).
   class Lock {
    public:
-    explicit Lock(SimLoop& loop);
+    Lock(SimLoop& loop, Access access);
+    // Unlocks and tells the loop, which may be waiting for the callbacks to be through.
+    ~Lock();
     std::unique_lock<std::mutex>& held() { return lock_; }
 
    private:
+    SimLoop& loop_;
     std::unique_lock<std::mutex> lock_;
   };
+  // Lock held: lets the callbacks waiting for the lock have it before the loop goes on, waiting
+  // on callbacks_through_ (a loop that spun would take the CPU they need on a busy machine).
+  void letCallbacksThrough(std::unique_lock<std::mutex>& lock, bool held_back_too);
 
   struct StepOutput;
   void stepOnce(StepOutput* out);
   void collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
                      bool want_markers);
+  void doSensorWork(std::unique_lock<std::mutex>& lock, StepOutput* out);
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   bool letGoOfExited(const std::vector<Lockstep::Awaited>& awaited, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);
@@ -191,6 +209,12 @@ class SimLoop {
   // Ends a step request in progress, lock held: `by` is the request that ends it.
   void endStepRequest(const char* by);
   std::atomic<int> waiting_callbacks_{0};
+  std::condition_variable callbacks_through_;
+  // The sensors work on the world a step left (doSensorWork): requests that may change it wait on
+  // sensed_, counted in held_back_ so that the loop lets them in before its next step.
+  bool sensing_ = false;
+  std::condition_variable sensed_;
+  std::atomic<int> held_back_{0};
   std::atomic<uint64_t> efforts_heard_{0};  // apply_joint_effort calls begun
   // And answered (effortReplied): a stop's clock waits on replied_ for the replies of the calls
   // begun before it.

@@ -66,19 +66,24 @@ class GazeboRosBlockLaser : public ModelPlugin {
                       << "sensor's name (Gazebo's from rand()), so runs repeat their clouds");
   }
 
-  void afterStep(World& world, const StepTime& at) override {
+  void afterStep(World& /*world*/, const StepTime& at) override {
     if (!publisher_ || publisher_.getNumSubscribers() == 0 || !gate_.due(at.time_ns)) return;
-    std::string why;
-    if (!scanner_.measure(world, &why)) {
-      if (!failed_) ROS_ERROR_STREAM(label_ << " measured no scan: " << why);
-      failed_ = true;
-      return;
-    }
+    const int64_t time_ns = at.time_ns;
+    publications_.addWork(measurementWork(&scanner_, label_, "scan", &failed_,
+                                          [this, time_ns] { addMeasurement(time_ns); }));
+  }
+
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
+
+  // The message of the measurement just made, stamped at time_ns, queued.
+  void addMeasurement(int64_t time_ns) {
     const RayConfig& c = scanner_.config();
     const int rows = c.verticalRangeCount(), columns = c.rangeCount();
     auto cloud = boost::make_shared<sensor_msgs::PointCloud>();
     cloud->header.frame_id = frame_id_;
-    cloud->header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
+    cloud->header.stamp.fromNSec(static_cast<uint64_t>(time_ns));
     cloud->points.reserve(static_cast<size_t>(rows) * columns);
     cloud->channels.resize(1);
     std::vector<float>& intensities = cloud->channels[0].values;

@@ -20,10 +20,12 @@ namespace {
 class GazeboRosCamera : public ModelPlugin {
  public:
   GazeboRosCamera(const SensorPluginContext& context, const CameraConfig& camera,
-                  std::unique_ptr<CameraUtils> utils)
+                  std::shared_ptr<CameraUtils> utils)
       : utils_(std::move(utils)),
-        view_(camera, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
-              utils_->label(), sensorSeed(context)),
+        view_(std::make_shared<CameraView>(camera,
+                                           context.plugin.model + "::" + context.sensor.link,
+                                           context.sensor.pose, utils_->label(),
+                                           sensorSeed(context))),
         gate_(utils_->sensorGate(context)),
         throttle_(utils_->updateRate()) {}
 
@@ -31,8 +33,13 @@ class GazeboRosCamera : public ModelPlugin {
     const bool image = utils_->imageWanted(), info = utils_->infoWanted();
     if ((!image && !info) || !gate_.due(at.time_ns) || !throttle_.due(at.time_ns)) return;
     // No frame (no renderer, logged once): the CameraInfo still goes out.
-    if (image && view_.render(world)) utils_->addImage(view_.frame(), at.time_ns, &publications_);
-    if (info) utils_->addInfo(utils_->infoPublisher(), at.time_ns, &publications_);
+    const bool render = image && view_->capture(world);
+    publications_.addWork(frameWork(
+        view_, render,
+        [utils = utils_, info, t = at.time_ns](const render::Frame* frame, PublicationQueue* out) {
+          if (frame) utils->addImage(*frame, t, out);
+          if (info) utils->addInfo(utils->infoPublisher(), t, out);
+        }));
   }
 
   void reset(World& /*world*/) override {
@@ -40,11 +47,13 @@ class GazeboRosCamera : public ModelPlugin {
     throttle_.reset();
   }
 
-  std::vector<Publication> takePublications() override { return publications_.take(); }
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
 
  private:
-  std::unique_ptr<CameraUtils> utils_;
-  CameraView view_;
+  std::shared_ptr<CameraUtils> utils_;
+  std::shared_ptr<CameraView> view_;
   SensorGate gate_;
   PublishThrottle throttle_;
   PublicationQueue publications_;
@@ -56,7 +65,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosCamera(const SensorPluginContext& cont
                                                  std::string* error) {
   CameraConfig camera;
   if (!readCameraConfig(context.sensor.xml, &camera, error)) return nullptr;
-  auto utils = std::make_unique<CameraUtils>();
+  auto utils = std::make_shared<CameraUtils>();
   if (!utils->load(context, camera, error)) return nullptr;
   return std::make_unique<GazeboRosCamera>(context, camera, std::move(utils));
 }

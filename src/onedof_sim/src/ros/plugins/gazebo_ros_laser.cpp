@@ -49,17 +49,27 @@ class GazeboRosLaser : public ModelPlugin {
                       << "sensor's name (Gazebo seeds it at random), so runs repeat their scans");
   }
 
-  void afterStep(World& world, const StepTime& at) override {
+  void afterStep(World& /*world*/, const StepTime& at) override {
     if (!publisher_ || publisher_.getNumSubscribers() == 0 || !gate_.due(at.time_ns)) return;
+    const int64_t time_ns = at.time_ns;
+    publications_.addWork(measurementWork(&scanner_, label_, "scan", &failed_,
+                                          [this, time_ns] { addScan(time_ns); }));
+  }
+
+  void reset(World& /*world*/) override { gate_.reset(); }
+
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
+  std::vector<Publication> takePublications() override { return publications_.take(); }
+
+ private:
+  // The scan just measured, stamped at time_ns, queued.
+  void addScan(int64_t time_ns) {
     sensor_msgs::LaserScan msg;
-    std::string why;
-    if (!scanner_.scan(world, &msg.ranges, &why)) {
-      if (!failed_) ROS_ERROR_STREAM(label_ << " measured no scan: " << why);
-      failed_ = true;
-      return;
-    }
+    scanner_.scan(&msg.ranges);
     const RayConfig& c = scanner_.config();
-    msg.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
+    msg.header.stamp.fromNSec(static_cast<uint64_t>(time_ns));
     msg.header.frame_id = frame_id_;
     msg.angle_min = static_cast<float>(c.min_angle);
     msg.angle_max = static_cast<float>(c.max_angle);
@@ -72,11 +82,6 @@ class GazeboRosLaser : public ModelPlugin {
     publications_.add(publisher_, msg);
   }
 
-  void reset(World& /*world*/) override { gate_.reset(); }
-
-  std::vector<Publication> takePublications() override { return publications_.take(); }
-
- private:
   std::string label_;
   RayScanner scanner_;
   SensorGate gate_;

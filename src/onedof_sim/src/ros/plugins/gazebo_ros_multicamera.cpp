@@ -26,8 +26,8 @@ namespace onedof_sim::plugins {
 namespace {
 
 struct StereoCamera {
-  std::unique_ptr<CameraUtils> utils;
-  CameraView view;
+  std::shared_ptr<CameraUtils> utils;
+  std::shared_ptr<CameraView> view;
   PublishThrottle throttle;
 };
 
@@ -46,9 +46,14 @@ class GazeboRosMultiCamera : public ModelPlugin {
       const bool image = utils.imageWanted(), info = utils.infoWanted();
       if ((!image && !info) || !camera.throttle.due(at.time_ns)) continue;
       // No frame (no renderer, logged once): the CameraInfo still goes out.
-      if (image && camera.view.render(world))
-        utils.addImage(camera.view.frame(), at.time_ns, &publications_);
-      if (info) utils.addInfo(utils.infoPublisher(), at.time_ns, &publications_);
+      const bool render = image && camera.view->capture(world);
+      publications_.addWork(frameWork(
+          camera.view, render,
+          [utils = camera.utils, info, t = at.time_ns](const render::Frame* frame,
+                                                       PublicationQueue* out) {
+            if (frame) utils->addImage(*frame, t, out);
+            if (info) utils->addInfo(utils->infoPublisher(), t, out);
+          }));
     }
   }
 
@@ -57,7 +62,9 @@ class GazeboRosMultiCamera : public ModelPlugin {
     for (StereoCamera& camera : cameras_) camera.throttle.reset();
   }
 
-  std::vector<Publication> takePublications() override { return publications_.take(); }
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
 
  private:
   SensorGate gate_;
@@ -94,7 +101,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosMultiCamera(const SensorPluginContext&
       return nullptr;
     }
     taken = config.name;
-    auto utils = std::make_unique<CameraUtils>();
+    auto utils = std::make_shared<CameraUtils>();
     // The right camera's baseline is the plugin's <hackBaseline>, the left's 0.
     if (!utils->load(context, config, error, is_left ? "/left" : "/right",
                      is_left ? std::optional<double>(0.0) : std::nullopt))
@@ -102,8 +109,9 @@ std::unique_ptr<ModelPlugin> makeGazeboRosMultiCamera(const SensorPluginContext&
     const std::string camera_label = utils->label() + " camera '" + config.name + "'";
     const uint64_t seed = seedOf(context.plugin.model + "::" + context.sensor.link + "::" +
                                  context.sensor.name + "::" + config.name);
-    CameraView view(config, context.plugin.model + "::" + context.sensor.link,
-                    context.sensor.pose, camera_label, seed);
+    auto view = std::make_shared<CameraView>(
+        config, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
+        camera_label, seed);
     const double rate = utils->updateRate();
     cameras.push_back({std::move(utils), std::move(view), PublishThrottle(rate)});
   }

@@ -43,11 +43,13 @@ struct DepthOutputs {
 class GazeboRosDepthCamera : public ModelPlugin {
  public:
   GazeboRosDepthCamera(const SensorPluginContext& context, const CameraConfig& camera,
-                       std::unique_ptr<CameraUtils> utils, const DepthOutputs& outputs)
+                       std::shared_ptr<CameraUtils> utils, const DepthOutputs& outputs)
       : utils_(std::move(utils)),
         outputs_(outputs),
-        view_(camera, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
-              utils_->label(), sensorSeed(context)),
+        view_(std::make_shared<CameraView>(camera,
+                                           context.plugin.model + "::" + context.sensor.link,
+                                           context.sensor.pose, utils_->label(),
+                                           sensorSeed(context))),
         gate_(utils_->sensorGate(context)),
         info_throttle_(utils_->updateRate()),
         depth_info_throttle_(utils_->updateRate()) {
@@ -65,20 +67,25 @@ class GazeboRosDepthCamera : public ModelPlugin {
     if (!(image || info || depth || depth_info || cloud) || !gate_.due(at.time_ns)) return;
     const int64_t t = at.time_ns;
     // No frame (no renderer, logged once): the CameraInfos still go out.
-    if ((image || depth || cloud) && view_.render(world)) {
-      const render::Frame& frame = view_.frame();
-      if (image) utils_->addImage(frame, t, &publications_);
-      if (depth)
-        utils_->addDepthImage(depth_publisher_, frame, outputs_.cutoff, outputs_.cutoff_max,
-                              outputs_.depth_16uc1, t, &publications_);
-      if (cloud)
-        utils_->addPointCloud(cloud_publisher_, frame, outputs_.cutoff, outputs_.cutoff_max, t,
-                              &publications_);
-    }
-    if (info && info_throttle_.due(t))
-      utils_->addInfo(utils_->infoPublisher(), t, &publications_);
-    if (depth_info && depth_info_throttle_.due(t))
-      utils_->addInfo(depth_info_publisher_, t, &publications_);
+    const bool render = (image || depth || cloud) && view_->capture(world);
+    const bool info_due = info && info_throttle_.due(t);
+    const bool depth_info_due = depth_info && depth_info_throttle_.due(t);
+    publications_.addWork(frameWork(
+        view_, render,
+        [utils = utils_, outputs = outputs_, depth_publisher = depth ? depth_publisher_ : ros::Publisher(),
+         cloud_publisher = cloud ? cloud_publisher_ : ros::Publisher(), image, info_due,
+         depth_info_publisher = depth_info_due ? depth_info_publisher_ : ros::Publisher(),
+         t](const render::Frame* frame, PublicationQueue* out) {
+          if (frame && image) utils->addImage(*frame, t, out);
+          if (frame && depth_publisher)
+            utils->addDepthImage(depth_publisher, *frame, outputs.cutoff, outputs.cutoff_max,
+                                 outputs.depth_16uc1, t, out);
+          if (frame && cloud_publisher)
+            utils->addPointCloud(cloud_publisher, *frame, outputs.cutoff, outputs.cutoff_max, t,
+                                 out);
+          if (info_due) utils->addInfo(utils->infoPublisher(), t, out);
+          if (depth_info_publisher) utils->addInfo(depth_info_publisher, t, out);
+        }));
   }
 
   void reset(World& /*world*/) override {
@@ -87,12 +94,14 @@ class GazeboRosDepthCamera : public ModelPlugin {
     depth_info_throttle_.reset();
   }
 
-  std::vector<Publication> takePublications() override { return publications_.take(); }
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
 
  private:
-  std::unique_ptr<CameraUtils> utils_;
+  std::shared_ptr<CameraUtils> utils_;
   DepthOutputs outputs_;
-  CameraView view_;
+  std::shared_ptr<CameraView> view_;
   SensorGate gate_;
   PublishThrottle info_throttle_, depth_info_throttle_;
   ros::Publisher depth_publisher_, depth_info_publisher_, cloud_publisher_;
@@ -108,7 +117,7 @@ std::unique_ptr<ModelPlugin> makeDepthCamera(const SensorPluginContext& context,
              "R8G8B8 and B8G8R8 colour images";
     return nullptr;
   }
-  auto utils = std::make_unique<CameraUtils>();
+  auto utils = std::make_shared<CameraUtils>();
   if (!utils->load(context, camera, error)) return nullptr;
   const PluginParams params(context.plugin.plugin_xml, utils->label());
   DepthOutputs outputs;

@@ -72,16 +72,21 @@ class GazeboRosRange : public ModelPlugin {
                       << "sensor's name (Gazebo seeds it at random), so runs repeat their ranges");
   }
 
-  void afterStep(World& world, const StepTime& at) override {
+  void afterStep(World& /*world*/, const StepTime& at) override {
     if (!publisher_ || publisher_.getNumSubscribers() == 0 || !gate_.due(at.time_ns) ||
         !throttle_.due(at.time_ns))
       return;
-    std::string why;
-    if (!scanner_.measure(world, &why)) {
-      if (!failed_) ROS_ERROR_STREAM(label_ << " measured no range: " << why);
-      failed_ = true;
-      return;
-    }
+    const int64_t time_ns = at.time_ns;
+    publications_.addWork(measurementWork(&scanner_, label_, "range", &failed_,
+                                          [this, time_ns] { addMeasurement(time_ns); }));
+  }
+
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
+
+  // The message of the measurement just made, stamped at time_ns, queued.
+  void addMeasurement(int64_t time_ns) {
     const RayConfig& c = scanner_.config();
     float range = std::numeric_limits<float>::max();
     for (int row = 0; row < c.vertical_samples; ++row)
@@ -90,7 +95,7 @@ class GazeboRosRange : public ModelPlugin {
     if (range < message_.max_range)
       range = static_cast<float>(std::min(noise_.apply(range, random_), c.range_max));
     message_.range = range;
-    message_.header.stamp.fromNSec(static_cast<uint64_t>(at.time_ns));
+    message_.header.stamp.fromNSec(static_cast<uint64_t>(time_ns));
     publications_.add(publisher_, message_);
   }
 

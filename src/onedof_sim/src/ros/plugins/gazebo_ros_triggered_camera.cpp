@@ -28,10 +28,12 @@ constexpr uint32_t kTriggerQueue = 100;
 class GazeboRosTriggeredCamera : public ModelPlugin {
  public:
   GazeboRosTriggeredCamera(const SensorPluginContext& context, const CameraConfig& camera,
-                           std::unique_ptr<CameraUtils> utils, const std::string& trigger_topic)
+                           std::shared_ptr<CameraUtils> utils, const std::string& trigger_topic)
       : utils_(std::move(utils)),
-        view_(camera, context.plugin.model + "::" + context.sensor.link, context.sensor.pose,
-              utils_->label(), sensorSeed(context)),
+        view_(std::make_shared<CameraView>(camera,
+                                           context.plugin.model + "::" + context.sensor.link,
+                                           context.sensor.pose, utils_->label(),
+                                           sensorSeed(context))),
         info_throttle_(utils_->updateRate()) {
     // Gazebo's queue holds one trigger, so of two that arrive together one can be lost, as
     // its callback thread happens to run; here each is kept, up to kTriggerQueue unserved.
@@ -49,19 +51,25 @@ class GazeboRosTriggeredCamera : public ModelPlugin {
       --triggers_;
     }
     // No frame (no renderer, logged once): the CameraInfo still goes out.
-    if (utils_->imageWanted() && view_.render(world))
-      utils_->addImage(view_.frame(), at.time_ns, &publications_);
-    if (utils_->infoWanted() && info_throttle_.due(at.time_ns))
-      utils_->addInfo(utils_->infoPublisher(), at.time_ns, &publications_);
+    const bool render = utils_->imageWanted() && view_->capture(world);
+    const bool info = utils_->infoWanted() && info_throttle_.due(at.time_ns);
+    publications_.addWork(frameWork(
+        view_, render,
+        [utils = utils_, info, t = at.time_ns](const render::Frame* frame, PublicationQueue* out) {
+          if (frame) utils->addImage(*frame, t, out);
+          if (info) utils->addInfo(utils->infoPublisher(), t, out);
+        }));
   }
 
   void reset(World& /*world*/) override { info_throttle_.reset(); }
 
-  std::vector<Publication> takePublications() override { return publications_.take(); }
+  std::vector<std::shared_ptr<SensorWork>> takeSensorWork() override {
+    return publications_.takeWork();
+  }
 
  private:
-  std::unique_ptr<CameraUtils> utils_;
-  CameraView view_;
+  std::shared_ptr<CameraUtils> utils_;
+  std::shared_ptr<CameraView> view_;
   PublishThrottle info_throttle_;
   PublicationQueue publications_;
   std::mutex trigger_mutex_;
@@ -75,7 +83,7 @@ std::unique_ptr<ModelPlugin> makeGazeboRosTriggeredCamera(const SensorPluginCont
                                                           std::string* error) {
   CameraConfig camera;
   if (!readCameraConfig(context.sensor.xml, &camera, error)) return nullptr;
-  auto utils = std::make_unique<CameraUtils>();
+  auto utils = std::make_shared<CameraUtils>();
   if (!utils->load(context, camera, error)) return nullptr;
   const PluginParams params(context.plugin.plugin_xml, utils->label());
   const std::string trigger_topic = params.text("triggerTopicName", "image_trigger");

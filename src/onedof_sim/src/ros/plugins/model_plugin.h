@@ -5,9 +5,12 @@
 // deleted; the loop (SimLoop) calls it under the world lock before and after every step, as
 // Gazebo's ConnectWorldUpdateBegin/End do, and on reset_world/reset_simulation. Messages are not
 // published under the lock: a hook hands them out (takePublications) and the loop publishes them
-// once the world is unlocked. A plugin is one file in this folder and one entry in registry.cpp.
+// once the world is unlocked. A sensor's long work (a scan of many rays, a render) is handed out
+// as SensorWork, which the loop does with the lock let go between its parts. A plugin is one file
+// in this folder and one entry in registry.cpp.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -26,8 +29,27 @@ using LockWorld = std::function<std::unique_lock<std::mutex>()>;
 // A message to publish once the world is unlocked.
 using Publication = std::function<void()>;
 
+// What a sensor measures after a step that takes too long to hold the world's lock for at once.
+// The loop does it on its own thread before the next step, in two phases:
+// - withWorld, the world locked, called again until it answers true, each call ending its part
+//   once `until` has passed. Between calls the loop lets go of the lock for the requests that
+//   only read the world, and holds back those that change it until every work's withWorld is
+//   done: each part sees the world as the step left it, as the plugin that made the work does,
+//   so a measurement is what it would be in one piece (a scan's rays cast part by part).
+// - withoutWorld, unlocked, while requests of any kind are served: what needs no world (a render
+//   of the scene withWorld or the hook took), and the messages to publish. The plugin may be gone
+//   by then (its model deleted): what this phase uses, the work holds.
+class SensorWork {
+ public:
+  using Clock = std::chrono::steady_clock;
+  virtual ~SensorWork() = default;
+  virtual bool withWorld(World& /*world*/, Clock::time_point /*until*/) { return true; }
+  virtual std::vector<Publication> withoutWorld() { return {}; }
+};
+
 // The messages a plugin makes under the world lock, kept until the loop takes them
-// (takePublications) to publish once it is unlocked.
+// (takePublications) to publish once it is unlocked, and its sensor work, kept until the loop
+// takes it (takeSensorWork).
 class PublicationQueue {
  public:
   template <class Message>
@@ -44,9 +66,16 @@ class PublicationQueue {
     out.swap(pending_);
     return out;
   }
+  void addWork(std::shared_ptr<SensorWork> work) { work_.push_back(std::move(work)); }
+  std::vector<std::shared_ptr<SensorWork>> takeWork() {
+    std::vector<std::shared_ptr<SensorWork>> out;
+    out.swap(work_);
+    return out;
+  }
 
  private:
   std::vector<Publication> pending_;
+  std::vector<std::shared_ptr<SensorWork>> work_;
 };
 
 // Where a hook is called: the world's sim time and step count at that moment (before a step:
@@ -83,7 +112,10 @@ class ModelPlugin {
   virtual void reset(World& /*world*/) {}
   // World locked: the model is deleted; the plugin is destroyed right after, unlocked.
   virtual void stop(World& /*world*/) {}
-  // World locked, after the hooks of a step: the messages to publish once it is unlocked.
+  // World locked, after the hooks of a step: the sensor work they left (SensorWork).
+  virtual std::vector<std::shared_ptr<SensorWork>> takeSensorWork() { return {}; }
+  // World locked, after the hooks of a step and the withWorld phase of their sensor work: the
+  // messages to publish once it is unlocked.
   virtual std::vector<Publication> takePublications() { return {}; }
 };
 

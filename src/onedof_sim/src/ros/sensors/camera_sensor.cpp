@@ -332,30 +332,65 @@ void CameraView::addNoise() {
     addPixelNoise(&frame_.rgb, draw);
 }
 
-bool CameraView::render(const World& world) {
-  render::Renderer* renderer = sharedRenderer();
-  if (!renderer) return false;
+bool CameraView::capture(const World& world) {
+  if (!sharedRenderer()) return false;
   Pose link_pose;
   Twist unused;
   const Status status = world.linkState(link_, "", &link_pose, &unused);
-  std::string why;
   if (!status.ok()) {
     std::ostringstream text;
     text << status;
-    why = "its link's pose: " + text.str();
-  } else {
-    spec_.pose = compose(link_pose, pose_);
-    if (renderer->render(world.visualShapes(), spec_, lens_ ? &rendered_ : &frame_, &why)) {
-      if (lens_) lens_->apply(rendered_, &frame_);
-      if (!noise_table_.empty()) addNoise();
-      for (const std::string& problem : renderer->takeProblems())
-        ROS_WARN_STREAM("cameras: " << problem);
-      return true;
-    }
+    if (!failed_) ROS_ERROR_STREAM(label_ << " rendered no frame: its link's pose: " << text.str());
+    failed_ = true;
+    return false;
+  }
+  spec_.pose = compose(link_pose, pose_);
+  scene_ = world.visualShapes();
+  return true;
+}
+
+bool CameraView::renderCaptured() {
+  render::Renderer* renderer = sharedRenderer();
+  std::string why;
+  if (renderer && renderer->render(scene_, spec_, lens_ ? &rendered_ : &frame_, &why)) {
+    if (lens_) lens_->apply(rendered_, &frame_);
+    if (!noise_table_.empty()) addNoise();
+    for (const std::string& problem : renderer->takeProblems())
+      ROS_WARN_STREAM("cameras: " << problem);
+    return true;
   }
   if (!failed_) ROS_ERROR_STREAM(label_ << " rendered no frame: " << why);
   failed_ = true;
   return false;
+}
+
+namespace {
+
+class FrameWork : public SensorWork {
+ public:
+  FrameWork(std::shared_ptr<CameraView> view, bool render,
+            std::function<void(const render::Frame*, PublicationQueue*)> publish)
+      : view_(std::move(view)), render_(render), publish_(std::move(publish)) {}
+
+  std::vector<Publication> withoutWorld() override {
+    const bool rendered = render_ && view_->renderCaptured();
+    PublicationQueue out;
+    publish_(rendered ? &view_->frame() : nullptr, &out);
+    return out.take();
+  }
+
+ private:
+  std::shared_ptr<CameraView> view_;
+  bool render_;
+  std::function<void(const render::Frame*, PublicationQueue*)> publish_;
+};
+
+}  // namespace
+
+std::shared_ptr<SensorWork> frameWork(
+    std::shared_ptr<CameraView> view, bool render,
+    std::function<void(const render::Frame* frame, PublicationQueue* out)> publish) {
+  return std::make_shared<FrameWork>(std::move(view), render, std::move(publish));
 }
 
 }  // namespace onedof_sim::plugins

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <onedof_sim/world.h>
 
 #include "lens_distortion.h"
+#include "plugins/model_plugin.h"
 #include "renderer.h"
 #include "sensor_noise.h"
 
@@ -77,10 +79,12 @@ class CameraView {
   CameraView(const CameraConfig& config, std::string link, const Pose& pose, std::string label,
              uint64_t seed);
 
-  // Renders the world as the camera sees it now into frame() (rgb, or rgb16 for a 16-bit
-  // format), through its lens, its image noise added; false when it cannot (no renderer, or the
-  // link's pose is not to be had; logged once).
-  bool render(const World& world);
+  // Takes the world's visuals and the camera's pose as they are now, world locked; false when
+  // no frame can be rendered (no renderer, or the link's pose is not to be had; logged once).
+  bool capture(const World& world);
+  // Renders what capture took into frame() (rgb, or rgb16 for a 16-bit format), through its
+  // lens, its image noise added, the world unlocked; false when it cannot (logged once).
+  bool renderCaptured();
 
   const render::Frame& frame() const { return frame_; }
   const CameraConfig& config() const { return config_; }
@@ -91,6 +95,7 @@ class CameraView {
   Pose pose_;  // the camera frame on the link: the sensor's pose and <camera><pose>
   std::string label_;
   render::CameraSpec spec_;  // the pinhole render: the image's, or the lens's wider one
+  std::vector<VisualShape> scene_;  // what capture took
   std::unique_ptr<render::LensDistortion> lens_;  // null: a pinhole
   render::Frame rendered_;  // the lens's wider pinhole render
   render::Frame frame_;  // reused: the renderer resizes it only when the size changes
@@ -104,5 +109,12 @@ class CameraView {
   uint64_t noise_state_ = 0;
   void addNoise();
 };
+
+// A camera's frame as sensor work (model_plugin.h): the view captured by the plugin's hook, or
+// not (render false: no image wanted, or none to be had), is rendered unlocked; then `publish`
+// queues the messages, with the frame or null. What publish uses it holds (not the plugin).
+std::shared_ptr<SensorWork> frameWork(
+    std::shared_ptr<CameraView> view, bool render,
+    std::function<void(const render::Frame* frame, PublicationQueue* out)> publish);
 
 }  // namespace onedof_sim::plugins

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <onedof_sim/pose_math.h>
+#include <ros/console.h>
 #include <tinyxml2.h>
 
 #include "sensor_xml.h"
@@ -18,6 +19,9 @@ namespace {
 // More rays than any laser has (a 3D lidar: 128 x 2048), for a scan that stays a fraction of a
 // step's time.
 constexpr long kMaxRays = 262144;
+// The rays of one query of a measurement's part (RayScanner::castPart), which looks at the
+// clock between queries: a small part of a millisecond on either engine.
+constexpr size_t kRaysPerQuery = 256;
 
 bool readCount(const tinyxml2::XMLElement* parent, const std::string& where, int* value,
                std::string* error) {
@@ -117,11 +121,11 @@ RayScanner::RayScanner(const RayConfig& config, std::string link, const Pose& po
   noise_ = NoiseModel(c.noise, random_);
 }
 
-bool RayScanner::measure(World& world, std::string* why) {
+bool RayScanner::start(const World& world, std::string* why) {
   const RayConfig& c = config_;
   Pose link_pose;
   Twist unused;
-  Status status = world.linkState(link_, "", &link_pose, &unused);
+  const Status status = world.linkState(link_, "", &link_pose, &unused);
   if (!status.ok()) {
     *why = "its link's pose: " + describe(status);
     return false;
@@ -134,13 +138,28 @@ bool RayScanner::measure(World& world, std::string* why) {
                  sensor.position.z + d.z * c.range_min},
                 d, span};
   }
-  status = world.castRays(rays_, &casts_);
-  if (!status.ok()) {
-    *why = "the ray query: " + describe(status);
-    return false;
-  }
-  hits_.swap(casts_);
+  casts_.clear();
   return true;
+}
+
+RayScanner::Cast RayScanner::castPart(World& world, SensorWork::Clock::time_point until,
+                                      std::string* why) {
+  do {
+    const size_t first = casts_.size();
+    const size_t count = std::min(kRaysPerQuery, rays_.size() - first);
+    part_.assign(rays_.begin() + first, rays_.begin() + first + count);
+    const Status status = world.castRays(part_, &part_casts_);
+    if (!status.ok()) {
+      *why = "the ray query: " + describe(status);
+      casts_.clear();
+      return Cast::Failed;
+    }
+    casts_.insert(casts_.end(), part_casts_.begin(), part_casts_.end());
+  } while (casts_.size() < rays_.size() && SensorWork::Clock::now() < until);
+  if (casts_.size() < rays_.size()) return Cast::More;
+  hits_.swap(casts_);
+  casts_.clear();
+  return Cast::Done;
 }
 
 double RayScanner::rayRange(int row, int column) const {
@@ -166,8 +185,7 @@ double RayScanner::range(int row, int column) const {
          vb * ((1 - hb) * rayRange(vjb, hja) + hb * rayRange(vjb, hjb));
 }
 
-bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why) {
-  if (!measure(world, why)) return false;
+void RayScanner::scan(std::vector<float>* ranges) {
   const RayConfig& c = config_;
   const int columns = c.rangeCount(), rows = c.verticalRangeCount();
   ranges->resize(static_cast<size_t>(columns) * rows);
@@ -184,7 +202,52 @@ bool RayScanner::scan(World& world, std::vector<float>* ranges, std::string* why
       }
       (*ranges)[static_cast<size_t>(j) * columns + i] = static_cast<float>(value);
     }
-  return true;
+}
+
+namespace {
+
+class MeasurementWork : public SensorWork {
+ public:
+  MeasurementWork(RayScanner* scanner, std::string label, const char* what, bool* failed,
+                  std::function<void()> measured)
+      : scanner_(scanner), label_(std::move(label)), what_(what), failed_(failed),
+        measured_(std::move(measured)) {}
+
+  bool withWorld(World& world, Clock::time_point until) override {
+    std::string why;
+    if (!started_) {
+      if (!scanner_->start(world, &why)) return fail(why);
+      started_ = true;
+    }
+    switch (scanner_->castPart(world, until, &why)) {
+      case RayScanner::Cast::More: return false;
+      case RayScanner::Cast::Done: measured_(); return true;
+      case RayScanner::Cast::Failed: return fail(why);
+    }
+    return true;
+  }
+
+ private:
+  bool fail(const std::string& why) {
+    if (!*failed_) ROS_ERROR_STREAM(label_ << " measured no " << what_ << ": " << why);
+    *failed_ = true;
+    return true;
+  }
+
+  RayScanner* scanner_;
+  std::string label_;
+  const char* what_;
+  bool* failed_;
+  std::function<void()> measured_;
+  bool started_ = false;
+};
+
+}  // namespace
+
+std::shared_ptr<SensorWork> measurementWork(RayScanner* scanner, const std::string& label,
+                                            const char* what, bool* failed,
+                                            std::function<void()> measured) {
+  return std::make_shared<MeasurementWork>(scanner, label, what, failed, std::move(measured));
 }
 
 }  // namespace onedof_sim::plugins

@@ -4,11 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <onedof_sim/world.h>
 
+#include "plugins/model_plugin.h"
 #include "sensor_noise.h"
 
 namespace onedof_sim::plugins {
@@ -48,9 +51,14 @@ class RayScanner {
   // link: scoped "model::link"; pose: the sensor on it; seed: the noise's generator's.
   RayScanner(const RayConfig& config, std::string link, const Pose& pose, uint64_t seed);
 
-  // Casts the rays at the world's present state; false (and the last measurement kept) when the
-  // world cannot give the link's pose or refuses the query, with *why.
-  bool measure(World& world, std::string* why);
+  // A measurement at the world's present state, in parts (measurementWork): start takes the
+  // link's pose and aims the rays, false with *why when the world cannot give the pose; castPart
+  // casts the rays not yet cast until `until` has passed (a part at least), and says whether all
+  // are cast, which makes them the measurement, or the query failed (*why; the last measurement
+  // kept). The world must not change between the two.
+  bool start(const World& world, std::string* why);
+  enum class Cast { More, Done, Failed };
+  Cast castPart(World& world, SensorWork::Clock::time_point until, std::string* why);
   // Of the last measurement: ray (row, column)'s range from the sensor, range_max where it met
   // nothing, as Gazebo's ray shape gives it (MultiRayShape::GetRange: no noise, no masking).
   double rayRange(int row, int column) const;
@@ -59,11 +67,11 @@ class RayScanner {
   // resolution of 1.
   double range(int row, int column) const;
 
-  // One scan (measure), as Gazebo's ray sensor reports it: the ranges row after row, each from
-  // min_angle to max_angle, +inf where a ray meets nothing before range_max, -inf where it meets
-  // something at range_min, else the distance with the <ray><noise> added, held within the
-  // range. False (and *ranges untouched) as measure.
-  bool scan(World& world, std::vector<float>* ranges, std::string* why);
+  // The last measurement as Gazebo's ray sensor reports a scan: the ranges row after row, each
+  // from min_angle to max_angle, +inf where a ray meets nothing before range_max, -inf where it
+  // meets something at range_min, else the distance with the <ray><noise> added, held within the
+  // range.
+  void scan(std::vector<float>* ranges);
 
   const RayConfig& config() const { return config_; }
 
@@ -74,9 +82,19 @@ class RayScanner {
   std::vector<Vec3> directions_;  // each ray's, in the sensor frame
   std::vector<Ray> rays_;
   std::vector<double> hits_;   // the last measurement's, per ray: castRays' distances
-  std::vector<double> casts_;  // the query's answer, before it is the measurement
+  std::vector<double> casts_;  // the query's answers so far, before they are the measurement
+  std::vector<Ray> part_;      // the rays of one castPart's query
+  std::vector<double> part_casts_;
   NoiseRandom random_;
   NoiseModel noise_;  // drawn from random_
 };
+
+// A measurement of `scanner` as sensor work: started and its rays cast part by part with the
+// world locked; then `measured` is called, the world still locked (the plugin that made the work
+// there). A measurement that fails is logged once, as "<label> measured no <what>: <why>"
+// (*failed: it has been).
+std::shared_ptr<SensorWork> measurementWork(RayScanner* scanner, const std::string& label,
+                                            const char* what, bool* failed,
+                                            std::function<void()> measured);
 
 }  // namespace onedof_sim::plugins
