@@ -243,6 +243,7 @@ void SimLoop::stepOnce(StepOutput* out) {
     for (auto& plugin : plugins) {
       plugin->afterStep(world_, {world_.timeNs(), world_.stepCount()});
       for (auto& work : plugin->takeSensorWork()) out->sensor_work.push_back(std::move(work));
+      takePublications(plugin.get(), out);
     }
   }
   if (requested) {
@@ -294,22 +295,24 @@ void SimLoop::stepOnce(StepOutput* out) {
 }
 
 // The step's sensor work, the parts that need the world (SensorWork::withWorld), with the lock let
-// go between them for the requests that only read it; then every plugin's messages. The rest of
-// the work is done unlocked, in publish.
+// go between them for the requests that only read it; then the messages that work made. The rest
+// of the work is done unlocked, in publish.
 void SimLoop::doSensorWork(std::unique_lock<std::mutex>& lock, StepOutput* out) {
-  if (!out->sensor_work.empty()) {
-    sensing_ = true;
-    for (const auto& work : out->sensor_work) {
-      while (!work->withWorld(world_, plugins::SensorWork::Clock::now() + kSensorWorkPart))
-        letCallbacksThrough(lock, false);
-    }
-    sensing_ = false;
-    sensed_.notify_all();
+  if (out->sensor_work.empty()) return;
+  sensing_ = true;
+  for (const auto& work : out->sensor_work) {
+    while (!work->withWorld(world_, plugins::SensorWork::Clock::now() + kSensorWorkPart))
+      letCallbacksThrough(lock, false);
   }
+  sensing_ = false;
+  sensed_.notify_all();
   for (auto& [model, plugins] : plugins_)
-    for (auto& plugin : plugins)
-      for (auto& publication : plugin->takePublications())
-        out->plugin_publications.push_back(std::move(publication));
+    for (auto& plugin : plugins) takePublications(plugin.get(), out);
+}
+
+void SimLoop::takePublications(plugins::ModelPlugin* plugin, StepOutput* out) {
+  for (auto& publication : plugin->takePublications())
+    out->plugin_publications.push_back(std::move(publication));
 }
 
 // The states and shapes due at this step that someone subscribes to, world locked.

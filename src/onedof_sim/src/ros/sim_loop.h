@@ -152,6 +152,8 @@ class SimLoop {
   void collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
                      bool want_markers);
   void doSensorWork(std::unique_lock<std::mutex>& lock, StepOutput* out);
+  // A plugin's messages so far, into the step's output.
+  void takePublications(plugins::ModelPlugin* plugin, StepOutput* out);
   bool awaitControllers(std::unique_lock<std::mutex>& lock, StepOutput* out);
   bool letGoOfExited(const std::vector<Lockstep::Awaited>& awaited, StepOutput* out);
   void showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited);

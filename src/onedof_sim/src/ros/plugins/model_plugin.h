@@ -114,8 +114,8 @@ class ModelPlugin {
   virtual void stop(World& /*world*/) {}
   // World locked, after the hooks of a step: the sensor work they left (SensorWork).
   virtual std::vector<std::shared_ptr<SensorWork>> takeSensorWork() { return {}; }
-  // World locked, after the hooks of a step and the withWorld phase of their sensor work: the
-  // messages to publish once it is unlocked.
+  // World locked, after the plugin's hooks of a step, and again after the withWorld phase of the
+  // step's sensor work if there was any: the messages to publish once it is unlocked.
   virtual std::vector<Publication> takePublications() { return {}; }
 };
 
