@@ -29,6 +29,15 @@ TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
                              'minimal_robot_description.urdf')
 # The node lists its engines; pytest parametrizes with them at collection.
 ENGINES = engine_names()
+# The model a node started without a world file places, as gzserver's worlds/empty.world does:
+# the world's ground.
+GROUND = 'ground_plane'
+GROUND_SDF = os.path.join(WORKSPACE, 'src', 'onedof_sim', 'models', 'ground_plane', 'model.sdf')
+
+
+def ground_plane_sdf():
+    with open(GROUND_SDF) as f:
+        return f.read()
 
 
 def pytest_configure(config):
@@ -250,12 +259,18 @@ def sim(ros, engine):
 @pytest.fixture
 def shared_sim(ros, rospy_client, engine):
     """The module's simulator of each engine, reset to what a fresh `-u` node has: paused at sim
-    time 0, no models, the start-up physics and parameters. Returns a GazeboApi on it."""
-    from api_client import GazeboApi
+    time 0, the ground plane its only model, the start-up physics and parameters. Returns a
+    GazeboApi on it."""
+    from api_client import GazeboApi, pose
     api = GazeboApi(rospy_client)
     api.pause_physics()
-    for name in api.get_world_properties().model_names:
-        res = api.delete_model(name)
+    names = api.get_world_properties().model_names
+    for name in names:
+        if name != GROUND:
+            res = api.delete_model(name)
+            assert res.success, res.status_message
+    if GROUND not in names:  # a test deleted it
+        res = api.spawn_sdf_model(GROUND, ground_plane_sdf(), '', pose(), '')
         assert res.success, res.status_message
     api.reset_simulation()
     # The first test on a fresh simulator records its start-up physics for the others.
@@ -271,7 +286,7 @@ def shared_sim(ros, rospy_client, engine):
             pickle.dump(api.get_physics_properties(), f)
     ros.master().setParam('/conftest', '/', ros.params_at_start)
     world = api.get_world_properties()
-    assert (world.sim_time, world.model_names) == (0.0, []), world
+    assert (world.sim_time, world.model_names) == (0.0, [GROUND]), world
     yield api
     # Paused until the next test resets it: a world left running (some tests run it flat out)
     # would take a core from the tests beside it meanwhile.

@@ -12,7 +12,7 @@ import pytest
 
 from api_client import (BOX_SDF, ROBOT, STEP_NS, GazeboApi, fixed_chain_sdf, pose,
                         ros_duration, ros_time, tutorial_urdf)
-from conftest import start_sim
+from conftest import GROUND, start_sim
 from onedof_harness.private_ros import wait_until
 
 DEFAULT_RATE = 1000.0
@@ -21,8 +21,8 @@ BOX_MASS = 1.0
 
 @pytest.fixture
 def api(shared_sim):
-    """The module's simulator (conftest's shared_sim: paused at 0, empty, the start-up physics)
-    with the tutorial robot alone at rest."""
+    """The module's simulator (conftest's shared_sim: paused at 0, the ground plane alone, the
+    start-up physics) with the tutorial robot at rest."""
     shared_sim.spawn_robot()
     return shared_sim
 
@@ -231,7 +231,7 @@ def test_a_chain_past_the_exact_solvers_joint_limit_is_refused_on_ode(api, engin
     if engine == 'ode':
         assert_refused(res, 'SpawnModel: the model has 999 moving joints; at most 50 are accepted '
                             'with the exact solver', "with quick_step (the node's ~quick_step")
-        assert api.get_world_properties().model_names == [ROBOT]
+        assert api.get_world_properties().model_names == [GROUND, ROBOT]
     else:
         assert res.success, res.status_message
     assert_still_running(api)
@@ -272,7 +272,7 @@ def test_a_spawn_inside_its_parse_blocks_no_other_client(ros, engine, rospy_clie
         asking.join(60)
         assert answers, 'get_world_properties and step_simulation waited for the spawn'
         world, steps = answers[0]
-        assert world.success and world.model_names == []
+        assert world.success and world.model_names == [GROUND]
         assert steps.success
         assert not spawned, 'the spawn answered before its model file was written'
     finally:
@@ -297,7 +297,7 @@ def test_a_spawn_inside_its_parse_blocks_no_other_client(ros, engine, rospy_clie
     spawning.join(120)
     assert spawned and spawned[0].success, spawned
     assert answered_in_flight > 0
-    assert other.get_world_properties().model_names == ['largest']
+    assert other.get_world_properties().model_names == [GROUND, 'largest']
 
 
 # --- time_step: within [1e-6, 0.1] s, so sim time stays within ROS time --------------------------

@@ -5,12 +5,15 @@ along its ray, on the wall's face within 1 mm where the ray meets it (the cube i
 exactly 3 m where it meets nothing, so every point is between the minimum and the maximum range
 (upstream's block_laser_clipping test); one intensity channel, unnamed, all 0. A second block
 laser with gaussianNoise scatters the points on the wall and the intensities, not those at the
-maximum range."""
+maximum range. A block laser looking down from 0.8 m, its range 1 m, over a world with Gazebo's
+ground plane and over one without it (upstream's block_laser_clipping world has none): with the
+ground every ray ends on the plane z = 0; without it, as in Gazebo, every ray meets nothing."""
 import math
 
 import pytest
 
 from api_client import pose
+from conftest import GROUND
 from onedof_harness.private_ros import wait_until
 from test_imu_ft import listen
 
@@ -141,3 +144,56 @@ def test_block_laser_points_lie_on_the_wall_and_at_max_range_where_nothing_is(
     intensities = cloud.channels[0].values
     assert len(set(intensities)) == len(intensities)
     assert all(abs(value) <= 6 * NOISE for value in intensities)
+
+
+# A block laser looking straight down (its x axis along the world's -z) from DOWN_HEIGHT, the
+# shape of upstream's block_laser_clipping world: 0.4 to 1 m, 0.6 rad by 0.8 rad.
+DOWN_HEIGHT, DOWN_MIN, DOWN_MAX = 0.8, 0.4, 1.0
+DOWN_COLUMNS, DOWN_ROWS = 7, 9
+DOWN_YAW, DOWN_PITCH = 0.3, 0.4
+LOOKING_DOWN_SDF = """<sdf version="1.6"><model name="looking_down"><static>true</static>
+<link name="link"><sensor type="ray" name="down">
+  <pose>0 0 0 0 1.5707963267948966 0</pose>
+  <update_rate>10</update_rate>
+  <ray>
+    <scan>
+      <horizontal><samples>{columns}</samples><resolution>1</resolution>
+        <min_angle>-{yaw}</min_angle><max_angle>{yaw}</max_angle></horizontal>
+      <vertical><samples>{rows}</samples><resolution>1</resolution>
+        <min_angle>-{pitch}</min_angle><max_angle>{pitch}</max_angle></vertical>
+    </scan>
+    <range><min>{min_range}</min><max>{max_range}</max><resolution>0.001</resolution></range>
+  </ray>
+  <plugin name="down_plugin" filename="libgazebo_ros_block_laser.so">
+    <topicName>down_cloud</topicName><frameName>down_link</frameName></plugin>
+</sensor></link></model></sdf>""".format(columns=DOWN_COLUMNS, rows=DOWN_ROWS, yaw=DOWN_YAW,
+                                        pitch=DOWN_PITCH, min_range=DOWN_MIN,
+                                        max_range=DOWN_MAX)
+
+
+@pytest.mark.parametrize('ground', [True, False], ids=['with_ground_plane', 'without_ground'])
+def test_a_block_laser_looking_down_sees_the_ground_plane_only_where_the_world_has_it(
+        shared_sim, ros, rospy_client, ground):
+    from sensor_msgs.msg import PointCloud
+    api = shared_sim
+    if not ground:
+        deleted = api.delete_model(GROUND)
+        assert deleted.success, deleted.status_message
+    spawned = api.spawn_sdf_model('looking_down', LOOKING_DOWN_SDF, '', pose(z=DOWN_HEIGHT), '')
+    assert spawned.success, spawned.status_message
+    heard = listen(ros, rospy_client, '/down_cloud', PointCloud)
+    assert api.step_simulation(100).success
+    wait_until(lambda: heard and heard[-1].header.stamp.to_nsec() >= 100000000, 30,
+               what='the cloud at 100 ms')
+    cloud = heard[-1]
+    assert len(cloud.points) == DOWN_COLUMNS * DOWN_ROWS
+    for index, point in enumerate(cloud.points):
+        row, column = divmod(index, DOWN_COLUMNS)
+        yaw = -DOWN_YAW + column * 2 * DOWN_YAW / (DOWN_COLUMNS - 1)
+        pitch = -DOWN_PITCH + row * 2 * DOWN_PITCH / (DOWN_ROWS - 1)
+        # The ray's component along the sensor's x axis, the world's -z, is cos(pitch) cos(yaw):
+        # the ground is DOWN_HEIGHT / that along it, within the 1 m range for every ray.
+        expected = DOWN_HEIGHT / (math.cos(pitch) * math.cos(yaw)) if ground else DOWN_MAX
+        assert norm(point) == pytest.approx(expected, abs=1e-3), (index, point)
+        assert point.x == pytest.approx(expected * math.cos(pitch) * math.cos(yaw), abs=1e-3), \
+            (index, point)

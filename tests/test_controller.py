@@ -18,7 +18,7 @@ import signal
 import pytest
 
 from api_client import ROBOT, GazeboApi
-from conftest import ENGINES, TUTORIAL_URDF, start_sim
+from conftest import ENGINES, GROUND, TUTORIAL_URDF, start_sim
 from onedof_harness.private_ros import wait_until
 from onedof_sim.transforms import quaternion_multiply
 from onedof_sim.tutorial import physics
@@ -340,7 +340,7 @@ def test_controller_goes_on_across_a_restarted_roscore(ros, robot):
                    what='the simulator to say it registered again')
     # Through the new master, from this node (rospy looks the service up per call) and from new
     # ones: a service call, and the clock on a new subscriber.
-    assert GazeboApi(robot.rospy).get_world_properties().model_names == [ROBOT]
+    assert GazeboApi(robot.rospy).get_world_properties().model_names == [GROUND, ROBOT]
     called = ros.run(['rosservice', 'call', '/gazebo/get_world_properties'])
     assert called.returncode == 0 and ROBOT in called.stdout, called.stdout + called.stderr
     echoed = ros.run(['rostopic', 'echo', '-n', '1', '/clock'])

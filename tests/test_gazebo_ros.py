@@ -7,7 +7,7 @@ import os
 import pytest
 
 from api_client import ROBOT, GazeboApi, pose
-from conftest import ENGINES, TUTORIAL_URDF, WORKSPACE
+from conftest import ENGINES, GROUND, TUTORIAL_URDF, WORKSPACE
 from gazebo_commands import output, run, start_serving
 from onedof_harness.private_ros import wait_until
 
@@ -57,10 +57,10 @@ def test_gzserver_runs_the_simulator_with_gzservers_arguments(ros, rospy_client,
     assert '(engine: %s)' % engine in physics.status_message
     log = ros.log_text(server)
     assert log.splitlines()[0].startswith('gzserver: onedof_sim, ' + STANDIN), log
-    # Gazebo's default world is this package's: no model, the node's physics.
-    assert "world 'default' from %s/src/onedof_sim/worlds/empty.world: 0 models" % WORKSPACE in log
+    # Gazebo's default world is this package's: the ground plane, the sun, the node's physics.
+    assert "world 'default' from %s/src/onedof_sim/worlds/empty.world: 1 model" % WORKSPACE in log
     assert 'ignoring command-line argument' not in log, log
-    assert GazeboApi(rospy_client).get_world_properties().model_names == []
+    assert GazeboApi(rospy_client).get_world_properties().model_names == [GROUND]
 
 
 def test_gzserver_help_says_what_stands_in(ros):
@@ -178,7 +178,7 @@ def test_books_launch_file_shape_works(ros, rospy_client, tmp_path):
     roslaunch = ros.start(['roslaunch', str(launch_file)], name='roslaunch')
     api = GazeboApi(rospy_client)
     wait_until(lambda: roslaunch.poll() is not None or
-               set(api.get_world_properties().model_names) == {ROBOT, 'cafe_table'}, 60,
+               set(api.get_world_properties().model_names) == {GROUND, ROBOT, 'cafe_table'}, 60,
                what='the robot and the table to be spawned')
     assert roslaunch.poll() is None, ros.log_text(roslaunch)
 

@@ -6,7 +6,7 @@ service and topic as Gazebo does."""
 import pytest
 
 from api_client import GazeboApi
-from conftest import ENGINES
+from conftest import ENGINES, GROUND
 from gazebo_commands import output, run, start_serving
 from onedof_harness.private_ros import wait_until
 
@@ -109,14 +109,15 @@ DATABASE_MODELS = {
 
 @pytest.mark.parametrize('engine', ENGINES)
 def test_database_models_spawn_and_rest(ros, rospy_client, engine):
-    """spawn_model -database NAME for each: the free ones fall onto the ground and rest."""
+    """spawn_model -database NAME for each: the free ones fall onto the ground (gzserver's
+    default world's ground_plane) and rest."""
     start_serving(ros, ['rosrun', 'gazebo_ros', 'gzserver', '-e', engine], 'gzserver')
     api = GazeboApi(rospy_client)
     for index, (name, (z, _)) in enumerate(sorted(DATABASE_MODELS.items())):
         result = run(ros, 'rosrun', 'gazebo_ros', 'spawn_model', '-database', name, '-sdf',
                      '-model', name, '-x', str(3.0 * index), '-z', str(z))
         assert result.returncode == 0, output(result)
-    assert set(api.get_world_properties().model_names) == set(DATABASE_MODELS)
+    assert set(api.get_world_properties().model_names) == {GROUND} | set(DATABASE_MODELS)
     api.run_for(2_000_000_000)
     for index, (name, (_, rest_z)) in enumerate(sorted(DATABASE_MODELS.items())):
         p = api.get_model_state(name, 'world').pose.position

@@ -9,7 +9,7 @@ import math
 import os
 
 from api_client import GazeboApi, pose
-from conftest import start_sim
+from conftest import GROUND, start_sim
 from onedof_harness.private_ros import wait_until
 
 ROBOTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'robots')
@@ -158,7 +158,7 @@ def test_a_sensor_that_cannot_be_given_is_a_clear_error_and_the_model_spawns(
     assert api.spawn_urdf_model('fixed_ft', fixed, '', pose(), '').success
     nobody = robot('imu_box').replace('<bodyName>imu_link', '<bodyName>no_such_link')
     assert api.spawn_urdf_model('lost_imu', nobody, '', pose(x=2, z=0.1), '').success
-    assert set(api.get_world_properties().model_names) == {'fixed_ft', 'lost_imu'}
+    assert set(api.get_world_properties().model_names) == {GROUND, 'fixed_ft', 'lost_imu'}
     log = ros.log_text('sim_' + engine)
     assert ("libgazebo_ros_ft_sensor.so for model 'fixed_ft' not started: jointName: "
             "ft_sensor_jnt is a fixed joint") in log, log

@@ -9,7 +9,7 @@ import math
 import os
 
 from api_client import GazeboApi, pose
-from conftest import start_sim
+from conftest import GROUND, start_sim
 from onedof_harness.private_ros import wait_until
 from test_imu_ft import in_frame, listen as listen_to, step_and_hear
 
@@ -145,7 +145,7 @@ def test_a_malformed_imu_sensor_is_a_clear_error_and_the_model_spawns(shared_sim
     assert api.spawn_urdf_model('bad_noise', bad_number, '', pose(z=0.1), '').success
     no_frame = robot().replace('<frameName>imu_sensor_frame</frameName>', '')
     assert api.spawn_urdf_model('no_frame', no_frame, '', pose(x=2, z=0.1), '').success
-    assert set(api.get_world_properties().model_names) == {'bad_noise', 'no_frame'}
+    assert set(api.get_world_properties().model_names) == {GROUND, 'bad_noise', 'no_frame'}
     log = ros.log_text('sim_' + engine)
     assert ("libgazebo_ros_imu_sensor.so for model 'bad_noise': sensor 'imu_sensor' not started: "
             "<imu><angular_velocity><x><noise><stddev> is ''abc'', not a number") in log, log

@@ -10,7 +10,7 @@ import struct
 import pytest
 
 from api_client import pose
-from conftest import WORKSPACE
+from conftest import GROUND, WORKSPACE
 
 MODELS = os.path.join(WORKSPACE, 'tests', 'mesh_models')
 MODEL = os.path.join(MODELS, 'onedof_mesh_block')
@@ -124,7 +124,7 @@ def test_meshes_past_the_limit_unreadable_or_unknown_are_refused_missing_left_ou
     # gazebo_ros' own answer for a package it cannot find.
     assert (refused('package://no_such_package/meshes/x.stl')
             == 'urdf reference package name does not exist: no_such_package')
-    assert api.get_world_properties().model_names == []
+    assert api.get_world_properties().model_names == [GROUND]
 
     # Prose that names the scheme is no package (gazebo_ros would look " URIs (see ..." up).
     commented = static_mesh_urdf('package://onedof_mesh_block/meshes/unit_block.stl').replace(

@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from api_client import pose
-from conftest import start_sim
+from conftest import GROUND, start_sim
 from controller_manager_cli import NS
 from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
@@ -217,7 +217,7 @@ def test_bad_configuration_refused_with_the_simulator_alive(robot, engine, ros, 
                what='the simulator to log %r' % reason)
     # The world goes on, intact.
     assert api.step_simulation(10).success
-    assert api.get_world_properties().model_names == ['one_DOF_robot']
+    assert api.get_world_properties().model_names == [GROUND, 'one_DOF_robot']
     assert cm.load_controller(STATES).ok
 
 

@@ -9,7 +9,7 @@ import subprocess
 import pytest
 
 from api_client import ROBOT, GazeboApi, pose
-from conftest import ENGINES, TUTORIAL_URDF, WORKSPACE, start_sim
+from conftest import ENGINES, GROUND, TUTORIAL_URDF, WORKSPACE, start_sim
 from onedof_harness.private_ros import wait_until
 
 DESCRIPTION_DIR = os.path.join(WORKSPACE, 'src', 'minimal_robot_description')
@@ -243,7 +243,7 @@ def test_spawn_model_errors_exit_non_zero_and_leave_the_sim_running(ros, running
         result = spawn_model(ros, *args)
         assert result.returncode != 0, succeeded(result)
         assert 'spawn_model: error: ' + message in result.stderr, succeeded(result)
-        assert api.get_world_properties().model_names == [ROBOT]
+        assert api.get_world_properties().model_names == [GROUND, ROBOT]
 
 
 def test_model_the_simulator_refuses_is_reported(ros, running_sim, rospy_client):
@@ -253,7 +253,7 @@ def test_model_the_simulator_refuses_is_reported(ros, running_sim, rospy_client)
     assert result.returncode != 0, succeeded(result)
     assert 'spawn_model: error: spawning nothing failed: ' in result.stderr
     assert result.stderr.strip().split('failed: ', 1)[1], 'no reason given'
-    assert GazeboApi(rospy_client).get_world_properties().model_names == []
+    assert GazeboApi(rospy_client).get_world_properties().model_names == [GROUND]
 
 
 # The book's exmpl_models cylinder (learning_ros: cylinder/model-1_4.sdf), reproduced: 10 kg with
@@ -382,7 +382,7 @@ def test_wait_spawns_only_after_the_awaited_model_exists(ros, running_sim, rospy
     robot = spawn_model(ros, *TUTORIAL_SPAWN_ROBOT, cwd=DESCRIPTION_DIR)
     assert robot.returncode == 0, succeeded(robot)
     assert waiting.wait(timeout=60) == 0, ros.log_text(waiting)
-    assert api.get_world_properties().model_names == [ROBOT, 'cafe_table']
+    assert api.get_world_properties().model_names == [GROUND, ROBOT, 'cafe_table']
 
 
 def test_bond_deletes_the_model_when_spawn_model_is_stopped(ros, running_sim, rospy_client):
@@ -391,12 +391,12 @@ def test_bond_deletes_the_model_when_spawn_model_is_stopped(ros, running_sim, ro
     wait_until(lambda: bonded.poll() is not None or 'holding cafe_table' in ros.log_text(bonded), 60,
                what='spawn_model -b to hold the table')
     assert bonded.poll() is None, ros.log_text(bonded)
-    assert api.get_world_properties().model_names == ['cafe_table']
+    assert api.get_world_properties().model_names == [GROUND, 'cafe_table']
 
     os.killpg(bonded.pid, signal.SIGINT)  # Ctrl-C
     assert bonded.wait(timeout=60) == 0, ros.log_text(bonded)
     assert 'DeleteModel: successfully deleted model' in ros.log_text(bonded)
-    assert api.get_world_properties().model_names == []
+    assert api.get_world_properties().model_names == [GROUND]
 
 
 # --- the model path ---------------------------------------------------------------------------------
@@ -471,17 +471,43 @@ def test_gazebo_model_path_folders_are_searched(ros, rospy_client, engine, tmp_p
             '/gazebo does not say where its models are' in unsaid.stderr), succeeded(unsaid)
 
 
-def test_ground_plane_model_spawns_and_holds_a_box_on_z0(ros, running_sim, rospy_client):
-    # The world has its own ground; the model's surface coincides with it, and a box dropped on
-    # both comes to rest at z = 0 without being thrown off.
-    result = spawn_model(ros, '-database', 'ground_plane', '-sdf', '-model', 'ground_plane')
-    assert result.returncode == 0, succeeded(result)
+def test_the_ground_is_the_ground_plane_model_listed_deletable_and_spawned_again(
+        ros, running_sim, rospy_client):
+    """As in Gazebo, the ground is the ground_plane model that the default world places: static,
+    listed by get_world_properties and /gazebo/model_states; a box dropped on it comes to rest at
+    z = 0. Deleted, nothing holds the box, which falls. Spawned again (spawn_model -database
+    ground_plane), it holds a box at z = 0 once more."""
+    from gazebo_msgs.msg import ModelStates
     api = GazeboApi(rospy_client)
-    assert api.get_model_properties('ground_plane').is_static
-    api.spawn_box(initial_pose=pose(z=0.5))
-    start = api.get_world_properties().sim_time
-    wait_until(lambda: api.get_world_properties().sim_time > start + 1.5, 120, what='1.5 s of sim time')
-    state = api.get_model_state('box', '')
+
+    def box_after_drop(seconds):
+        api.spawn_box(initial_pose=pose(z=0.5))
+        start = api.get_world_properties().sim_time
+        wait_until(lambda: api.get_world_properties().sim_time > start + seconds, 120,
+                   what='%g s of sim time' % seconds)
+        state = api.get_model_state('box', '')
+        assert api.delete_model('box').success
+        return state
+
+    assert api.get_world_properties().model_names == [GROUND]
+    assert GROUND in rospy_client.wait_for_message('/gazebo/model_states', ModelStates,
+                                                   timeout=60).name
+    assert api.get_model_properties(GROUND).is_static
+    state = box_after_drop(1.5)
     assert state.pose.position.z == pytest.approx(0.1, abs=0.005)
     assert math.hypot(state.pose.position.x, state.pose.position.y) < 0.001
+    assert abs(state.twist.linear.z) < 0.01
+
+    deleted = api.delete_model(GROUND)
+    assert deleted.success, deleted.status_message
+    assert api.get_world_properties().model_names == []
+    state = box_after_drop(1.0)
+    # Free fall from 0.5 m for about a second: well below where the ground was, and falling.
+    assert state.pose.position.z < -2 and state.twist.linear.z < -5, state
+
+    result = spawn_model(ros, '-database', 'ground_plane', '-sdf', '-model', GROUND)
+    assert result.returncode == 0, succeeded(result)
+    assert api.get_world_properties().model_names == [GROUND]
+    state = box_after_drop(1.5)
+    assert state.pose.position.z == pytest.approx(0.1, abs=0.005)
     assert abs(state.twist.linear.z) < 0.01

@@ -23,7 +23,7 @@ import pytest
 import yaml
 
 from api_client import BOX_SDF, GazeboApi, ROBOT
-from conftest import WORKSPACE
+from conftest import GROUND, WORKSPACE
 from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
 from test_controller import Topic
@@ -234,10 +234,10 @@ class Checks:
 
     def robot_launch(self, command):
         """Launched while the first simulator runs, its simulator takes the name /gazebo (ROS
-        shuts the old node down) and the robot is spawned into the new, empty world; the
+        shuts the old node down) and the robot is spawned into the new world (its ground alone); the
         controller reconnects."""
         proc = self.s.start(command)
-        wait_until(lambda: self.s.alive(proc) or self.world_models() == [ROBOT], 90,
+        wait_until(lambda: self.s.alive(proc) or self.world_models() == [GROUND, ROBOT], 90,
                    what='the launch to spawn the robot into a new world')
         assert self.s.rospy.has_param('/robot_description')
         self.table = False

@@ -3,12 +3,14 @@
 // it and runs the same on pybullet with its own loaders). No ROS: what differs between the engines
 // is physics only.
 //
-//   tutorial_scenario scenario --physics NAME --urdf F --table F --table-x X --table-phase N
-//                              --kp KP --kv KV --phase-seconds S --commands C1,C2,...
+//   tutorial_scenario scenario --physics NAME --ground F --urdf F --table F --table-x X
+//                              --table-phase N --kp KP --kv KV --phase-seconds S
+//                              --commands C1,C2,...
 //     The tutorial's controller law every 10 ms of sim time (read q, qdot; an effort job of
 //     Kp wrap(c - q) - Kv qdot for 10 ms from now), one phase per command, each S long; the table
 //     spawned at (X, 0, 0) when phase N (0-based) starts. Prints CSV t,q,qdot,torque per tick.
-//   tutorial_scenario release --physics NAME --urdf F --z Z --q Q --effort E --seconds S
+//   tutorial_scenario release --physics NAME --ground F --urdf F --z Z --q Q --effort E
+//                             --seconds S
 //     The robot spawned Z above the origin, joint1 at rest at Q, a constant effort E on it from
 //     the start. Prints CSV t,q,qdot after every step (t = 0 first).
 #include <cmath>
@@ -31,9 +33,10 @@ constexpr const char* kRobot = "one_DOF_robot";
 constexpr const char* kJoint = "joint1";
 
 const char* const kUsage =
-    "usage: tutorial_scenario scenario --physics NAME --urdf F --table F --table-x X "
+    "usage: tutorial_scenario scenario --physics NAME --ground F --urdf F --table F --table-x X "
     "--table-phase N --kp KP --kv KV --phase-seconds S --commands C1,C2,...\n"
-    "       tutorial_scenario release --physics NAME --urdf F --z Z --q Q --effort E --seconds S";
+    "       tutorial_scenario release --physics NAME --ground F --urdf F --z Z --q Q --effort E "
+    "--seconds S";
 
 struct UsageError {
   std::string what;
@@ -93,6 +96,14 @@ onedof_sim::JointInfo joint1(const onedof_sim::World& world) {
   return info;
 }
 
+// The world of the node's default world file: the ground plane model (F of --ground, the
+// package's models/ground_plane/model.sdf) at the origin, placed first as that world places it.
+void addGround(onedof_sim::World& world, const Options& options) {
+  check(world.spawn("ground_plane", readFile(options.text("ground")), onedof_sim::ModelFormat::Sdf,
+                    onedof_sim::Pose()),
+        "spawn the ground plane");
+}
+
 onedof_sim::Pose at(double x, double z) {
   onedof_sim::Pose pose;
   pose.position.x = x;
@@ -111,6 +122,7 @@ int scenario(const Options& options) {
   if (phase_ticks < 1) throw UsageError{"--phase-seconds must be at least 0.01"};
 
   onedof_sim::World world(options.text("physics"));
+  addGround(world, options);
   check(world.spawn(kRobot, readFile(options.text("urdf")), onedof_sim::ModelFormat::Urdf,
                     at(0, 0)),
         "spawn the robot");
@@ -135,6 +147,7 @@ int scenario(const Options& options) {
 
 int release(const Options& options) {
   onedof_sim::World world(options.text("physics"));
+  addGround(world, options);
   check(world.spawn(kRobot, readFile(options.text("urdf")), onedof_sim::ModelFormat::Urdf,
                     at(0, options.number("z"))),
         "spawn the robot");

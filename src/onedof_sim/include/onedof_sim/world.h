@@ -201,8 +201,7 @@ struct TriangleMesh {
 };
 
 // One visual of a link (<visual>) in world coordinates, for rendering: what the model gave at
-// spawn, placed where its link is. The world's built-in ground has no visual: a world shows a
-// ground where a model gives one (Gazebo's ground_plane model).
+// spawn, placed where its link is.
 struct VisualShape {
   std::string model;
   std::string link;  // bare
@@ -256,8 +255,7 @@ struct ContactPoint {
   // What the contact put on each collision's link over the step, world axes: the force at
   // `position` (normal and friction; wrench2's is wrench1's opposite) and its torque about the
   // centre of mass of the body the link moves with (its links welded by fixed joints included);
-  // for a link without a body (anchored, static), about its own centre of mass, and for the
-  // ground about the world's origin.
+  // for a link without a body (anchored, static: a ground plane's), about its own centre of mass.
   Wrench wrench1, wrench2;
 };
 
@@ -266,10 +264,6 @@ struct Contact {
   std::string collision1, collision2;  // scoped "model::link::collision"
   std::vector<ContactPoint> points;
 };
-
-// The scoped name of the world's own ground plane in contacts, as Gazebo's ground_plane model
-// names its collision.
-constexpr const char* kGroundCollision = "ground_plane::link::collision";
 
 // A model read from its XML and checked against every limit that does not depend on a world
 // (World::prepare), for World::spawn to add to one. Self-contained: made without a world, it can
@@ -299,7 +293,9 @@ class World {
   // The engines World can run on, in registry order; the first is the default.
   static std::vector<std::string> engineNames();
 
-  // Throws std::invalid_argument for an engine not in engineNames().
+  // An empty world: no ground, as in Gazebo, where the ground is a model a world places (its
+  // ground_plane, a static <plane> collision). Throws std::invalid_argument for an engine not in
+  // engineNames().
   explicit World(const std::string& engine = engineNames().front(),
                  const PhysicsParams& params = PhysicsParams());
   ~World();
@@ -491,7 +487,7 @@ class World {
   std::vector<VisualShape> visualShapes() const;
 
   // For each ray, the distance from its start to the first collision shape it meets within its
-  // length (every model's, the sensor's own included, meshes and the ground plane), found by
+  // length (every model's, the sensor's own included, meshes and planes), found by
   // the engine's own collision detection; +infinity where it meets none. A ray does not meet a
   // box, sphere, cylinder or capsule that holds its start (inside or on its surface), as a GPU
   // laser does not see its own case: a lidar on a box link starts its rays on that box's face.
@@ -502,11 +498,12 @@ class World {
 
   // The contacts the last step resolved, each point with the force the step's contact constraint
   // put through it, that involve one of `collisions` (scoped "model::link::collision"; a URDF's
-  // unnamed collisions are LINK_collision, LINK_collision_1, ...; the ground kGroundCollision):
-  // one Contact for each pair of collisions that touched, with the named one as collision1 (the
-  // first named, when both are), in the engine's order. Empty before the first step and after a
-  // model is deleted or the engine is built again, until the next step. Refuses, with *out empty,
-  // a name that is no collision in the world (CollisionNotFound, subject: the name).
+  // unnamed collisions are LINK_collision, LINK_collision_1, ...; Gazebo's ground plane's is
+  // ground_plane::link::collision): one Contact for each pair of collisions that touched, with
+  // the named one as collision1 (the first named, when both are), in the engine's order. Empty
+  // before the first step and after a model is deleted or the engine is built again, until the
+  // next step. Refuses, with *out empty, a name that is no collision in the world
+  // (CollisionNotFound, subject: the name).
   Status contacts(const std::vector<std::string>& collisions, std::vector<Contact>* out) const;
 
   // What step() had to do on its own since the last call, for the owner to log: a model's speed

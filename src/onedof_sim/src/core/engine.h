@@ -40,8 +40,8 @@ class EngineFault : public std::runtime_error {
 constexpr double kSlidingSpeed = 0.01;
 
 struct ShapeSpec {
-  // Box, Cylinder (along z), Sphere or Mesh; Plane (the plane z = 0 of its pose) only among a
-  // model's anchored shapes (the world's ground is addGroundPlane).
+  // Box, Cylinder (along z), Sphere or Mesh; Plane (the plane z = 0 of its pose, unbounded) only
+  // among a model's anchored shapes: a world's ground is a model's plane (Gazebo's ground_plane).
   GeometryShape shape = GeometryShape::Box;
   Vec3 size;   // as CollisionShape::size
   Pose pose;   // in the body frame; for an anchored shape, set by setAnchoredShapePose
@@ -131,8 +131,7 @@ struct BodyRef {
 };
 
 // One collision shape inside an engine: shape `shape` of a model's body `body` (in its BodySpec's
-// shapes), or the model's anchored shape `shape` (body -1: in its ModelSpec's anchored_shapes), or
-// the ground plane (model null).
+// shapes), or the model's anchored shape `shape` (body -1: in its ModelSpec's anchored_shapes).
 struct ShapeRef {
   const EngineModel* model = nullptr;
   int body = -1;
@@ -160,8 +159,6 @@ class Engine {
   // for are kept by World for get_physics_properties and ignored here.
   // Any call may throw EngineFault.
   virtual void setParams(const PhysicsParams& params) = 0;
-  // The ground plane z = 0 with Gazebo's surface; called once, before any model.
-  virtual void addGroundPlane(double mu, double mu2) = 0;
   // Bodies of one model never collide with each other.
   virtual std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) = 0;
   // Whether the solver under these parameters is exact, its step cost growing faster than
@@ -177,7 +174,7 @@ class Engine {
   // Whether step(..., retake = true) takes a step another way than a plain step under these
   // parameters does, so that retaking one that threw EngineFault is worth a new engine.
   virtual bool retakesFailedSteps(const PhysicsParams& params) const = 0;
-  // The bodies in touch in the last step (the contacts it resolved, ground contacts included),
+  // The bodies in touch in the last step (the contacts it resolved, anchored shapes' included),
   // each once: the bodies an EngineFault inside that step can involve. Readable after a fault.
   // Empty when the engine cannot tell.
   virtual std::vector<BodyRef> contactBodies() const = 0;
@@ -186,7 +183,7 @@ class Engine {
   // Valid until the engine's models change: a ShapeRef names a model only while it lives.
   virtual void contacts(std::vector<EngineContact>* out) const = 0;
   // For each ray (a unit direction, a length >= 0), the distance along it to the first
-  // collision shape it meets, the ground plane included, through the engine's own collision
+  // collision shape it meets, a model's plane included, through the engine's own collision
   // detection, as the bodies stand now; +infinity where it meets none. Every shape counts: a
   // model's own bodies are not left out.
   virtual void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) = 0;

@@ -45,7 +45,6 @@ const EngineEntry& findEngine(const std::string& name) {
 World::Impl::Impl(const std::string& name, const PhysicsParams& p)
     : engine_name(name), engine(findEngine(name).make()) {
   engine->reseed();
-  engine->addGroundPlane(kGroundMu, kGroundMu2);
   // A constructor cannot report: invalid parameters fall back to the defaults.
   applyParams(validateParams(p).ok() ? p : PhysicsParams());
 }
@@ -375,11 +374,6 @@ void World::resetSimulation() {
 
 std::vector<CollisionShape> World::collisionShapes() const {
   std::vector<CollisionShape> shapes;
-  CollisionShape ground;
-  ground.model = kGroundModel;
-  ground.link = "link";
-  ground.shape = GeometryShape::Plane;
-  shapes.push_back(ground);
   for (const auto& model : impl_->models)
     for (const LinkRecord& link : model->links)
       for (const CollisionDescription& collision : link.desc.collisions) {

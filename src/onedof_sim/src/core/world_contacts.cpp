@@ -11,10 +11,6 @@ namespace onedof_sim {
 using namespace core;
 
 bool World::Impl::findCollision(const std::string& scoped, ShapeRef* shape) const {
-  if (scoped == kGroundCollision) {
-    *shape = ShapeRef();
-    return true;
-  }
   const size_t split = scoped.rfind("::");
   if (split == std::string::npos) return false;
   ModelRecord* model;
@@ -40,11 +36,6 @@ bool World::Impl::findCollision(const std::string& scoped, ShapeRef* shape) cons
 }
 
 bool World::Impl::describeShape(const ShapeRef& shape, std::string* name, Vec3* centre) const {
-  if (!shape.model) {
-    *name = kGroundCollision;
-    *centre = Vec3();
-    return true;
-  }
   for (const auto& model : models) {
     if (model->engine_model.get() != shape.model) continue;
     int first = 0;

@@ -23,7 +23,6 @@ void World::Impl::rebuildEngine(const std::vector<BodyState>& states) {
   for (const auto& model : models) model->engine_model.reset();  // before the engine they live in
   contacts_current = false;
   engine = findEngine(engine_name).make();
-  engine->addGroundPlane(kGroundMu, kGroundMu2);
   engine->setParams(params);
   for (size_t i = 0; i < models.size(); ++i) {
     ModelRecord* model = models[i].get();
@@ -72,7 +71,7 @@ Status World::Impl::stepContained() {
       stepEngine(retake);
       break;
     } catch (const EngineFault& error) {
-      if (models.empty()) throw;  // the ground alone: nothing to take out
+      if (models.empty()) throw;  // nothing to take out
       const std::vector<BodyState> states = saved_states;
       if (!retake && engine->retakesFailedSteps(params)) {
         // The step once more from where it started, on a new engine, the way the engine takes

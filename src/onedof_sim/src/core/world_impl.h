@@ -47,9 +47,6 @@ namespace onedof_sim {
 namespace core {
 
 constexpr int64_t kForever = std::numeric_limits<int64_t>::max();
-constexpr const char* kGroundModel = "ground_plane";
-// Gazebo's ground plane surface.
-constexpr double kGroundMu = 100, kGroundMu2 = 50;
 // Above this a link crosses 0.1 m per default step: contacts tunnel and the state means nothing,
 // so it is a blow-up being born, not motion. Nothing in a robot arm gets near it.
 constexpr double kMaxLinearSpeed = 100;
@@ -310,7 +307,7 @@ struct World::Impl {
   // whose bodies were in its contacts. Indices into models.
   std::vector<size_t> faultedModels() const;
 
-  // After an engine call threw EngineFault: a new engine with the world's parameters and ground,
+  // After an engine call threw EngineFault: a new engine with the world's parameters,
   // and every model in it again, its bodies at `states` (saveStates' records, made before the
   // failed call on the old engine) and its joints where they were. saved_states is left empty.
   void rebuildEngine(const std::vector<BodyState>& states);

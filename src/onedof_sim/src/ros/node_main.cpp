@@ -109,10 +109,11 @@ int runSimulatorNode(int argc, char** argv,
   std::string error;
   const onedof_sim::ServerArguments arguments = onedof_sim::parseServerArguments(args);
   // A world that cannot be loaded ends the node at start-up, as gzserver ends.
-  if (!arguments.world_file.empty()) {
+  {
     onedof_sim::WorldFile world;
-    if (!readWorldFileUnlessInterrupted(arguments.world_file, options.model_path,
-                                        options.physics, &world, &error)) {
+    if (!readWorldFileUnlessInterrupted(
+            arguments.world_file.empty() ? onedof_sim::kDefaultWorldFile : arguments.world_file,
+            options.model_path, options.physics, &world, &error)) {
       ROS_FATAL_STREAM("onedof_sim: " << error);
       return 1;
     }
@@ -142,9 +143,9 @@ int runSimulatorNode(int argc, char** argv,
   } catch (const std::invalid_argument& e) {
     // An unknown engine (World's constructor) or invalid physics parameters (setParams).
     ROS_FATAL_STREAM("onedof_sim: " << e.what()
-                     << (options.world ? " (the world file's <physics> with the node's "
-                                         "parameters over it)"
-                                       : ""));
+                     << (!arguments.world_file.empty() ? " (the world file's <physics> with the "
+                                                         "node's parameters over it)"
+                                                       : ""));
     return 1;
   } catch (const onedof_sim::WorldModelRefused& e) {
     ROS_FATAL_STREAM("onedof_sim: " << e.what());

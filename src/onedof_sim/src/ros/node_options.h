@@ -51,10 +51,14 @@ struct NodeOptions {
 // gzserver's command line as the node takes it: -u/--pause, -e ENGINE, and the world file (the
 // last argument that is not a flag nor a flag's value). Every other argument is logged as
 // ignored.
+// The world gzserver starts with when given none: Gazebo's worlds/empty.world (this package's
+// has it), its ground plane and sun.
+constexpr const char* kDefaultWorldFile = "worlds/empty.world";
+
 struct ServerArguments {
   bool paused = false;
   std::string engine;
-  std::string world_file;
+  std::string world_file;  // empty: none given (kDefaultWorldFile is loaded)
 };
 ServerArguments parseServerArguments(const std::vector<std::string>& args);
 

@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "../ground_plane.h"
 #include "onedof_sim/pose_math.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
 namespace {
+
+using testing_support::kGroundCollision;
 
 constexpr double kGravity = 9.8;  // PhysicsParams' default
 
@@ -46,6 +49,7 @@ Vec3 totalForce(const Contact& contact, bool second = false) {
 
 class ContactReport : public ::testing::TestWithParam<std::string> {
  protected:
+  void SetUp() override { testing_support::addGroundPlane(world_); }
   void spawn(const std::string& name, const std::string& xml, ModelFormat format, const Pose& pose) {
     const Status status = world_.spawn(name, xml, format, pose);
     ASSERT_TRUE(status.ok()) << status;
@@ -164,6 +168,25 @@ TEST_P(ContactReport, ABoxInTheAirTouchesNothing) {
   spawn("box", boxSdf("box", 1, {0.2, 0.2, 0.2}), ModelFormat::Sdf, at(0, 0, 5));
   steps(100);
   EXPECT_TRUE(contactsOf({"box::link::collision", kGroundCollision}).empty());
+}
+
+// The ground is the ground plane model alone: deleted, the box that rested on it falls, touching
+// nothing, and its collision is no longer in the world.
+TEST_P(ContactReport, DeletingTheGroundPlaneLetsTheBoxOnItFall) {
+  spawn("box", boxSdf("box", 1, {0.2, 0.2, 0.2}), ModelFormat::Sdf, at(0, 0, 0.1));
+  steps(500);
+  ASSERT_EQ(contactsOf({"box::link::collision"}).size(), 1u);
+  ASSERT_TRUE(world_.deleteModel("ground_plane").ok());
+  steps(500);
+  EXPECT_TRUE(contactsOf({"box::link::collision"}).empty());
+  Pose pose;
+  Twist twist;
+  ASSERT_TRUE(world_.modelState("box", "", &pose, &twist).ok());
+  // Half a second of free fall: 1.2 m down at 4.9 m/s.
+  EXPECT_NEAR(pose.position.z, 0.1 - kGravity * 0.5 * 0.5 / 2, 0.01);
+  EXPECT_NEAR(twist.linear.z, -kGravity * 0.5, 0.01);
+  std::vector<Contact> found;
+  EXPECT_EQ(world_.contacts({kGroundCollision}, &found).code, StatusCode::CollisionNotFound);
 }
 
 // A 3 kg box on a 1 kg box on the ground: the lower box meets the ground, which holds both up,

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine.h"
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 #include "world_impl.h"
 
@@ -27,7 +28,6 @@ class FailingEngine : public core::Engine {
   FailingEngine(std::unique_ptr<core::Engine> engine, bool after_step, bool retakes)
       : engine_(std::move(engine)), after_step_(after_step), retakes_(retakes) {}
   void setParams(const PhysicsParams& params) override { engine_->setParams(params); }
-  void addGroundPlane(double mu, double mu2) override { engine_->addGroundPlane(mu, mu2); }
   std::unique_ptr<core::EngineModel> addModel(const core::ModelSpec& spec) override {
     return engine_->addModel(spec);
   }
@@ -86,7 +86,6 @@ std::unique_ptr<core::Engine> makeEngine(const std::string& name) {
   for (const core::EngineEntry& entry : core::engineRegistry())
     if (entry.name == name) {
       auto engine = entry.make();
-      engine->addGroundPlane(100, 50);
       engine->setParams(PhysicsParams());
       return engine;
     }
@@ -158,8 +157,10 @@ Pose at(double x, double z) {
   return pose;
 }
 
-// The pendulum swinging from 1 rad and a box dropped beside it; `victim`: a box far from both.
+// On the ground plane, the pendulum swinging from 1 rad and a box dropped beside it; `victim`: a
+// box far from both.
 void populate(World* world, bool victim) {
+  testing_support::addGroundPlane(*world);
   const Status spawned = world->spawn("pendulum", kPendulum, ModelFormat::Urdf, Pose());
   ASSERT_TRUE(spawned.ok()) << spawned;
   ASSERT_TRUE(world->setModelConfiguration("pendulum", {"hinge"}, {1.0}).ok());
@@ -204,7 +205,7 @@ TEST(EngineFault, OdeFailingInsideAStepRemovesTheModelAndTheWorldStepsOn) {
   ASSERT_TRUE(twin.step().ok());
   EXPECT_EQ(failed.code, StatusCode::EngineFault) << failed;
   EXPECT_NE(failed.subject.find("assertion"), std::string::npos) << failed.subject;
-  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"pendulum", "box"}));
+  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"ground_plane", "pendulum", "box"}));
   const std::vector<std::string> warnings = world.takeWarnings();
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("'victim'"), std::string::npos) << warnings[0];
@@ -228,7 +229,7 @@ TEST(EngineFault, OdeFailingInsideAStepRemovesTheModelAndTheWorldStepsOn) {
   twist.linear.z = kNaN;
   WorldTestAccess::engineModel(world, "box").setBodyState(0, pose, twist);
   EXPECT_EQ(world.step().code, StatusCode::EngineFault);
-  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"pendulum", "victim"}));
+  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"ground_plane", "pendulum", "victim"}));
   for (int i = 0; i < 500; ++i) ASSERT_TRUE(world.step().ok());
   ASSERT_TRUE(world.modelState("victim", "", &pose, &twist).ok());
   EXPECT_NEAR(pose.position.z, 0.05, 0.01);  // fell onto the ground
@@ -291,7 +292,7 @@ TEST(EngineFault, OdeFailureIsPinnedOnTheOneModelInItsContactsElseTheWorldStops)
   WorldTestAccess::failNextStep(world, true, false);
   const Status removed = world.step();
   EXPECT_EQ(removed.code, StatusCode::EngineFault) << removed;
-  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"pendulum", "victim"}));
+  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"ground_plane", "pendulum", "victim"}));
   const std::vector<std::string> warnings = world.takeWarnings();
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("'box'"), std::string::npos) << warnings[0];
@@ -306,7 +307,8 @@ TEST(EngineFault, OdeFailureIsPinnedOnTheOneModelInItsContactsElseTheWorldStops)
   const Status stopped = world.step();
   EXPECT_EQ(stopped.code, StatusCode::EngineFaultUnattributed) << stopped;
   EXPECT_NE(stopped.subject.find("'victim', 'box2'"), std::string::npos) << stopped.subject;
-  EXPECT_EQ(world.modelNames(), (std::vector<std::string>{"pendulum", "victim", "box2"}));
+  EXPECT_EQ(world.modelNames(),
+            (std::vector<std::string>{"ground_plane", "pendulum", "victim", "box2"}));
   EXPECT_EQ(world.timeNs(), start_ns);
   ASSERT_TRUE(world.modelState("victim", "", &after, &twist).ok());
   EXPECT_EQ(after.position.x, before.position.x);

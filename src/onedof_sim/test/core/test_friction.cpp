@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -52,6 +53,7 @@ TEST_P(Friction, ABoxSlidAcrossTheGroundStopsWhereCoulombsLawSays) {
   const double expected = speed * speed / (2 * kBoxMu * kG);
   for (double heading : {0.0, 0.4, M_PI / 4}) {
     World world(GetParam());
+    testing_support::addGroundPlane(world);
     ASSERT_TRUE(world.spawn("box", kBoxSdf, ModelFormat::Sdf, at(0, 0, 0.05)).ok());
     steps(&world, 500);
     Pose start;
@@ -89,6 +91,7 @@ class CasterBase {
     std::ifstream file(ONEDOF_SOURCE_DIR "/tests/robots/caster_base.urdf");
     std::stringstream urdf;
     urdf << file.rdbuf();
+    testing_support::addGroundPlane(world_);
     const Status spawned =
         world_.spawn("caster_base", urdf.str(), ModelFormat::Urdf, at(0, 0, kRadius));
     EXPECT_TRUE(spawned.ok()) << spawned;

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -139,6 +140,7 @@ constexpr int kSteps = 2000;
 
 Outcome run(const std::string& engine, const SweepCase& c) {
   World world(engine);
+  testing_support::addGroundPlane(world);
   const double start_z = (kDropHeight + 1) * c.radius;
   Pose pose;
   pose.position.z = start_z;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -264,6 +265,7 @@ void expectBlockBodyRestsOnTheGround(const std::string& engine, const std::strin
   MeshFolder folder;
   const std::string file = folder.write(name, data);
   World world(engine);
+  testing_support::addGroundPlane(world);
   const Status status = world.spawn(
       "body", movingMeshUrdf(uri_prefix + file, sides, sides, sides.z / 2), ModelFormat::Urdf,
       at(0, 0, drop));
@@ -334,6 +336,7 @@ TEST_P(MeshCollisions, MeshBlockRestsOnTheGroundAndOnABox) {
   const std::string stl = folder.write("block.stl", boxStl(kBlockLo, kBlockHi));
   const Vec3 sides{0.2, 0.2, 0.3};
   World world(GetParam());
+  testing_support::addGroundPlane(world);
   Status status = world.spawn("on_ground", movingMeshUrdf(stl, sides, sides, 0.15),
                               ModelFormat::Urdf, at(1, 0, 0.05));
   ASSERT_TRUE(status.ok()) << status;
@@ -354,12 +357,12 @@ TEST_P(MeshCollisions, CollisionShapesNameTheFileAndScale) {
   ASSERT_TRUE(world.spawn("floor", staticMeshUrdf(stl, {2, 2, 0.3}), ModelFormat::Urdf,
                           at(1, 0, 0)).ok());
   const std::vector<CollisionShape> shapes = world.collisionShapes();
-  ASSERT_EQ(shapes.size(), 2u);
-  EXPECT_EQ(shapes[1].shape, GeometryShape::Mesh);
-  EXPECT_EQ(shapes[1].mesh_file, stl);
-  EXPECT_EQ(shapes[1].size.x, 2);
-  EXPECT_EQ(shapes[1].size.z, 0.3);
-  EXPECT_EQ(shapes[1].pose.position.x, 1);
+  ASSERT_EQ(shapes.size(), 1u);
+  EXPECT_EQ(shapes[0].shape, GeometryShape::Mesh);
+  EXPECT_EQ(shapes[0].mesh_file, stl);
+  EXPECT_EQ(shapes[0].size.x, 2);
+  EXPECT_EQ(shapes[0].size.z, 0.3);
+  EXPECT_EQ(shapes[0].pose.position.x, 1);
 }
 
 // model:// and package:// (which Gazebo's URDF conversion reads as model://) look in the model

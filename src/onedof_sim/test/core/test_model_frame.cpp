@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 #include "onedof_sim/pose_math.h"
 
@@ -225,6 +226,7 @@ TEST_P(ModelFrames, PioneerSetAtThreeThreeRestsOnItsWheelsAndDrives) {
   PhysicsParams params;
   params.step = kStep;
   World world(GetParam(), params);
+  testing_support::addGroundPlane(world);
   ASSERT_TRUE(world.spawn("pioneer2dx", pioneerSdf(), ModelFormat::Sdf, Pose()).ok());
   for (int i = 0; i < 300; ++i) ASSERT_TRUE(world.step().ok());
   const double heading = 0.7;

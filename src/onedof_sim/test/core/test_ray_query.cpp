@@ -1,6 +1,6 @@
 // Ray queries (World::castRays) on every engine of the registry: boxes, spheres and cylinders on
-// free bodies and welded to the world, the ground plane, rays that meet nothing, one batch in
-// order, and the refusals. Meshes: test_mesh_collisions.cpp (RaysMeetMeshes).
+// free bodies and welded to the world, the ground plane model (and no ground without it), rays
+// that meet nothing, one batch in order, and the refusals. Meshes: test_mesh_collisions.cpp (RaysMeetMeshes).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -77,9 +78,10 @@ TEST_P(RayQuery, RaysMeetPrimitivesOnBodiesAndAnchored) {
   }
 }
 
-// The ground plane z = 0, straight down and slanting; a ray upward, one too short to reach the
-// box, one beside it and one of length 0 meet nothing.
+// The ground plane model's plane z = 0, straight down and slanting; a ray upward, one too short
+// to reach the box, one beside it and one of length 0 meet nothing.
 TEST_P(RayQuery, GroundAndMisses) {
+  testing_support::addGroundPlane(world_);
   spawn("box", "<box size=\"0.4 0.4 0.4\"/>", at(2, 0, 1));
   const double inf = std::numeric_limits<double>::infinity();
   const std::vector<double> d = cast({{{5, 5, 1}, {0, 0, -1}, 10},
@@ -94,6 +96,20 @@ TEST_P(RayQuery, GroundAndMisses) {
   EXPECT_EQ(d[3], inf);
   EXPECT_EQ(d[4], inf);
   EXPECT_EQ(d[5], inf);
+}
+
+// A world has the ground it places, as in Gazebo: without the ground plane model rays down meet
+// nothing; with it, its plane; with it deleted, nothing again.
+TEST_P(RayQuery, TheGroundIsTheGroundPlaneModelAlone) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<Ray> down = {{{5, 5, 0.8}, {0, 0, -1}, 1}, {{0, 0, 0.8}, {1, 0, -1}, 10}};
+  EXPECT_EQ(cast(down), std::vector<double>({inf, inf}));
+  testing_support::addGroundPlane(world_);
+  const std::vector<double> d = cast(down);
+  EXPECT_NEAR(d[0], 0.8, 1e-9);
+  EXPECT_NEAR(d[1], 0.8 * std::sqrt(2.0), 1e-9);
+  ASSERT_TRUE(world_.deleteModel("ground_plane").ok());
+  EXPECT_EQ(cast(down), std::vector<double>({inf, inf}));
 }
 
 // Rays see bodies where the last step or state left them: the box moved by setModelState.

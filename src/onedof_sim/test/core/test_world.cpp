@@ -18,6 +18,7 @@
 
 #include <tinyxml2.h>
 
+#include "../ground_plane.h"
 #include "onedof_sim/world.h"
 
 namespace onedof_sim {
@@ -494,6 +495,7 @@ TEST_P(Joints, ViscousDampingSlowsTheJoint) {
 // 6.
 TEST_P(Contacts, FallingBoxRestsOnTheGround) {
   World world(GetParam());
+  testing_support::addGroundPlane(world);
   const double side = 0.2;
   ASSERT_TRUE(world.spawn("box", boxUrdf(side), ModelFormat::Urdf, at(0, 0, 0.5)).ok());
   steps(&world, 2000);
@@ -787,18 +789,17 @@ TEST_P(Models, SevenJointArmLoadsAndMoves) {
   EXPECT_TRUE(warnings.empty()) << warnings.front();
 }
 
-// The static cafe table alone in the world, at x: its geoms and boxes after the ground plane.
+// The static cafe table alone in the world, at x: its geoms and boxes.
 void expectCafeTableAt(const World& world, double x) {
   ModelInfo info;
   ASSERT_TRUE(world.modelProperties("cafe_table", &info).ok());
   EXPECT_TRUE(info.is_static);
   EXPECT_EQ(info.geoms, (std::vector<std::string>{"surface", "column", "base"}));
   const std::vector<CollisionShape> shapes = world.collisionShapes();
-  ASSERT_EQ(shapes.size(), 4u);
-  EXPECT_EQ(shapes[0].shape, GeometryShape::Plane);
-  EXPECT_NEAR(shapes[1].pose.position.x, x, 1e-12);
-  EXPECT_NEAR(shapes[1].pose.position.z, 0.755, 1e-12);
-  EXPECT_NEAR(shapes[3].size.x, 0.56, 1e-12);
+  ASSERT_EQ(shapes.size(), 3u);
+  EXPECT_NEAR(shapes[0].pose.position.x, x, 1e-12);
+  EXPECT_NEAR(shapes[0].pose.position.z, 0.755, 1e-12);
+  EXPECT_NEAR(shapes[2].size.x, 0.56, 1e-12);
 }
 
 TEST_P(Models, CafeTableIsStaticAndHoldsABox) {
@@ -893,13 +894,13 @@ TEST_P(Models, MeshCollisionsAreTheirScaledMeshAndVisualsAreIgnored) {
       ModelFormat::Sdf, at(1, 0, 0));
   ASSERT_TRUE(block.ok()) << block;
   const std::vector<CollisionShape> shapes = world.collisionShapes();
-  ASSERT_EQ(shapes.size(), 2u);
-  EXPECT_EQ(shapes[1].shape, GeometryShape::Mesh);
-  EXPECT_EQ(shapes[1].mesh_file, folder.root() + "/block/meshes/block.stl");
-  EXPECT_NEAR(shapes[1].size.x, 2, 1e-12);
-  EXPECT_NEAR(shapes[1].size.y, 1, 1e-12);
-  EXPECT_NEAR(shapes[1].pose.position.x, 1, 1e-12);
-  EXPECT_NEAR(shapes[1].pose.position.z, 0.5, 1e-12);
+  ASSERT_EQ(shapes.size(), 1u);
+  EXPECT_EQ(shapes[0].shape, GeometryShape::Mesh);
+  EXPECT_EQ(shapes[0].mesh_file, folder.root() + "/block/meshes/block.stl");
+  EXPECT_NEAR(shapes[0].size.x, 2, 1e-12);
+  EXPECT_NEAR(shapes[0].size.y, 1, 1e-12);
+  EXPECT_NEAR(shapes[0].pose.position.x, 1, 1e-12);
+  EXPECT_NEAR(shapes[0].pose.position.z, 0.5, 1e-12);
 }
 
 // A collision mesh that cannot be read refuses the model, naming the link and the mesh; one
@@ -932,7 +933,7 @@ TEST_P(Models, UnreadableMeshIsRefusedAndMissingMeshLeftOutNamingLinkAndMesh) {
       << lost.leftOut()[0];
   EXPECT_TRUE(world.spawn("lost_mesh", std::move(lost), Pose()).ok());
   EXPECT_EQ(world.modelNames(), std::vector<std::string>{"lost_mesh"});
-  EXPECT_TRUE(world.collisionShapes().size() == 1u);  // the ground's alone
+  EXPECT_TRUE(world.collisionShapes().empty());  // its one collision left out
 }
 
 // An SDF pendulum: a base welded to `world` at z 1, an arm hanging from a revolute joint about y
@@ -983,6 +984,7 @@ TEST_P(Models, SdfJointsLinkPosesAndLimits) {
 // Two boxes welded by a fixed joint, with a massless tool frame on the second, fall as one body.
 TEST_P(Models, FixedJointWeldsMovingLinks) {
   World world(GetParam());
+  testing_support::addGroundPlane(world);
   const std::string box =
       "<collision><geometry><box size=\"0.2 0.2 0.2\"/></geometry></collision>";
   const std::string urdf =

@@ -216,8 +216,7 @@ std::unique_ptr<btCollisionShape> makeShape(const ShapeSpec& spec, bool moving,
 }
 
 // What a collision object is (its user pointer points here): a model's body, a compound whose
-// child shapes are its BodySpec's shapes in order; one of a model's anchored shapes; or the
-// ground (model null).
+// child shapes are its BodySpec's shapes in order; or one of a model's anchored shapes.
 struct ObjectTag {
   const EngineModel* model = nullptr;
   int body = -1;           // -1: not a body
@@ -235,7 +234,7 @@ ShapeRef shapeOf(const btCollisionObject* object, int child) {
 }
 
 // A body's contact reports which child shape touched, so friction follows the shape as in
-// Gazebo. Anything else (the ground, anchored shapes) carries its mu as the object's friction.
+// Gazebo. Anything else (an anchored shape, the ground's plane among them) carries its mu as the object's friction.
 double shapeMu(const btCollisionObjectWrapper* wrapper, int child) {
   const btCollisionObject* object = wrapper->getCollisionObject();
   const auto* tag = static_cast<const ObjectTag*>(object->getUserPointer());
@@ -427,7 +426,7 @@ class CoulombFrictionSolver : public btSequentialImpulseConstraintSolver {
   std::unordered_set<const void*> sliding_;  // this step's sliding points
 };
 
-// Objects carry their model's id as user index (-1: the ground); one model never collides with
+// Objects carry their model's id as user index; one model never collides with
 // itself, whatever was added or removed before.
 struct ModelFilter : btOverlapFilterCallback {
   bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
@@ -795,15 +794,6 @@ class BulletEngine : public Engine {
     solver.m_linearSlop = p.contact_surface_layer;
   }
 
-  void addGroundPlane(double mu, double) override {
-    ground_.setCollisionShape(&ground_shape_);
-    ground_.setUserPointer(&ground_tag_);
-    ground_.setFriction(mu);
-    ground_.setRestitution(0);
-    world_.addCollisionObject(&ground_, btBroadphaseProxy::StaticFilter,
-                              btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
-  }
-
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
     return std::make_unique<BulletModel>(&world_, next_model_id_++, spec);
   }
@@ -947,9 +937,6 @@ class BulletEngine : public Engine {
   btDbvtBroadphase broadphase_;
   CoulombFrictionSolver solver_;
   ModelFilter filter_;
-  btStaticPlaneShape ground_shape_{btVector3(0, 0, 1), 0};
-  btCollisionObject ground_;
-  ObjectTag ground_tag_;
   btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
   int next_model_id_ = 0;
   double last_step_ = 0;  // s, the last step's (contacts)

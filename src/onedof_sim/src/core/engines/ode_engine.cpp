@@ -500,7 +500,7 @@ class OdeEngine : public Engine {
     if (!faulted_) {
       if (ray_) dGeomDestroy(ray_);  // in no space
       dJointGroupDestroy(contact_group_);
-      dSpaceDestroy(space_);  // destroys the ground plane with it
+      dSpaceDestroy(space_);
       dWorldDestroy(world_);
       dThreadingFreeImplementation(threading_);  // after the world, which frees its waits in it
     }
@@ -523,13 +523,6 @@ class OdeEngine : public Engine {
     dWorldSetAutoDisableFlag(world_, p.auto_disable_bodies ? 1 : 0);
     // sor_pgs_precon_iters and sor_pgs_rms_error_tol have no ODE 0.16 counterpart.
     contact_buffer_.resize(p.max_contacts);
-  }
-
-  void addGroundPlane(double mu, double mu2) override {
-    OdeTrap trap(&faulted_);
-    ground_info_ = {mu, mu2, ShapeRef()};
-    dGeomID ground = dCreatePlane(space_, 0, 0, 1, 0);
-    dGeomSetData(ground, &ground_info_);
   }
 
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
@@ -614,7 +607,7 @@ class OdeEngine : public Engine {
  private:
   static void nearCallback(void* data, dGeomID a, dGeomID b) {
     if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
-      // Two models, or a model and the ground: test their geoms against each other. A model's
+      // Two models: test their geoms against each other. A model's
       // space is never collided with itself.
       dSpaceCollide2(a, b, data, &nearCallback);
       return;
@@ -666,7 +659,7 @@ class OdeEngine : public Engine {
 
   void addContacts(dGeomID a, dGeomID b) {
     dBodyID body_a = dGeomGetBody(a), body_b = dGeomGetBody(b);
-    // Anchored against anchored or against the ground.
+    // Anchored against anchored (a static model on the ground plane).
     if ((!body_a && !body_b) || contact_buffer_.empty()) return;
     const auto* surface_a = static_cast<const GeomInfo*>(dGeomGetData(a));
     const auto* surface_b = static_cast<const GeomInfo*>(dGeomGetData(b));
@@ -925,7 +918,6 @@ class OdeEngine : public Engine {
   dThreadingImplementationID threading_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
-  GeomInfo ground_info_;
   std::vector<dContact> contact_buffer_;
   std::deque<StepContact> contacts_;  // the step's; a deque: ODE keeps pointers to the feedback
   std::vector<std::pair<double, double>> friction_bounds_;  // per contact: along fdir1, fdir2

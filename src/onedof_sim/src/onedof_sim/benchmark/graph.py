@@ -181,6 +181,10 @@ class Bench:
                                       'model.sdf')
         self.tutorial_models = [('one_DOF_robot', self.robot_urdf, 'urdf', 0.0),
                                 ('cafe_table', self.table_sdf, 'sdf', TABLE_X)]
+        # The ground the node's default world places (worlds/empty.world), for a loop on the
+        # core to step the node's world; pybullet's loop loads a plane of its own.
+        self.ground_model = ('ground_plane', os.path.join(
+            packages.get_path('onedof_sim'), 'models', 'ground_plane', 'model.sdf'), 'sdf', 0.0)
 
     def close(self):
         shut_down_rospy(self.rospy, 'benchmark finished')

@@ -42,7 +42,8 @@ def measure_with_memory(bench, engine):
         bench.pause(True)
         memory.measure(bench, engine, pid, sim_time)
         clock_subscribers = bench.subscribers('/clock')
-        loops['bare'] = BareLoop(engine_loop_command(engine), bench.tutorial_models)
+        loops['bare'] = BareLoop(engine_loop_command(engine),
+                                 [bench.ground_model] + bench.tutorial_models)
         against_pybullet = ('steps/s of the %s, /clock every step, against bare pybullet'
                             % node_label(engine))
         if engine == PYBULLET_COUNTERPART:

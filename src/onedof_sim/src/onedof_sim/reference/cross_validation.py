@@ -65,6 +65,11 @@ def table_sdf_path():
                         'model.sdf')
 
 
+def ground_sdf_path():
+    return os.path.join(rospkg.RosPack().get_path('onedof_sim'), 'models', 'ground_plane',
+                        'model.sdf')
+
+
 # --- the engines --------------------------------------------------------------------------------
 
 def parse_csv(text):
@@ -86,7 +91,8 @@ class ToolEngine:
         self.name = name
 
     def _run(self, mode, args):
-        done = subprocess.run(list(TOOL) + [mode, '--physics', self.name] + args,
+        done = subprocess.run(list(TOOL) + [mode, '--physics', self.name,
+                                            '--ground', ground_sdf_path()] + args,
                               capture_output=True, text=True, timeout=600)
         if done.returncode != 0:
             raise RuntimeError('tutorial_scenario %s --physics %s failed: %s'

@@ -9,8 +9,8 @@
 // (sensors/contact_sensor.h), those of the last 100 steps kept, and each update publishes what
 // it gathered since the last: one ContactState for each pair of collisions in touch at each of
 // those steps, oldest first, stamped (header) at the update's sim time. In each: collision1_name
-// the sensor's collision and collision2_name the other, scoped model::link::collision (the
-// world's ground: ground_plane::link::collision); for each point where they met, the wrench the
+// the sensor's collision and collision2_name the other, scoped model::link::collision (Gazebo's
+// ground plane's: ground_plane::link::collision); for each point where they met, the wrench the
 // contact put on collision1's link, force and its torque about the link's centre of mass, in the
 // link's frame (as Gazebo's contact messages give it; upstream's bumper reads no frame of
 // <frameName> and passes it on so), the position and the normal (unit, pushing collision1 out of
