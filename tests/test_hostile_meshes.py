@@ -11,7 +11,7 @@ import threading
 import pytest
 
 from api_client import BOX_SDF, GazeboApi, pose
-from conftest import WORKSPACE
+from conftest import GROUND, WORKSPACE
 from onedof_harness.private_ros import wait_until
 
 MODELS = os.path.join(WORKSPACE, 'tests', 'mesh_models')
@@ -141,7 +141,7 @@ def test_a_hostile_mesh_is_refused_the_node_up_its_world_intact(api, rospy_clien
     assert world_state(api) == before
     res = api.step_simulation(10)
     assert res.success, res.status_message
-    assert api.get_world_properties().model_names == ['box']
+    assert api.get_world_properties().model_names == [GROUND, 'box']
 
 
 def test_paths_out_of_their_folders_unreadable_and_missing_are_alike(api, tmp_path):

@@ -11,6 +11,7 @@ import os
 import re
 
 from api_client import pose, tutorial_urdf
+from conftest import GROUND
 
 REGISTRY = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'src', 'onedof_sim',
                         'src', 'ros', 'plugins', 'registry.cpp')
@@ -60,7 +61,7 @@ def with_plugin(filename, params):
 
 def assert_nothing_left(api):
     world = api.get_world_properties()
-    assert world.model_names == [], world.model_names
+    assert world.model_names == [GROUND], world.model_names
 
 
 def test_every_plugins_name_parameters_are_checked_before_the_model_enters_the_world(shared_sim):
@@ -110,7 +111,7 @@ def test_a_plugin_that_fails_to_start_takes_its_model_back_out(shared_sim):
     assert_nothing_left(api)
     res = api.spawn_urdf_model('my_robot', urdf, '', pose(), '')
     assert res.success, res.status_message
-    assert api.get_world_properties().model_names == ['my_robot']
+    assert api.get_world_properties().model_names == [GROUND, 'my_robot']
 
 
 def test_a_plugin_left_out_for_its_parameters_is_named_in_the_answer(shared_sim):
@@ -122,4 +123,4 @@ def test_a_plugin_left_out_for_its_parameters_is_named_in_the_answer(shared_sim)
     assert res.status_message.startswith('SpawnModel: Successfully spawned entity; warning: '
                                          'libgazebo_ros_p3d.so for model \'robot\' not started: '), \
         res.status_message
-    assert api.get_world_properties().model_names == ['robot']
+    assert api.get_world_properties().model_names == [GROUND, 'robot']
