@@ -25,6 +25,11 @@ BOX = {'y': 0.2, 'z': 0.5, 'half': 0.25}      # a 0.5 m red cube, off to the cam
 FACE_X = CAMERA['x'] + DISTANCE
 PERIOD_STEPS = 100                    # the plugins' updateRate, 10 Hz, in 1 ms steps
 RED = (102, 0, 0)                     # Gazebo/Red's face turned from the sun: ambient 0.4
+BACKGROUND = (178,) * 3               # Gazebo's sky: the scene's background, 0.7 grey
+# The ground (the default world's ground_plane, Gazebo/Grey: ambient 0.3, diffuse 0.7) under the
+# scene's ambient 0.4 and the sun's diffuse 0.8, which falls on it from 0.9 / |(-0.5, 0.1, -0.9)|
+# of overhead.
+GROUND_GREY = (round(255 * (0.3 * 0.4 + 0.7 * 0.8 * 0.9 / math.sqrt(0.25 + 0.01 + 0.81))),) * 3
 
 
 def box_sdf(name='red_box', size=0.5, material='Gazebo/Red'):

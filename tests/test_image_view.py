@@ -1,16 +1,16 @@
 """The book's `rosrun image_view image_view image:=/camera/image_raw`, and image_view's nodelet form
 (`rosrun nodelet nodelet standalone image_view/image`), over real ROS on a private Xvfb: the
 simulated camera (tests/robots/kinect_bot.urdf's camera, its cameraName `camera`) looks at a red
-box 2 m ahead, and the window shows its image pixel for pixel, the box where the camera's geometry
-puts it; found in a screenshot of the whole screen."""
+box 2 m ahead over the default world's ground, and the window shows its image pixel for pixel, the
+box where the camera's geometry puts it; found in a screenshot of the whole screen."""
 import numpy
 import pytest
 
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
 from onedof_sim.tutorial.rviz_view import start_xvfb
-from test_camera import (BOX, CAMERA, FACE_X, HEIGHT, WIDTH, box_sdf, kinect_bot_urdf,
-                         predicted_columns, rgb)
+from test_camera import (BACKGROUND, BOX, CAMERA, FACE_X, GROUND_GREY, HEIGHT, WIDTH, box_sdf,
+                         kinect_bot_urdf, predicted_columns, rgb)
 from test_rviz_sensors import grab
 
 TOPIC = '/camera/image_raw'
@@ -41,17 +41,17 @@ def red_box(pixels):
     return (rows[0], rows[-1], columns[0], columns[-1]) if len(rows) else None
 
 
-def shown_in(screenshot, image):
-    """Where the window shows the image in the screenshot, scaled to the window as image_view's
-    window (OpenCV's, not sized to the image) scales it: the screen's rows and columns the
-    image's background fills most of ((top, bottom, left, right)), and the red box's, as
-    ((top, bottom, left, right), (box's top, bottom, left, right)); None while neither shows."""
+def shown_in(screenshot):
+    """Where the window shows the camera's image in the screenshot, scaled to the window as
+    image_view's window (OpenCV's, not sized to the image) scales it: the screen's rows and columns
+    the image's sky, ground and box fill most of ((top, bottom, left, right)), and the red box's,
+    as ((top, bottom, left, right), (box's top, bottom, left, right)); None while neither shows."""
     import matplotlib.image
     screen = (matplotlib.image.imread(str(screenshot))[..., :3] * 255).round().astype(int)
-    colours, counts = numpy.unique(image.reshape(-1, 3), axis=0, return_counts=True)
-    background = numpy.all(screen == colours[counts.argmax()], axis=2) | is_red(screen)
-    rows = numpy.flatnonzero(background.sum(axis=1) > 100)
-    columns = numpy.flatnonzero(background.sum(axis=0) > 100)
+    image = (numpy.all(screen == BACKGROUND, axis=2) | numpy.all(screen == GROUND_GREY, axis=2) |
+             is_red(screen))
+    rows = numpy.flatnonzero(image.sum(axis=1) > 100)
+    columns = numpy.flatnonzero(image.sum(axis=0) > 100)
     box = red_box(screen)
     if box is None or not len(rows) or not len(columns):
         return None
@@ -69,6 +69,8 @@ def test_image_view_shows_the_simulated_camera(ros, rospy_client, tmp_path, comm
     row = red_box(image)
     assert abs(row[2] - predicted_columns(CAMERA['fov'])[0]) <= 1, row
     assert abs(row[3] - predicted_columns(CAMERA['fov'])[1]) <= 1, row
+    # Above the horizon the sky, below it the ground: the image's top and bottom rows.
+    assert numpy.all(image[0] == BACKGROUND) and numpy.all(image[-1] == GROUND_GREY)
 
     _, display = start_xvfb(ros)
     viewer = ros.start(command, name='image_view', env={'DISPLAY': display})
@@ -76,7 +78,7 @@ def test_image_view_shows_the_simulated_camera(ros, rospy_client, tmp_path, comm
 
     def on_screen():
         assert viewer.poll() is None, 'image_view exited:\n' + ros.log_text(viewer)
-        return grab(display, png) and shown_in(png, image)
+        return grab(display, png) and shown_in(png)
     area, box = ros.wait_until(on_screen, 300, interval=0.5,
                                what='the camera image in the image_view window')
     # The whole image, its aspect kept, and the box in it where the image has it: each edge
