@@ -63,10 +63,11 @@ def cameras_urdf(sensors):
 %s</robot>""" % ''.join(sensors)
 
 
-def start(ros, rospy, engine, sensors, scene=None):
-    """A paused lock-step simulator with `sensors` and an SDF model `scene` (by default a red box
+def start(ros, rospy, engine, sensors, scene=None, world=()):
+    """A paused lock-step simulator on the world file `world` (by default none given: Gazebo's
+    empty world, its ground and sun) with `sensors` and an SDF model `scene` (by default a red box
     1 m before them, off to the left)."""
-    sim = start_sim(ros, engine, args=['_paused:=true', '_lockstep:=true'])
+    sim = start_sim(ros, engine, args=['_paused:=true', '_lockstep:=true'] + list(world))
     api = GazeboApi(rospy)
     spawned = api.spawn_urdf_model('cameras', cameras_urdf(sensors), '', pose(), '')
     assert spawned.success, spawned.status_message
