@@ -1,9 +1,10 @@
 """Cameras over real ROS, on every engine: libgazebo_ros_camera.so on a camera sensor and
 libgazebo_ros_openni_kinect.so (and libgazebo_ros_depth_camera.so) on a depth sensor, on a base of
 our own making that carries them as the book's mobot does (tests/robots/kinect_bot.urdf). Facing
-a red box 2 m ahead: the box fills the image columns its angular extent predicts for the field of
-view, the depth image gives its distance within 1 cm, the point cloud's points on it lie on its
-face in the optical frame, CameraInfo's K is the field of view's; in lock-step two runs publish
+a red box 2 m ahead over the default world's ground: the box fills the image columns its angular
+extent predicts for the field of view, the depth image gives its distance within 1 cm, the point
+cloud's points on it lie on its face in the optical frame and those on the ground at z = 0,
+CameraInfo's K is the field of view's; in lock-step two runs publish
 the same bytes; a malformed camera sensor is refused, by name, once, and the world runs on."""
 import math
 import os
@@ -228,12 +229,16 @@ def test_the_camera_and_the_kinect_see_the_red_box_where_the_geometry_puts_it(
     for topic in ('/kinect/rgb/camera_info', '/kinect/depth/camera_info'):
         assert_camera_info(heard[topic][-1], KINECT['fov'], 'kinect_depth_frame', baseline=0.07)
 
-    # Its depth image: the face's distance within 1 cm on the box, NaN past the 5 m cutoff.
+    # Its depth image: the face's distance within 1 cm on the box, NaN past the 5 m cutoff (the
+    # sky); the bottom row on the ground (the default world's ground_plane) at the depth its
+    # geometry gives: the Kinect's height h over the ray's drop, h f / (v + 0.5 - H / 2).
     depth = depths(heard['/kinect/depth/image_raw'][-1])
     red = numpy.all(rgb(kinect_image) == RED, axis=2)
     assert red.sum() > 10000
     assert numpy.all(numpy.abs(depth[red] - DISTANCE) <= 0.01), depth[red]
-    assert numpy.isnan(depth[0][0]) and numpy.isnan(depth[HEIGHT - 1][WIDTH - 1])
+    assert numpy.isnan(depth[0][0])
+    floor_depth = KINECT['z'] * focal(KINECT['fov']) / (HEIGHT / 2 - 0.5)
+    assert numpy.all(numpy.abs(depth[HEIGHT - 1] - floor_depth) <= 0.01), depth[HEIGHT - 1]
 
     # Its point cloud: Gazebo's fields, NaN where the depth image is, the box's points on its
     # face in the optical frame (x right, y down, z ahead) with the image's bytes for colour.
@@ -257,6 +262,12 @@ def test_the_camera_and_the_kinect_see_the_red_box_where_the_geometry_puts_it(
     assert numpy.all(box_xyz[:, 1] >= KINECT['z'] - (BOX['z'] + BOX['half']) - margin)
     assert numpy.all(box_xyz[:, 1] <= KINECT['z'] - (BOX['z'] - BOX['half']) + margin)
     assert box_xyz[:, 0].min() < -0.4 and box_xyz[:, 0].max() > 0.0  # it spans the face
+    # The ground's points (its grey, within the cutoff) lie on the floor, world z = 0: optical
+    # y = the Kinect's height.
+    on_ground = numpy.all(rgb(kinect_image) == GROUND_GREY, axis=2).reshape(-1) & \
+        ~numpy.isnan(xyz[:, 2])
+    assert on_ground.sum() > 10000
+    assert numpy.all(numpy.abs(xyz[on_ground, 1] - KINECT['z']) <= 0.01)
 
     # The malformed cameras: refused at spawn, by name, once; the world ran on (above).
     log = ros.log_text(sim)
