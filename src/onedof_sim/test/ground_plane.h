@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "onedof_sim/world.h"
 
@@ -23,10 +24,22 @@ inline std::string groundPlaneSdf() {
   return text.str();
 }
 
+// The ground plane read into a model, for a test that spawns it into many Worlds: libsdformat
+// takes tens of milliseconds to read any SDF (it loads its own schema each time), more than such
+// a test's World steps for, so it is read once (a forked child spawns its own copy).
+inline PreparedModel preparedGroundPlane() {
+  PreparedModel prepared = World::prepare(groundPlaneSdf(), ModelFormat::Sdf, {});
+  if (!prepared.status().ok())
+    throw std::runtime_error("the ground plane is no model: " + prepared.status().subject);
+  return prepared;
+}
+
 // Spawns the ground plane into `world` (first, as a world file's include places it).
-inline void addGroundPlane(World& world) {
-  const Status status = world.spawn("ground_plane", groundPlaneSdf(), ModelFormat::Sdf, Pose());
+inline void addGroundPlane(World& world, PreparedModel ground) {
+  const Status status = world.spawn("ground_plane", std::move(ground), Pose());
   if (!status.ok()) throw std::runtime_error("the ground plane did not spawn: " + status.subject);
 }
+
+inline void addGroundPlane(World& world) { addGroundPlane(world, preparedGroundPlane()); }
 
 }  // namespace onedof_sim::testing_support

@@ -167,6 +167,7 @@ TEST_P(Friction, ABaseDraggingASlidingCasterTurnsAtItsWheelsRate) {
 TEST_P(Friction, ACylinderSpinningOnItsEndFaceStopsAsItsFacesFrictionSays) {
   const double mass = 5, radius = 0.3, inertia = mass * radius * radius / 2, spin = 5;
   World world(GetParam());
+  testing_support::addGroundPlane(world);
   ASSERT_TRUE(world.spawn("can",
                           "<sdf version=\"1.6\"><model name=\"can\"><link name=\"link\"><inertial>"
                           "<mass>5</mass><inertia><ixx>0.18</ixx><iyy>0.18</iyy><izz>0.225</izz>"
