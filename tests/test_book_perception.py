@@ -2,9 +2,10 @@
 shape (tests/book_perception: PCL through pcl_ros, cv_bridge and image_transport with OpenCV,
 laser_geometry, tf_conversions, interactive_markers, an action of its own on actionlib_msgs) builds
 in an overlay over this workspace, and its node reads the simulated Kinect's cloud
-(tests/robots/kinect_bot.urdf, libgazebo_ros_openni_kinect.so) through pcl_ros and finds the red
-box's near face with PCL's RANSAC, within 1 cm: asked through its action, shown as an interactive
-marker. In the same overlay, a package shaped as the book's mobot_gazebo_state
+(tests/robots/kinect_bot.urdf, libgazebo_ros_openni_kinect.so) through pcl_ros and finds, with
+PCL's RANSAC, the ground (the default world's ground_plane) at z = 0 and then, among the points it
+left, the red box's near face, each within 1 cm: asked through its action, shown as interactive
+markers. In the same overlay, a package shaped as the book's mobot_gazebo_state
 (tests/model_states_reader) includes gazebo_msgs/ModelStates.h without naming gazebo_msgs among its
 dependencies, builds, and reads the box's pose from /gazebo/model_states."""
 import math
@@ -54,38 +55,53 @@ def answer(ros, setup, command):
     return {line.split()[0]: line.split()[1:] for line in result.stdout.splitlines() if line}
 
 
-def test_the_book_shaped_perception_node_finds_the_box_face_in_the_kinect_cloud(
+def test_the_book_shaped_perception_node_finds_the_floor_and_the_box_face_in_the_kinect_cloud(
         ros, rospy_client, overlay_setup):
     from visualization_msgs.msg import InteractiveMarkerInit
     kinect_before_the_box(ros, rospy_client)
     finder = ros.start(in_overlay(overlay_setup, 'rosrun book_perception find_box_plane '
                                   'cloud:=/kinect/depth/points'), name='find_box_plane')
-    printed = answer(ros, overlay_setup, 'rosrun book_perception find_plane_client')
+    printed = answer(ros, overlay_setup, 'rosrun book_perception find_plane_client 2')
     assert finder.poll() is None, ros.log_text(finder)
-
-    # The face in the Kinect's optical frame (x right, y down, z ahead): the plane z = 2 m,
-    # its normal facing the sensor, (0, 0, -1) with d = 2.
     assert printed['frame'] == ['kinect_depth_frame']
-    a, b, c, d = (float(v) for v in printed['plane'])
+
+    # In the Kinect's optical frame (x right, y down, z ahead; world y = -optical x, z = kinect
+    # z - optical y). The largest plane is the world's ground (the default world's ground_plane,
+    # which the Kinect sees below the horizon): its normal facing the sensor is world up,
+    # (0, -1, 0), and d the Kinect's height: the floor's points lie at world z = 0, within 1 cm.
+    a, b, c, d = (float(v) for v in printed['plane0'])
+    assert [a, b, c] == pytest.approx([0, -1, 0], abs=0.005), printed
+    assert abs(d - KINECT['z']) <= 0.01, printed
+    floor = [float(v) for v in printed['face0']]
+    assert abs(KINECT['z'] - floor[1]) <= 0.01, printed
+    assert int(printed['inliers0'][0]) > int(printed['inliers1'][0]), printed
+
+    # Among the points the floor left, the box's near face: the plane z = 2 m, its normal facing
+    # the sensor, (0, 0, -1) with d = 2.
+    a, b, c, d = (float(v) for v in printed['plane1'])
     assert [a, b, c] == pytest.approx([0, 0, -1], abs=0.005), printed
     assert abs(d - DISTANCE) <= 0.01, printed
     # Its inliers: the face's pixels (more than 10000, as tests/test_camera.py counts them), and
-    # their centroid the face's middle (world y = -optical x, z = kinect z - optical y).
-    assert int(printed['inliers'][0]) > 10000, printed
-    face = [float(v) for v in printed['face']]
+    # their centroid the face's middle.
+    assert int(printed['inliers1'][0]) > 10000, printed
+    face = [float(v) for v in printed['face1']]
     assert face == pytest.approx([-BOX['y'], KINECT['z'] - BOX['z'], DISTANCE], abs=0.01), printed
 
-    # The same face as an interactive marker: the server's full update.
+    # Both as interactive markers: the server's full update.
     init = rospy_client.wait_for_message('/box_plane/update_full', InteractiveMarkerInit,
                                          timeout=60)
-    [marker] = init.markers
-    assert (marker.name, marker.header.frame_id) == ('box_face', 'kinect_depth_frame')
-    p = marker.pose.position
-    assert [p.x, p.y, p.z] == pytest.approx(face, abs=1e-6)
-    # Its x axis along the normal (0, 0, -1): a turn of pi/2 about y.
-    q = marker.pose.orientation
-    assert [q.x, q.y, q.z, q.w] == pytest.approx([0, math.sin(math.pi / 4), 0,
-                                                  math.cos(math.pi / 4)], abs=0.005)
+    markers = {marker.name: marker for marker in init.markers}
+    assert sorted(markers) == ['plane_0', 'plane_1']
+    assert {m.header.frame_id for m in markers.values()} == {'kinect_depth_frame'}
+    for name, centroid in (('plane_0', floor), ('plane_1', face)):
+        p = markers[name].pose.position
+        assert [p.x, p.y, p.z] == pytest.approx(centroid, abs=1e-6), name
+    # Each x axis along its normal: the floor's (0, -1, 0), a turn of -pi/2 about z; the face's
+    # (0, 0, -1), a turn of pi/2 about y.
+    for name, expected in (('plane_0', [0, 0, -math.sin(math.pi / 4), math.cos(math.pi / 4)]),
+                           ('plane_1', [0, math.sin(math.pi / 4), 0, math.cos(math.pi / 4)])):
+        q = markers[name].pose.orientation
+        assert [q.x, q.y, q.z, q.w] == pytest.approx(expected, abs=0.005), name
 
 
 def test_the_image_node_sees_the_red_box_through_image_transport_and_cv_bridge(
