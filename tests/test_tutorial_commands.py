@@ -262,9 +262,10 @@ class Checks:
         result = self.ok(command + ' -n 1')
         names = yaml.safe_load(result.stdout.split('\n---')[0])['name']
         if words[2].endswith('model_states'):
-            assert names == [ROBOT, 'box'], result.shown
+            assert names == [GROUND, ROBOT, 'box'], result.shown
         else:
-            assert names == [ROBOT + '::link1', ROBOT + '::link2', 'box::body'], result.shown
+            assert names == [GROUND + '::link', ROBOT + '::link1', ROBOT + '::link2',
+                             'box::body'], result.shown
 
 
 @pytest.fixture
