@@ -237,53 +237,71 @@ def test_a_chain_past_the_exact_solvers_joint_limit_is_refused_on_ode(api, engin
     assert_still_running(api)
 
 
-def test_a_spawn_inside_its_parse_blocks_no_other_client(ros, engine, rospy_client, tmp_path):
-    """The node reads a model outside the world lock. The first spawn here is held inside its
-    parse: its <include>d model file is a FIFO, which the node opens and then waits on until this
-    test writes it. Meanwhile another client's get_world_properties and step_simulation answer;
-    only then is the file written and the spawn answers."""
-    fifo = tmp_path / 'held' / 'model.sdf'
-    fifo.parent.mkdir()
-    (fifo.parent / 'model.config').write_text(
-        '<?xml version="1.0"?><model><name>held</name><sdf version="1.6">model.sdf</sdf></model>')
-    os.mkfifo(str(fifo))
+def test_an_included_file_that_is_no_regular_file_is_refused_before_it_is_opened(
+        ros, engine, rospy_client, tmp_path):
+    """A FIFO (whose open waits for a writer), a device or a folder where an <include>d model's
+    model.sdf or model.config is, or where its mesh is: each spawn answers at once, refused in
+    the words of a missing file (the mesh's collision left out, as a missing mesh), and the node
+    serves others and takes the next spawn. Nothing ever writes the FIFOs: a reader that opened
+    one would wait for ever."""
+    def model_folder(name, config=True):
+        folder = tmp_path / name
+        folder.mkdir()
+        if config:
+            (folder / 'model.config').write_text(
+                '<?xml version="1.0"?><model><name>%s</name><sdf version="1.6">model.sdf</sdf>'
+                '</model>' % name)
+        return folder
+    os.mkfifo(str(model_folder('fifo_sdf') / 'model.sdf'))
+    os.mkfifo(str(model_folder('fifo_config', config=False) / 'model.config'))
+    (model_folder('device_sdf') / 'model.sdf').symlink_to('/dev/zero')
+    (model_folder('folder_sdf') / 'model.sdf').mkdir()
+    meshes = model_folder('fifo_mesh') / 'meshes'
+    meshes.mkdir()
+    os.mkfifo(str(meshes / 'block.stl'))
+    (tmp_path / 'fifo_mesh' / 'model.sdf').write_text(
+        '<sdf version="1.6"><model name="fifo_mesh"><link name="l"><collision name="c"><geometry>'
+        '<mesh><uri>model://fifo_mesh/meshes/block.stl</uri></mesh></geometry></collision></link>'
+        '</model></sdf>')
     start_sim(ros, engine, ['_paused:=true'], env={'GAZEBO_MODEL_PATH': str(tmp_path)})
     spawner, other = GazeboApi(rospy_client), GazeboApi(rospy_client)
-    other.get_world_properties()
-    including = ('<sdf version="1.6"><world name="w"><include><uri>model://held</uri></include>'
-                 '</world></sdf>')
-    spawned = []
-    spawning = threading.Thread(target=lambda: spawned.append(
-        spawner.spawn_sdf_model('held', including, '', pose(), '')), daemon=True)
-    spawning.start()
 
-    def writer_end():
-        # A FIFO opens for writing without blocking only once a reader has it open.
-        try:
-            return os.open(str(fifo), os.O_WRONLY | os.O_NONBLOCK)
-        except OSError:
-            return None
-    writer = wait_until(writer_end, 60, what='the node to open the included model file')
-    try:
+    def spawn_within_deadline(name):
+        including = ('<sdf version="1.6"><world name="w"><include><uri>model://%s</uri>'
+                     '</include></world></sdf>' % name)
         answers = []
-        asking = threading.Thread(target=lambda: answers.append(
-            (other.get_world_properties(), other.step_simulation(10))), daemon=True)
-        asking.start()
-        asking.join(60)
-        assert answers, 'get_world_properties and step_simulation waited for the spawn'
-        world, steps = answers[0]
-        assert world.success and world.model_names == [GROUND]
-        assert steps.success
-        assert not spawned, 'the spawn answered before its model file was written'
-    finally:
-        os.set_blocking(writer, True)
-        os.write(writer, fixed_chain_sdf(1000, name='held').encode())
-        os.close(writer)
-    spawning.join(120)
-    # libsdformat reads a file by its length, which a FIFO has not: the spawn is refused naming the
-    # file. It answered; that is what this part is about.
-    assert spawned, 'the spawn did not answer once its model file was written'
+        spawning = threading.Thread(target=lambda: answers.append(
+            spawner.spawn_sdf_model(name, including, '', pose(), '')), daemon=True)
+        spawning.start()
+        spawning.join(120)
+        assert answers, 'the spawn of model://%s did not answer: its file was opened' % name
+        return answers[0]
 
+    for name in ('fifo_sdf', 'fifo_config', 'device_sdf', 'folder_sdf'):
+        res = spawn_within_deadline(name)
+        assert not res.success
+        assert ('model://%s is not in the model path or is no readable regular file (' % name
+                in res.status_message), res.status_message
+        assert str(tmp_path) in res.status_message, res.status_message
+        world = other.get_world_properties()
+        assert world.success and world.model_names == [GROUND], name
+    res = spawn_within_deadline('fifo_mesh')
+    assert res.success, res.status_message
+    assert ("the mesh 'model://fifo_mesh/meshes/block.stl', which is not found or not readable"
+            in res.status_message), res.status_message
+    assert other.get_model_properties('fifo_mesh').geom_names == []
+    res = spawner.spawn_sdf_model('box', BOX_SDF, '', pose(), '')
+    assert res.success, res.status_message
+    assert other.step_simulation(10).success
+    assert other.get_world_properties().model_names == [GROUND, 'fifo_mesh', 'box']
+
+
+def test_a_spawn_inside_its_parse_blocks_no_other_client(ros, engine, rospy_client):
+    """The node reads a model outside the world lock: another client's get_world_properties
+    answers while the largest model accepted is read."""
+    start_sim(ros, engine, ['_paused:=true'])
+    spawner, other = GazeboApi(rospy_client), GazeboApi(rospy_client)
+    other.get_world_properties()
     # The largest model accepted, a thousand links that libsdformat takes seconds to read: the
     # other client is answered while the spawn is in flight, and the spawn succeeds.
     spawned = []

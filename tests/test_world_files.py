@@ -228,7 +228,7 @@ REFUSED = {
     'missing_include': ('<sdf version="1.6"><world name="w">'
                         '<include><uri>model://no_such_model</uri></include></world></sdf>',
                         "cannot be loaded: <include> model://no_such_model is not in the model "
-                        "path ({models}"),
+                        "path or is no readable regular file ({models}"),
     'bad_xml': ('<sdf version="1.6"><world name="w"><model name="a"></world></sdf>',
                 'cannot be loaded: not well-formed XML: '),
     'no_world': ('<sdf version="1.6"><model name="a"><link name="l"/></model></sdf>',

@@ -31,8 +31,9 @@ def xacro_env(tmp_path):
     return env
 
 
-def run(command, env, cwd=None):
-    return subprocess.run(command, env=env, cwd=cwd, capture_output=True, text=True, timeout=120)
+def run(command, env, cwd=None, timeout=120):
+    return subprocess.run(command, env=env, cwd=cwd, capture_output=True, text=True,
+                          timeout=timeout)
 
 
 def box_inertia(x, y, z):

@@ -5,18 +5,14 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 
 #include "mesh_precheck.h"
 #include "model_description.h"
+#include "regular_file.h"
 
 namespace onedof_sim {
 namespace core {
@@ -27,45 +23,6 @@ bool staysInside(const std::string& relative) {
   const fs::path normal = fs::path(relative).lexically_normal();
   return !normal.empty() && normal.is_relative() && *normal.begin() != "..";
 }
-
-namespace {
-
-// A regular file (not a folder, a FIFO or a device) this process may read.
-bool readableFile(const fs::path& path) {
-  std::error_code ignored;
-  return fs::is_regular_file(path, ignored) && ::access(path.c_str(), R_OK) == 0;
-}
-
-enum class FileRead { Ok, Unreadable, TooLarge };
-
-// The bytes of the regular file at `path`, at most max_bytes (*size: its size). Opened without
-// blocking and checked on the open file, so that a FIFO or a device put in its place is never
-// read.
-FileRead readRegularFile(const std::string& path, size_t max_bytes, std::string* bytes,
-                         uintmax_t* size) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) return FileRead::Unreadable;
-  struct stat info {};
-  FileRead result = FileRead::Ok;
-  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) result = FileRead::Unreadable;
-  *size = result == FileRead::Ok ? uintmax_t(info.st_size) : 0;
-  if (result == FileRead::Ok && *size > max_bytes) result = FileRead::TooLarge;
-  if (result == FileRead::Ok) {
-    bytes->resize(size_t(*size));
-    size_t done = 0;
-    while (done < bytes->size()) {
-      const ssize_t n = ::read(fd, &(*bytes)[done], bytes->size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      done += size_t(n);
-    }
-    bytes->resize(done);  // a file that shrank as it was read: what it held
-  }
-  ::close(fd);
-  return result;
-}
-
-}  // namespace
 
 std::string resolveMeshUri(const std::string& uri, const std::vector<std::string>& model_path,
                            const std::string& relative_to) {
@@ -86,7 +43,7 @@ std::string resolveMeshUri(const std::string& uri, const std::vector<std::string
       candidates.push_back(fs::path(relative_to) / uri);
   }
   for (const fs::path& candidate : candidates)
-    if (readableFile(candidate)) return candidate.string();
+    if (checkRegularFile(candidate).readable()) return candidate.string();
   return "";
 }
 

@@ -632,11 +632,11 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
                     std::string(document.includes.at_least ? "at least " : "") +
                     std::to_string(document.includes.count) + " models; at most " +
                     std::to_string(kMaxIncludedModels) + " are accepted");
-  if (document.includes.code == IncludeCheck::Code::Outside)
+  if (document.includes.code == IncludeCheck::Code::NotFound)
     document.missing.push_back(document.includes.subject);
   if (!document.missing.empty())
-    return rejected(document.missing.front() + " is not in the model path (" +
-                    joinedPath(model_path) + ")");
+    return rejected(document.missing.front() + " is not in the model path or is no readable "
+                    "regular file (" + joinedPath(model_path) + ")");
   if (!document.error.empty()) return rejected("invalid SDF: " + document.error);
   const sdf::Root& root = document.root;
   const Status version = checkSdfVersion(root);

@@ -11,6 +11,7 @@
 #include "expansion_graph.h"
 #include "mesh_loader.h"
 #include "onedof_sim/trim.h"
+#include "regular_file.h"
 #include "sdf_parsing.h"
 
 namespace onedof_sim {
@@ -30,11 +31,13 @@ std::pair<int, int> versionOf(const char* text) {
 
 // The SDF file of a model folder as libsdformat picks it: its model.config's <sdf> of the
 // newest version libsdformat reads (the first <sdf> without one), or model.sdf without a
-// model.config. Empty when there is none.
+// model.config. Empty when there is none, and when its model.config is there but no readable
+// regular file (libsdformat would open it, and a FIFO would hold it).
 fs::path modelFile(const fs::path& folder) {
-  std::error_code ignored;
   const fs::path config = folder / "model.config";
-  if (!fs::is_regular_file(config, ignored)) return folder / "model.sdf";
+  const FileCheck config_check = checkRegularFile(config);
+  if (config_check.code == FileCheck::Code::Missing) return folder / "model.sdf";
+  if (!config_check.readable()) return {};
   tinyxml2::XMLDocument document;
   if (document.LoadFile(config.c_str()) != tinyxml2::XML_SUCCESS) return {};
   const tinyxml2::XMLElement* model = document.FirstChildElement("model");
@@ -51,14 +54,20 @@ fs::path modelFile(const fs::path& folder) {
 
 // The file an <include>'s <uri> names, as libsdformat finds it: model://NAME/... in the first
 // folder of the model path that has it, a file:// or absolute path as it is, a relative one from
-// the including file's folder. Empty when it is found nowhere (libsdformat says so itself).
-fs::path includedFile(const std::string& uri, const std::vector<std::string>& model_path,
-                      const fs::path& folder) {
+// the including file's folder.
+struct IncludedFile {
+  fs::path file;         // empty: found nowhere (libsdformat says so itself), or refused
+  // Refused as found nowhere: a model:// path that climbs out of the model path once normalised,
+  // or a file (or its folder's model.config) that is there but no readable regular file.
+  bool refused = false;
+};
+IncludedFile includedFile(const std::string& uri, const std::vector<std::string>& model_path,
+                          const fs::path& folder) {
   std::error_code ignored;
   std::vector<fs::path> candidates;
   const std::string model_scheme = "model://", file_scheme = "file://";
   if (uri.rfind(model_scheme, 0) == 0) {
-    if (!staysInside(uri.substr(model_scheme.size()))) return {};
+    if (!staysInside(uri.substr(model_scheme.size()))) return {{}, true};
     for (const std::string& root : model_path)
       candidates.push_back(fs::path(root) / uri.substr(model_scheme.size()));
   } else if (uri.rfind(file_scheme, 0) == 0) {
@@ -72,8 +81,8 @@ fs::path includedFile(const std::string& uri, const std::vector<std::string>& mo
   for (const fs::path& candidate : candidates) {
     if (!fs::exists(candidate, ignored)) continue;
     const fs::path file = fs::is_directory(candidate, ignored) ? modelFile(candidate) : candidate;
-    if (file.empty() || !fs::is_regular_file(file, ignored)) return {};
-    return fs::weakly_canonical(file, ignored);
+    if (file.empty() || !checkRegularFile(file).readable()) return {{}, true};
+    return {fs::weakly_canonical(file, ignored), false};
   }
   return {};
 }
@@ -136,16 +145,17 @@ IncludeCheck checkIncludes(const std::string& source, SdfSource kind,
                                 ? fs::path()
                                 : fs::path(names[next]).parent_path();
     for (const std::string& uri : includeUris(*document.RootElement())) {
-      // Confined to the model path as a mesh's model:// is: one that climbs out is said to be
-      // found nowhere, in the words of a missing one.
-      if (uri.rfind("model://", 0) == 0 && !staysInside(uri.substr(8))) {
-        check.code = IncludeCheck::Code::Outside;
+      // Confined to the model path as a mesh's model:// is, and read only if a regular file:
+      // one refused is said to be found nowhere, in the words of a missing one, before
+      // libsdformat opens anything.
+      const IncludedFile included = includedFile(uri, model_path, folder);
+      if (included.refused) {
+        check.code = IncludeCheck::Code::NotFound;
         check.subject = uri;
         return check;
       }
       graph.own[next][0] = saturatingAdd(graph.own[next][0], 1);
-      const fs::path file = includedFile(uri, model_path, folder);
-      if (!file.empty()) graph.edges[next].push_back(node(file));
+      if (!included.file.empty()) graph.edges[next].push_back(node(included.file));
     }
   }
   const Expansion expansion = expand(graph);

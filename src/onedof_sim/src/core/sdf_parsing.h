@@ -41,10 +41,11 @@ enum class SdfSource { File, String };
 // reading each placement again: a cycle never ends, and a file that includes another twice, 17
 // deep, places 2^17 models.
 struct IncludeCheck {
-  enum class Code { Ok, Cycle, TooMany, Outside };
+  enum class Code { Ok, Cycle, TooMany, NotFound };
   Code code = Code::Ok;
-  // Cycle: the files around it, "A -> B -> A"; Outside: a model:// URI whose path climbs out of
-  // the model path once normalised (refused as one found nowhere)
+  // Cycle: the files around it, "A -> B -> A"; NotFound: a URI refused as one found nowhere: a
+  // model:// URI whose path climbs out of the model path once normalised, or one whose file (or
+  // its folder's model.config) is there but no readable regular file (regular_file.h)
   std::string subject;
   size_t count = 0;     // TooMany: the models placed
   bool at_least = false;  // TooMany: count is a lower bound (more files than models accepted)

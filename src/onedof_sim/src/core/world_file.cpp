@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -12,6 +11,7 @@
 #include <tinyxml2.h>
 
 #include "model_description.h"
+#include "regular_file.h"
 #include "sdf_parsing.h"
 
 namespace onedof_sim {
@@ -213,32 +213,22 @@ void listIgnored(const sdf::World& world, WorldFile* out) {
   }
 }
 
-std::string fileKind(std::filesystem::file_type type) {
-  using std::filesystem::file_type;
-  switch (type) {
-    case file_type::directory: return "directory";
-    case file_type::fifo: return "FIFO";
-    case file_type::character: return "character device";
-    case file_type::block: return "block device";
-    case file_type::socket: return "socket";
-    default: return "special file";
-  }
-}
-
 }  // namespace
 
 WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::string>& model_path,
                               const PhysicsParams& base, WorldFile* out) {
   namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::file_status status_of_path = fs::status(path, error);
-  if (status_of_path.type() == fs::file_type::not_found) return {WorldFileCode::NotFound, path};
-  if (error) return {WorldFileCode::Unreadable, path};
   // Told apart by its type alone, never opened: a FIFO would block the reader, a device such
   // as /dev/zero would never end.
-  if (!fs::is_regular_file(status_of_path))
-    return {WorldFileCode::NotAFile, fileKind(status_of_path.type())};
-  if (!std::ifstream(path).good()) return {WorldFileCode::Unreadable, path};
+  const core::FileCheck check = core::checkRegularFile(path);
+  switch (check.code) {
+    case core::FileCheck::Code::Missing: return {WorldFileCode::NotFound, path};
+    case core::FileCheck::Code::Unreadable: return {WorldFileCode::Unreadable, path};
+    case core::FileCheck::Code::NotRegular:
+      return {WorldFileCode::NotAFile, core::fileTypeName(check.type)};
+    case core::FileCheck::Code::Readable: break;
+  }
+  std::error_code error;
   if (fs::file_size(path, error) > kMaxModelXmlBytes)
     return {WorldFileCode::TooLarge, path, double(kMaxModelXmlBytes)};
   // libsdformat says only "Unable to read file" of XML that is not well-formed (the reason goes to
@@ -268,7 +258,7 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
             (document.includes.at_least ? "at least " : "") +
                 std::to_string(document.includes.count),
             double(core::kMaxIncludedModels)};
-  if (document.includes.code == core::IncludeCheck::Code::Outside)
+  if (document.includes.code == core::IncludeCheck::Code::NotFound)
     return {WorldFileCode::IncludeNotFound, document.includes.subject};
   if (!document.missing.empty()) return {WorldFileCode::IncludeNotFound, document.missing.front()};
   if (!document.error.empty()) return {WorldFileCode::InvalidSdf, document.error};

@@ -71,7 +71,8 @@ std::string whyNotLoaded(const WorldFileStatus& status,
     case WorldFileCode::NegativeCount:
       return "<physics>: <" + status.subject + "> is a count and must be >= 0";
     case WorldFileCode::IncludeNotFound:
-      return "<include> " + status.subject + " is not in the model path (" + joined(model_path) +
+      return "<include> " + status.subject + " is not in the model path or is no readable "
+             "regular file (" + joined(model_path) +
              "; add a folder to GAZEBO_MODEL_PATH)";
     case WorldFileCode::IncludeCycle:
       return "its <include>s include themselves: " + status.subject;
