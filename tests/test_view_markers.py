@@ -11,11 +11,12 @@ import os
 
 import pytest
 
-from api_client import pose
-from conftest import WORKSPACE
+from api_client import BOX_SDF as PLAIN_BOX_SDF, pose
 from onedof_harness.private_ros import wait_until
+# The module's simulators find the test model's meshes (shared_sim_env); api: the module's paused
+# simulator of each engine, with no model.
+from test_mesh_collisions import MODELS, api, shared_sim_env  # noqa: F401
 
-MODELS = os.path.join(WORKSPACE, 'tests', 'mesh_models')
 MESHES = os.path.join(MODELS, 'onedof_mesh_block', 'meshes')
 # Gazebo/Grey's and Gazebo/Blue's diffuse colours (Gazebo's gazebo.material).
 GREY, BLUE = (0.7, 0.7, 0.7, 1.0), (0.0, 0.0, 1.0, 1.0)
@@ -74,33 +75,11 @@ SDF = """<?xml version="1.0"?>
 </sdf>
 """
 
-# A free 0.2 m box of 1 kg with a visual, dropped onto the ground.
-BOX_SDF = """<?xml version="1.0"?>
-<sdf version="1.6">
-  <model name="box">
-    <link name="body">
-      <inertial><mass>1</mass>
-        <inertia><ixx>0.00667</ixx><iyy>0.00667</iyy><izz>0.00667</izz>
-                 <ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>
-      <collision name="collision"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></collision>
-      <visual name="visual"><geometry><box><size>0.2 0.2 0.2</size></box></geometry>
+# api_client's free 0.2 m box of 1 kg, with a Gazebo/Red visual, dropped onto the ground.
+BOX_SDF = PLAIN_BOX_SDF.replace('</link>', """<visual name="visual">
+        <geometry><box><size>0.2 0.2 0.2</size></box></geometry>
         <material><script><name>Gazebo/Red</name></script></material></visual>
-    </link>
-  </model>
-</sdf>
-"""
-
-
-def shared_sim_env(env):
-    """The module's simulators find the test model's meshes (conftest's shared_sim)."""
-    return {'GAZEBO_MODEL_PATH': MODELS,
-            'ROS_PACKAGE_PATH': MODELS + os.pathsep + env.get('ROS_PACKAGE_PATH', '')}
-
-
-@pytest.fixture
-def api(shared_sim):
-    """The module's paused simulator of each engine, with no model."""
-    return shared_sim
+    </link>""")
 
 
 def markers_of(rospy, topic, predicate, what, timeout=60):
