@@ -197,9 +197,11 @@ GAZEBO_SERVICES.update({
     '/gazebo/get_loggers': 'roscpp/GetLoggers',
     '/gazebo/set_logger_level': 'roscpp/SetLoggerLevel',
 })
-# The simulator's own two, served when asked for.
+# The simulator's own names, served when asked for.
 STEP_SERVICE = {'/gazebo/step_simulation': 'onedof_sim/StepSimulation'}
-MARKERS_TOPIC = {'/gazebo/collision_markers': 'visualization_msgs/MarkerArray'}
+# The world view's markers (~enable_collision_markers), one topic per item of Gazebo's View menu.
+MARKERS_TOPIC = {'/gazebo/' + view + '_markers': 'visualization_msgs/MarkerArray'
+                 for view in ('visual', 'collision', 'joint', 'com', 'inertia', 'contact')}
 
 
 def simulator_names(rospy):

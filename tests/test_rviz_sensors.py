@@ -309,7 +309,8 @@ def test_the_view_shows_the_simulators_sensor_topics_only_and_keeps_the_users_di
     # The robot deleted: its displays go, the user's stay.
     displays = with_sensor_displays(shown, [])['Visualization Manager']['Displays']
     names = [d['Name'] for d in displays]
-    assert names == ['Ground plane', 'Simulated world (collision geometry)', 'My TF']
+    assert names == ['Ground plane', 'Visuals', 'Collisions', 'Joints', 'Center of Mass',
+                     'Inertias', 'Contacts', 'My TF']
 
 
 def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_client,
@@ -319,8 +320,8 @@ def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_c
     xvfb, display = start_xvfb(ros)
     launch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch'], 'launch',
                            env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gazebo_gui'), 120,
-                   what='the view to subscribe to the collision markers')
+    ros.wait_until(lambda: subscribers(ros, '/gazebo/visual_markers', '/gazebo_gui'), 120,
+                   what='the view to subscribe to the visual markers')
     spawn_laser_bot_before_the_box(ros, rospy_client)
     ros.wait_until(lambda: subscribers(ros, '/scan', '/gazebo_gui'), 120,
                    what='the view to show /scan')
@@ -342,8 +343,8 @@ def test_the_view_shows_a_mobile_bases_scan_once_odom_is_joined_to_the_world(ros
     xvfb, display = start_xvfb(ros)
     view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
                      env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gzclient_'), 120,
-                   what='the view to subscribe to the collision markers')
+    ros.wait_until(lambda: subscribers(ros, '/gazebo/visual_markers', '/gzclient_'), 120,
+                   what='the view to subscribe to the visual markers')
     urdf = drive_base_urdf('world').replace('</robot>', MOBOT_LIDAR_URDF)
     ros.set_param('/robot_description', urdf)
     ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
@@ -380,8 +381,8 @@ def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros,
     xvfb, display = start_xvfb(ros)
     view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
                      env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    ros.wait_until(lambda: subscribers(ros, '/gazebo/collision_markers', '/gzclient_'), 120,
-                   what='the view to subscribe to the collision markers')
+    ros.wait_until(lambda: subscribers(ros, '/gazebo/visual_markers', '/gzclient_'), 120,
+                   what='the view to subscribe to the visual markers')
     urdf = kinect_bot_urdf()
     ros.set_param('/robot_description', urdf)
     ros.start(['rosrun', 'robot_state_publisher', 'robot_state_publisher'],
@@ -411,10 +412,19 @@ def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros,
         ros, display, png, cloud_and_images_shown, "the cloud's points on the box and the box "
         "in the camera's and the Kinect's images",
         before=lambda: api.step_simulation(KINECT_PERIOD_STEPS))
-    assert count_pixels(png, panel, cloud_blue) == count_pixels(
-        png, red_box_face_region(view_config, panel), cloud_blue), \
+    # The Kinect's own case is blue too (its visual, kinect_case).
+    kinect_case = region_around(view_config, panel, [(KINECT['x'], dy, KINECT['z'])
+                                                     for dy in (-0.05, 0.05)])
+    assert count_pixels(png, panel, cloud_blue) - count_pixels(png, kinect_case, cloud_blue) == \
+        count_pixels(png, red_box_face_region(view_config, panel), cloud_blue), \
         "the red box's cloud colour off the box's face"
-    assert count_pixels(png, panel, image_red) == 0, 'the images are drawn in their own panels'
+    # In the 3D panel the red is the box's own visual: the images are drawn in their own panels.
+    box = region_around(view_config, panel, [
+        (KINECT['x'] + DISTANCE + BOX['half'] + dx, BOX['y'] + dy, BOX['z'] + dz)
+        for dx in (-BOX['half'], BOX['half']) for dy in (-BOX['half'], BOX['half'])
+        for dz in (-BOX['half'], BOX['half'])])
+    assert count_pixels(png, panel, image_red) == count_pixels(png, box, image_red), \
+        'the images are drawn in their own panels'
     ros.terminate(view)  # rviz before its X server
     ros.terminate(xvfb)
 

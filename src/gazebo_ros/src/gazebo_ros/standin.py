@@ -11,7 +11,7 @@ import sys
 
 SERVER = ['rosrun', 'onedof_sim', 'onedof_sim']
 GUI_INSTEAD = ("no Gazebo GUI in this workspace; instead rviz shows the simulated world "
-               "(/gazebo/collision_markers, and the scans, point clouds and images of the "
+               "(its models' visuals, /gazebo/visual_markers, and the scans, point clouds and images of the "
                "robots' sensors; the robot too: roslaunch minimal_robot_description "
                "display.launch)")
 SERVER_HELP = """usage: {prog} [-u|--pause] [-e ENGINE] [WORLD_FILE] [_param:=value ...]

@@ -1,7 +1,7 @@
 """rviz showing the simulated world, as gzclient and gazebo start it: the view of rviz/world.rviz
-(the world's collision geometry on the ground grid, fixed frame `world`) and one display for each
-sensor stream the simulator publishes: a LaserScan, a PointCloud2 or an Image on the topic a
-spawned robot's sensor plugin advertises. The simulator publishes its markers only when asked
+(the world's visuals on the ground grid, Gazebo's View menu as displays, fixed frame `world`) and
+one display for each sensor stream the simulator publishes: a LaserScan, a PointCloud2 or an Image
+on the topic a spawned robot's sensor plugin advertises. The simulator publishes its markers only when asked
 (gazebo_ros' API has no such topic): the view asks for them as it starts rviz, by setting the
 simulator's ~enable_collision_markers, which the node follows while running and which stays set
 after the view exits. The view asks the master which topics of those types the simulator (the

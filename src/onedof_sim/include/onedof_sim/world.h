@@ -225,6 +225,25 @@ constexpr size_t kMaxVisualMeshTriangles = 1000000;
 Status readVisualMesh(const std::string& file, const Vec3& scale,
                       std::shared_ptr<const TriangleMesh>* out);
 
+// A joint as a view draws it (Gazebo's View > Joints): where it is now, world coordinates.
+struct JointAxis {
+  std::string model;
+  std::string name;  // bare
+  JointType type = JointType::Fixed;
+  Vec3 anchor;         // the joint's origin (URDF: its child link's frame origin)
+  Vec3 axis{1, 0, 0};  // unit; a fixed joint's is its description's, meaningless
+};
+
+// A link's mass as a view draws it (Gazebo's View > Center of Mass, > Inertia): its inertial
+// frame's world pose, its mass and its inertia in that frame. Links without mass are left out.
+struct LinkMass {
+  std::string model;
+  std::string link;  // bare
+  Pose inertial;     // world pose of the inertial frame (its origin: the centre of mass)
+  double mass = 0;
+  double ixx = 0, ixy = 0, ixz = 0, iyy = 0, iyz = 0, izz = 0;  // in the inertial frame
+};
+
 enum class ModelFormat { Urdf, Sdf };
 
 // A ray segment in world coordinates: from `from` along `direction` (any length but zero) for
@@ -485,6 +504,9 @@ class World {
   std::vector<CollisionShape> collisionShapes() const;
   // Every spawned model's visuals, in spawn order, each link's in the order its model gives them.
   std::vector<VisualShape> visualShapes() const;
+  // Every spawned model's joints, and its links' masses, each model's in its own order.
+  std::vector<JointAxis> jointAxes() const;
+  std::vector<LinkMass> linkMasses() const;
 
   // For each ray, the distance from its start to the first collision shape it meets within its
   // length (every model's, the sensor's own included, meshes and planes), found by
@@ -505,6 +527,8 @@ class World {
   // next step. Refuses, with *out empty, a name that is no collision in the world
   // (CollisionNotFound, subject: the name).
   Status contacts(const std::vector<std::string>& collisions, std::vector<Contact>* out) const;
+  // contacts() of every collision in the world, the ground's included.
+  std::vector<Contact> allContacts() const;
 
   // What step() had to do on its own since the last call, for the owner to log: a model's speed
   // capped, a non-finite state undone. Drains the list (at most 100 kept between calls).

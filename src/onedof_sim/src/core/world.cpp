@@ -372,44 +372,4 @@ void World::resetSimulation() {
   impl_->steps = 0;
 }
 
-std::vector<CollisionShape> World::collisionShapes() const {
-  std::vector<CollisionShape> shapes;
-  for (const auto& model : impl_->models)
-    for (const LinkRecord& link : model->links)
-      for (const CollisionDescription& collision : link.desc.collisions) {
-        CollisionShape shape;
-        shape.model = model->name;
-        shape.link = link.desc.name;
-        shape.shape = collision.shape;
-        shape.size = collision.size;
-        shape.pose = compose(impl_->linkWorldPose(*model, link), collision.pose);
-        if (collision.mesh) shape.mesh_file = collision.mesh->file;
-        shapes.push_back(shape);
-      }
-  return shapes;
-}
-
-std::vector<VisualShape> World::visualShapes() const {
-  std::vector<VisualShape> shapes;
-  for (const auto& model : impl_->models)
-    for (const LinkRecord& link : model->links) {
-      if (link.desc.visuals.empty()) continue;
-      const Pose link_pose = impl_->linkWorldPose(*model, link);
-      for (const VisualDescription& visual : link.desc.visuals) {
-        VisualShape shape;
-        shape.model = model->name;
-        shape.link = link.desc.name;
-        shape.name = visual.name;
-        shape.shape = visual.shape;
-        shape.size = visual.size;
-        shape.pose = compose(link_pose, visual.pose);
-        shape.mesh_uri = visual.mesh_uri;
-        shape.mesh_file = visual.mesh_file;
-        shape.material = visual.material;
-        shapes.push_back(shape);
-      }
-    }
-  return shapes;
-}
-
 }  // namespace onedof_sim

@@ -6,12 +6,6 @@
 #include <onedof_sim/pose_math.h>
 
 namespace onedof_sim {
-namespace {
-
-constexpr double kGroundMarkerSize = 10.0;  // m, the plane drawn as a thin square
-
-}  // namespace
-
 Vec3 toCore(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 Vec3 toCore(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
 
@@ -81,47 +75,6 @@ uint8_t toJointTypeConstant(JointType type) {
       break;
   }
   return gazebo_msgs::GetJointProperties::Response::REVOLUTE;
-}
-
-visualization_msgs::Marker toMarker(const CollisionShape& shape, int id) {
-  visualization_msgs::Marker marker;
-  marker.header.frame_id = "world";
-  // One namespace per model: one checkbox per model in rviz's MarkerArray display, so our rviz
-  // view shows the world (the table) and leaves the robot, which its RobotModel already draws,
-  // off until asked for.
-  marker.ns = shape.model;
-  marker.id = id;
-  marker.action = visualization_msgs::Marker::ADD;
-  marker.pose = toMsg(shape.pose);
-  marker.color.r = marker.color.g = marker.color.b = 0.6f;
-  marker.color.a = 0.8f;
-  switch (shape.shape) {
-    case GeometryShape::Box:
-      marker.type = visualization_msgs::Marker::CUBE;
-      marker.scale = toVector3(shape.size);
-      break;
-    case GeometryShape::Cylinder:
-      marker.type = visualization_msgs::Marker::CYLINDER;
-      marker.scale.x = marker.scale.y = 2 * shape.size.x;
-      marker.scale.z = shape.size.z;
-      break;
-    case GeometryShape::Sphere:
-      marker.type = visualization_msgs::Marker::SPHERE;
-      marker.scale.x = marker.scale.y = marker.scale.z = 2 * shape.size.x;
-      break;
-    case GeometryShape::Mesh:
-      marker.type = visualization_msgs::Marker::MESH_RESOURCE;
-      marker.mesh_resource = "file://" + shape.mesh_file;
-      marker.scale = toVector3(shape.size);
-      break;
-    case GeometryShape::Plane:
-      marker.type = visualization_msgs::Marker::CUBE;
-      marker.scale.x = marker.scale.y = kGroundMarkerSize;
-      marker.scale.z = 0.001;
-      marker.color.a = 0.3f;
-      break;
-  }
-  return marker;
 }
 
 }  // namespace onedof_sim

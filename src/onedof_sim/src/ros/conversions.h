@@ -9,7 +9,6 @@
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/Vector3.h>
 #include <ros/time.h>
-#include <visualization_msgs/Marker.h>
 
 #include <onedof_sim/world.h>
 
@@ -39,8 +38,5 @@ std::string bareName(const std::string& scoped);
 
 // gazebo_msgs/GetJointProperties' type constant for a joint type.
 uint8_t toJointTypeConstant(JointType type);
-
-// An rviz marker drawing one collision shape in the world frame.
-visualization_msgs::Marker toMarker(const CollisionShape& shape, int id);
 
 }  // namespace onedof_sim

@@ -42,7 +42,7 @@ Status detectModelFormat(const std::string& xml, ModelFormat* format) {
 std::string extrasText(const NodeOptions& options) {
   std::vector<std::string> extras;
   if (options.enable_step_simulation) extras.push_back("step_simulation");
-  if (options.enable_collision_markers) extras.push_back("collision_markers");
+  if (options.enable_collision_markers) extras.push_back("the world view's markers");
   if (extras.empty()) return "";
   std::string text = " with ";
   for (size_t i = 0; i < extras.size(); ++i) text += (i ? " and " : "") + extras[i];

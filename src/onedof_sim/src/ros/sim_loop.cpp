@@ -12,7 +12,6 @@
 #include <gazebo_msgs/LinkStates.h>
 #include <gazebo_msgs/ModelStates.h>
 #include <rosgraph_msgs/Clock.h>
-#include <visualization_msgs/MarkerArray.h>
 
 #include "conversions.h"
 #include "node_process.h"
@@ -26,7 +25,6 @@ namespace {
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
 constexpr std::chrono::milliseconds kPacingSlice(50);
 constexpr uint32_t kClockQueue = 1000;
-constexpr double kCollisionMarkersFrequency = 10.0;  // Hz of sim time
 // For a controller whose process is not on this machine (lock-step cannot see it rest): a
 // client's two clock readings after a call are microseconds apart; a millisecond leaves them room
 // and bounds such a 1 kHz controller to real time.
@@ -79,10 +77,9 @@ struct SimLoop::StepOutput {
   double max_update_rate = 0;
   bool has_model_states = false;
   bool has_link_states = false;
-  bool has_markers = false;
   gazebo_msgs::ModelStates model_states;
   gazebo_msgs::LinkStates link_states;
-  std::vector<CollisionShape> shapes;
+  ViewMarkers::Facts views;  // what the world view's markers need, when due
   std::vector<std::string> warnings;  // what the world had to do on its own during the step
   std::vector<std::string> notes;     // what lock-step did that a user may want to know
   std::vector<plugins::Publication> plugin_publications;  // the model plugins' messages
@@ -158,7 +155,7 @@ SimLoop::SimLoop(const NodeOptions& options)
   if (!options.enable_ros_network) return;
   model_states_pub_ = private_nh_.advertise<gazebo_msgs::ModelStates>("model_states", 1);
   link_states_pub_ = private_nh_.advertise<gazebo_msgs::LinkStates>("link_states", 1);
-  if (options.enable_collision_markers) setCollisionMarkers(true);
+  if (options.enable_collision_markers) setViewMarkers(true);
 }
 
 SimLoop::~SimLoop() {
@@ -182,6 +179,7 @@ void SimLoop::run() {
     if (!out.stepped) {
       was_stepping = false;
       publishHeldClock();
+      view_markers_.publish(out.views);
       continue;
     }
     publish(out);
@@ -196,7 +194,7 @@ void SimLoop::run() {
 void SimLoop::stepOnce(StepOutput* out) {
   const bool want_model_states = model_states_pub_.getNumSubscribers() > 0;
   const bool want_link_states = link_states_pub_.getNumSubscribers() > 0;
-  const bool want_markers = markers_pub_.getNumSubscribers() > 0;
+  view_markers_.want(&out->views);
 
   // Let waiting service callbacks in first; they hold the lock only for one world call.
   std::unique_lock<std::mutex> lock(mutex_);
@@ -214,6 +212,7 @@ void SimLoop::stepOnce(StepOutput* out) {
     lockstep_stop_.reset();  // a wait at a stop starts afresh once the world runs again
     // Wakes on unpause or a step request; the timeout lets run() notice a shutdown.
     wake_loop_.wait_for(lock, std::chrono::milliseconds(50));
+    view_markers_.collect(world_, false, &out->views);  // a standing world is still shown
     return;
   }
   if (lockstep_.enabled() && !awaitControllers(lock, out)) return;
@@ -290,7 +289,7 @@ void SimLoop::stepOnce(StepOutput* out) {
       out->clock_not_before = last_command_at_ + kLockstepClockDelay;
   }
 
-  collectStates(out, want_model_states, want_link_states, want_markers);
+  collectStates(out, want_model_states, want_link_states);
   doSensorWork(lock, out);
 }
 
@@ -315,9 +314,8 @@ void SimLoop::takePublications(plugins::ModelPlugin* plugin, StepOutput* out) {
     out->plugin_publications.push_back(std::move(publication));
 }
 
-// The states and shapes due at this step that someone subscribes to, world locked.
-void SimLoop::collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
-                            bool want_markers) {
+// The states and view markers due at this step that someone subscribes to, world locked.
+void SimLoop::collectStates(StepOutput* out, bool want_model_states, bool want_link_states) {
   const bool states_due = isDue(out->time_ns, last_states_ns_, states_publish_frequency_);
   if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
   if (states_due && want_model_states) {
@@ -342,11 +340,7 @@ void SimLoop::collectStates(StepOutput* out, bool want_model_states, bool want_l
       out->link_states.twist.push_back(toMsg(twist));
     }
   }
-  if (want_markers && isDue(out->time_ns, last_markers_ns_, kCollisionMarkersFrequency)) {
-    last_markers_ns_ = out->time_ns;
-    out->has_markers = true;
-    out->shapes = world_.collisionShapes();
-  }
+  view_markers_.collect(world_, true, &out->views);
 }
 
 // Lock-step: holds the world until every lock-stepped joint has an effort acting in the coming
@@ -541,23 +535,12 @@ void SimLoop::publish(const StepOutput& out) {
     for (const auto& publication : work->withoutWorld()) publication();
   if (out.has_model_states) model_states_pub_.publish(out.model_states);
   if (out.has_link_states) link_states_pub_.publish(out.link_states);
-  if (out.has_markers) {
-    visualization_msgs::MarkerArray markers;
-    // Clear first, so shapes of deleted models disappear.
-    visualization_msgs::Marker clear;
-    clear.header.frame_id = "world";
-    clear.action = visualization_msgs::Marker::DELETEALL;
-    markers.markers.push_back(clear);
-    for (size_t i = 0; i < out.shapes.size(); ++i) {
-      markers.markers.push_back(toMarker(out.shapes[i], int(i)));
-    }
-    markers_pub_.publish(markers);
-  }
+  view_markers_.publish(out.views);
 }
 
 // pub_clock_frequency and enable_collision_markers may be changed while running; reading them at
 // every step would cost more than the step, so they are re-read ten times per wall second, also
-// while the world is paused (a view started then finds the markers' publisher).
+// while the world is paused (a view started then finds the markers' publishers).
 void SimLoop::refreshParameters() {
   const auto now = std::chrono::steady_clock::now();
   if (now < next_param_refresh_) return;
@@ -570,23 +553,20 @@ void SimLoop::refreshParameters() {
   if (!ros_network_) return;
   bool markers = false;  // unset, or not a bool: off
   private_nh_.getParamCached(kEnableCollisionMarkers, markers);
-  if (markers == markers_on_) return;
-  setCollisionMarkers(markers);
+  if (markers == view_markers_.advertised()) return;
+  setViewMarkers(markers);
   ROS_INFO_STREAM((markers ? "publishing " : "no longer publishing ")
-                  << private_nh_.resolveName("collision_markers") << " ("
+                  << "the world view's markers (" << private_nh_.resolveName("visual_markers")
+                  << ", collision_markers, ...) ("
                   << private_nh_.resolveName(kEnableCollisionMarkers) << " is "
                   << (markers ? "true" : "false") << ")");
 }
 
-void SimLoop::setCollisionMarkers(bool on) {
-  markers_on_ = on;
-  last_markers_ns_ = -1;  // due at the next step
-  if (on) {
-    markers_pub_ =
-        private_nh_.advertise<visualization_msgs::MarkerArray>("collision_markers", 1);
-  } else {
-    markers_pub_.shutdown();
-  }
+void SimLoop::setViewMarkers(bool on) {
+  if (on)
+    view_markers_.advertise(private_nh_);
+  else
+    view_markers_.shutdown();
 }
 
 // Sleeps until this step's absolute deadline (no drift: deadlines are origin + n periods).

@@ -1,6 +1,6 @@
 // The loop that owns the world and its time, as gzserver does: the World, the fixed-step loop and
 // its pacing, pause and step requests, lock-step waiting, the model plugins' hooks around each
-// step, and the publication of /clock, model_states, link_states and the collision markers.
+// step, and the publication of /clock, model_states, link_states and the world view's markers.
 //
 // Service callbacks (GazeboApi) run on their spinners and reach the world only through this
 // class: a function run under the world lock (withWorld), a step request (runSteps), a
@@ -31,6 +31,7 @@
 #include "plugins/model_plugin.h"
 #include "process_activity.h"
 #include "process_exits.h"
+#include "view_markers.h"
 
 namespace onedof_sim {
 
@@ -149,8 +150,7 @@ class SimLoop {
 
   struct StepOutput;
   void stepOnce(StepOutput* out);
-  void collectStates(StepOutput* out, bool want_model_states, bool want_link_states,
-                     bool want_markers);
+  void collectStates(StepOutput* out, bool want_model_states, bool want_link_states);
   void doSensorWork(std::unique_lock<std::mutex>& lock, StepOutput* out);
   // A plugin's messages so far, into the step's output.
   void takePublications(plugins::ModelPlugin* plugin, StepOutput* out);
@@ -175,8 +175,8 @@ class SimLoop {
   // Re-reads the parameters the loop follows while running (kPubClockFrequency,
   // kEnableCollisionMarkers), at most ten times per wall second.
   void refreshParameters();
-  // Advertises the collision markers' topic, or takes it down.
-  void setCollisionMarkers(bool on);
+  // Advertises the world view's marker topics (view_markers.h), or takes them down.
+  void setViewMarkers(bool on);
   void pace(double max_update_rate, bool resumed);
 
   ros::NodeHandle nh_;
@@ -242,18 +242,17 @@ class SimLoop {
   double states_publish_frequency_;
   double clock_frequency_ = 0;  // /gazebo/pub_clock_frequency; <= 0: every step
   bool ros_network_;             // ~enable_ros_network: the /gazebo topics may be advertised
-  bool markers_on_ = false;      // ~enable_collision_markers, as last read
   std::chrono::steady_clock::time_point next_param_refresh_;
   std::chrono::steady_clock::time_point deadline_;
   int64_t last_clock_ns_ = -1;
   int64_t held_clock_ns_ = -1;
   int64_t last_states_ns_ = -1;
-  int64_t last_markers_ns_ = -1;
 
   ros::Publisher clock_pub_;
   ros::Publisher model_states_pub_;
   ros::Publisher link_states_pub_;
-  ros::Publisher markers_pub_;  // empty unless markers_on_
+  // Advertised while ~enable_collision_markers is true, as last read.
+  ViewMarkers view_markers_;
 };
 
 }  // namespace onedof_sim

@@ -1,6 +1,6 @@
 // The conversions between Gazebo's ROS messages and the core's types (src/ros/conversions.h), no
 // roscore: quaternions normalised as Gazebo does, an unset one the identity, non-finite input
-// kept for the world to refuse, times in integer nanoseconds, names and markers.
+// kept for the world to refuse, times in integer nanoseconds, names.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -74,34 +74,6 @@ TEST(Conversions, NamesAndJointTypes) {
   EXPECT_EQ(toJointTypeConstant(JointType::Continuous), Response::REVOLUTE);
   EXPECT_EQ(toJointTypeConstant(JointType::Prismatic), Response::PRISMATIC);
   EXPECT_EQ(toJointTypeConstant(JointType::Fixed), Response::FIXED);
-}
-
-TEST(Conversions, MarkersDrawEachShapeAtItsSize) {
-  CollisionShape cylinder;
-  cylinder.model = "robot";
-  cylinder.shape = GeometryShape::Cylinder;
-  cylinder.size = {0.1, 0, 0.5};
-  cylinder.pose = {{1, 2, 3}, {}};
-  const visualization_msgs::Marker m = toMarker(cylinder, 7);
-  EXPECT_EQ(m.ns, "robot");
-  EXPECT_EQ(m.id, 7);
-  EXPECT_EQ(m.header.frame_id, "world");
-  EXPECT_EQ(m.type, visualization_msgs::Marker::CYLINDER);
-  EXPECT_EQ(m.scale.x, 0.2);
-  EXPECT_EQ(m.scale.z, 0.5);
-  EXPECT_EQ(m.pose.position.z, 3);
-  CollisionShape sphere;
-  sphere.shape = GeometryShape::Sphere;
-  sphere.size = {0.3, 0, 0};
-  EXPECT_EQ(toMarker(sphere, 0).scale.y, 0.6);
-  CollisionShape mesh;
-  mesh.shape = GeometryShape::Mesh;
-  mesh.mesh_file = "/m/part.stl";
-  mesh.size = {1, 2, 3};
-  const visualization_msgs::Marker mesh_marker = toMarker(mesh, 0);
-  EXPECT_EQ(mesh_marker.type, visualization_msgs::Marker::MESH_RESOURCE);
-  EXPECT_EQ(mesh_marker.mesh_resource, "file:///m/part.stl");
-  EXPECT_EQ(mesh_marker.scale.z, 3);
 }
 
 }  // namespace
