@@ -48,6 +48,14 @@ char stateAt(const std::string& path) {
 // other threads) or dead.
 bool hasExited(char state) { return state == 'Z' || state == 'X' || state == 'x'; }
 
+// A thread's entry in a process's runs sorted by thread id, or nullptr.
+const ThreadRuns* entryOf(const ProcessRuns& threads, long tid) {
+  const auto found =
+      std::lower_bound(threads.begin(), threads.end(), tid,
+                       [](const ThreadRuns& thread, long id) { return thread.tid < id; });
+  return found != threads.end() && found->tid == tid ? &*found : nullptr;
+}
+
 void sortByTid(std::vector<ThreadRuns>* threads) {
   std::sort(threads->begin(), threads->end(),
             [](const ThreadRuns& a, const ThreadRuns& b) { return a.tid < b.tid; });
@@ -98,8 +106,8 @@ const ProcessThreads::ThreadFiles* ProcessThreads::filesOf(long tid,
 }
 
 // Every listed thread's state (from stat) and run count (the third field of schedstat).
-bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* threads,
-                                       bool* all_blocked) {
+bool ProcessThreads::lookWithOpenFiles(LookFor what, const LeftOut& left_out,
+                                       std::vector<ThreadRuns>* threads, bool* all_blocked) {
   threads->clear();
   *all_blocked = true;
   if (!task_dir_) {
@@ -116,21 +124,27 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* th
     const ThreadFiles* files = filesOf(std::strtol(entry->d_name, nullptr, 10), &listed);
     ThreadRuns sample;
     sample.tid = files->tid;
-    if (what == LookFor::kRest) {
-      if (files->stat_fd < 0 || !readAgain(files->stat_fd, buffer, sizeof buffer)) {
-        complete = false;
-        break;
-      }
-      const char state = stateIn(buffer);
-      if (state == 0) {
-        complete = false;
-        break;
-      }
-      if (hasExited(state)) continue;  // it will never run again
-      // Blocked in the kernel waiting for an event (a futex, a socket, a timer). Not D
-      // (uninterruptible: a page fault or disk wait in the middle of running code), T or t
-      // (stopped anywhere), R: the process does not rest, whatever its other threads do.
-      if (state != 'S') {
+    bool not_blocked = false;  // for kRest: a thread that holds the rest unless left out
+    if (files->stat_fd < 0 || !readAgain(files->stat_fd, buffer, sizeof buffer)) {
+      if (what == LookFor::kRuns) continue;  // a thread that ended since the listing
+      complete = false;
+      break;
+    }
+    const char state = stateIn(buffer);
+    if (state == 0) {
+      if (what == LookFor::kRuns) continue;
+      complete = false;
+      break;
+    }
+    if (hasExited(state)) continue;  // it will never run again
+    // Blocked in the kernel waiting for an event (a futex, a socket, a timer). Not D
+    // (uninterruptible: a page fault or disk wait in the middle of running code), T or t
+    // (stopped anywhere), R: the process does not rest, whatever its other threads do, unless
+    // the thread is left out.
+    sample.blocked = state == 'S';
+    if (what == LookFor::kRest && !sample.blocked) {
+      not_blocked = true;
+      if (!left_out) {
         *all_blocked = false;
         threads->push_back(sample);
         break;
@@ -139,12 +153,16 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* th
     unsigned long long on_cpu_ns = 0, waited_ns = 0, runs = 0;
     if (files->schedstat_fd < 0 || !readAgain(files->schedstat_fd, buffer, sizeof buffer) ||
         std::sscanf(buffer, "%llu %llu %llu", &on_cpu_ns, &waited_ns, &runs) != 3) {
-      if (what == LookFor::kRuns) continue;  // a thread that ended since the listing
+      if (what == LookFor::kRuns) continue;
       complete = false;
       break;
     }
     sample.runs = runs;
     threads->push_back(sample);
+    if (not_blocked && !left_out(sample)) {
+      *all_blocked = false;
+      break;
+    }
   }
   // The files of the threads not reached by this look stay open for the next; those of threads
   // no longer listed (a whole listing: they are gone) are closed.
@@ -167,26 +185,28 @@ bool ProcessThreads::lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* th
   return complete && !threads->empty();
 }
 
-bool ProcessThreads::look(LookFor what, std::vector<ThreadRuns>* threads, bool* all_blocked) {
-  if (lookWithOpenFiles(what, threads, all_blocked)) return true;
+bool ProcessThreads::look(LookFor what, const LeftOut& left_out, std::vector<ThreadRuns>* threads,
+                          bool* all_blocked) {
+  if (lookWithOpenFiles(what, left_out, threads, all_blocked)) return true;
   // Files opened before may be of threads gone, or of a process gone whose pid was taken again:
   // the same look from fresh files, as the first look ever made.
   forget();
-  return lookWithOpenFiles(what, threads, all_blocked);
+  return lookWithOpenFiles(what, left_out, threads, all_blocked);
 }
 
-ProcessActivity ProcessThreads::activity() {
+ProcessActivity ProcessThreads::activity(const LeftOut& left_out) {
   ProcessActivity activity;
   std::vector<ThreadRuns> first, second;
   bool first_blocked = false, second_blocked = false;
-  if (!look(LookFor::kRest, &first, &first_blocked)) {
+  if (!look(LookFor::kRest, left_out, &first, &first_blocked)) {
     activity.gone = !processLives(pid_);
     return activity;
   }
   if (!first_blocked) return activity;
   // A thread that woke another and then blocked can be read blocked after its wakee was read
   // blocked too: only a second look with no thread run in between shows the process at rest.
-  if (!look(LookFor::kRest, &second, &second_blocked) || !second_blocked) return activity;
+  if (!look(LookFor::kRest, left_out, &second, &second_blocked) || !second_blocked)
+    return activity;
   if (first.size() != second.size()) return activity;
   for (size_t i = 0; i < first.size(); ++i)
     if (first[i].tid != second[i].tid || first[i].runs != second[i].runs) return activity;
@@ -199,7 +219,7 @@ ProcessActivity ProcessThreads::activity() {
 ProcessRuns ProcessThreads::runs() {
   std::vector<ThreadRuns> threads;
   bool unused;
-  if (!look(LookFor::kRuns, &threads, &unused)) return {};
+  if (!look(LookFor::kRuns, nullptr, &threads, &unused)) return {};
   sortByTid(&threads);
   return threads;
 }
@@ -207,12 +227,29 @@ ProcessRuns ProcessThreads::runs() {
 bool ProcessActivity::ranSince(const ProcessRuns& at_command) const {
   if (at_command.empty()) return true;  // nothing known of the command's time: resting suffices
   for (const ThreadRuns& now : threads) {
-    const auto then = std::lower_bound(
-        at_command.begin(), at_command.end(), now.tid,
-        [](const ThreadRuns& thread, long tid) { return thread.tid < tid; });
-    if (then != at_command.end() && then->tid == now.tid && now.runs > then->runs) return true;
+    const ThreadRuns* then = entryOf(at_command, now.tid);
+    if (then && now.runs > then->runs) return true;
   }
   return false;
+}
+
+bool ThreadsAtWork::dormant(const ProcessRuns& at_command, const ThreadRuns& now) const {
+  const ThreadRuns* then = entryOf(at_command, now.tid);
+  if (!then || !then->blocked || now.runs != then->runs) return false;
+  const auto idle = idle_periods_.find(now.tid);
+  return idle != idle_periods_.end() && idle->second >= kIdlePeriods;
+}
+
+void ThreadsAtWork::noteRest(const ProcessRuns& at_command, const ProcessRuns& at_rest) {
+  std::map<long, int> idle_periods;
+  for (const ThreadRuns& now : at_rest) {
+    const ThreadRuns* then = entryOf(at_command, now.tid);
+    const bool ran = !then || now.runs > then->runs;
+    const auto before = idle_periods_.find(now.tid);
+    const int idle_before = before == idle_periods_.end() ? 0 : before->second;
+    idle_periods[now.tid] = ran ? 0 : std::min(idle_before + 1, kIdlePeriods);
+  }
+  idle_periods_ = std::move(idle_periods);
 }
 
 bool processLives(int pid) {

@@ -8,6 +8,8 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <vector>
 
 namespace onedof_sim {
@@ -16,6 +18,7 @@ namespace onedof_sim {
 struct ThreadRuns {
   long tid = 0;
   uint64_t runs = 0;
+  bool blocked = false;  // blocked in the kernel waiting for an event (state S) at the look
 };
 // A process's threads' runs, by thread id (ascending).
 using ProcessRuns = std::vector<ThreadRuns>;
@@ -59,11 +62,15 @@ class ProcessThreads {
 
   int pid() const { return pid_; }
 
-  // Two looks at every thread's state and runs; the second only when the first found every thread
-  // blocked (the first ends at a thread that is not).
-  ProcessActivity activity();
+  // Whether a thread that is not blocked may be left out of a rest (ThreadsAtWork::dormant).
+  using LeftOut = std::function<bool(const ThreadRuns& now)>;
 
-  // One look: each thread's runs alone (none if gone).
+  // Two looks at every thread's state and runs; the second only when the first found every thread
+  // blocked or left out (the first ends at a thread that is neither). A thread left out is among
+  // `threads` with its runs.
+  ProcessActivity activity(const LeftOut& left_out = nullptr);
+
+  // One look: each thread's runs and whether it is blocked (none if gone).
   ProcessRuns runs();
 
  private:
@@ -78,8 +85,10 @@ class ProcessThreads {
   // away meanwhile). False if the process is gone or a thread went away between the listing and
   // the reading. For kRest, threads that have exited (a zombie) are left out, and the look ends at
   // the first thread not blocked (*all_blocked false); false also when no thread is left.
-  bool look(LookFor what, std::vector<ThreadRuns>* threads, bool* all_blocked);
-  bool lookWithOpenFiles(LookFor what, std::vector<ThreadRuns>* threads, bool* all_blocked);
+  bool look(LookFor what, const LeftOut& left_out, std::vector<ThreadRuns>* threads,
+            bool* all_blocked);
+  bool lookWithOpenFiles(LookFor what, const LeftOut& left_out, std::vector<ThreadRuns>* threads,
+                         bool* all_blocked);
   // The files of thread tid, opened if they are not yet.
   const ThreadFiles* filesOf(long tid, std::vector<ThreadFiles>* listed);
   // Closes a thread's files.
@@ -90,6 +99,32 @@ class ProcessThreads {
   int pid_;
   DIR* task_dir_ = nullptr;
   std::vector<ThreadFiles> threads_;  // in the listing's order
+};
+
+// The threads of a controller's process that do its work in each period, learned from the rests
+// that followed its commands. A rospy node also has threads that wake on their own timers: the
+// thread of a subscription whose publisher has gone retries it with growing sleeps for as long as
+// the master names it, the XML-RPC server's thread serves the master's updates. One of those woken
+// at a stop and waiting for a CPU would hold the stop's clock until the machine gives it one,
+// though the controller's work is done. Such a thread is left out of the rest when it is dormant.
+class ThreadsAtWork {
+ public:
+  // Periods in a row a thread has not run between its process's command and rest before it counts
+  // as not at work.
+  static constexpr int kIdlePeriods = 3;
+
+  // Whether a thread that is not blocked may be left out of a rest: it was blocked when the command
+  // came and has not been put on a CPU since (so it holds nothing the controller's work can wait
+  // for that it took since, such as Python's GIL or a lock, and it has no part in that work), and
+  // it has not run between command and rest in the last kIdlePeriods periods. A thread unknown at
+  // the command, or to the periods before, is at work.
+  bool dormant(const ProcessRuns& at_command, const ThreadRuns& now) const;
+
+  // A rest that followed a command: which threads ran between them.
+  void noteRest(const ProcessRuns& at_command, const ProcessRuns& at_rest);
+
+ private:
+  std::map<long, int> idle_periods_;  // by thread id
 };
 
 // Whether a process with this pid has a thread that has not exited: not gone, nor a zombie.

@@ -46,10 +46,11 @@ constexpr std::chrono::milliseconds kCallbacksWaitSlice(1);
 
 // The view of process pid in views, made when missing. Making one lets go of the views of
 // processes gone (a controller restarted has another pid), and with them their open files.
-ProcessThreads& viewOf(std::map<int, std::unique_ptr<ProcessThreads>>* views, int pid) {
-  std::unique_ptr<ProcessThreads>& view = (*views)[pid];
+template <class View>
+View& viewOf(std::map<int, std::unique_ptr<View>>* views, int pid) {
+  std::unique_ptr<View>& view = (*views)[pid];
   if (view) return *view;
-  view = std::make_unique<ProcessThreads>(pid);
+  view = std::make_unique<View>(pid);
   for (auto it = views->begin(); it != views->end();)
     it = it->first != pid && !processLives(it->first) ? views->erase(it) : std::next(it);
   return *view;
@@ -426,12 +427,12 @@ void SimLoop::showWakeUpClock(const std::vector<Lockstep::Awaited>& awaited) {
 bool SimLoop::awaitedAsleep(const std::vector<Lockstep::Awaited>& awaited) {
   for (const Lockstep::Awaited& joint : awaited) {
     const std::optional<int> pid = lockstep_.pidOf(joint.caller);
-    if (pid && !loopView(*pid).activity().asleep) return false;
+    if (pid && !loopView(*pid).threads.activity().asleep) return false;
   }
   return true;
 }
 
-ProcessThreads& SimLoop::loopView(int pid) { return viewOf(&loop_views_, pid); }
+SimLoop::ControllerView& SimLoop::loopView(int pid) { return viewOf(&loop_views_, pid); }
 
 ProcessRuns SimLoop::commandRuns(int pid) {
   std::lock_guard<std::mutex> lock(command_views_mutex_);
@@ -439,7 +440,8 @@ ProcessRuns SimLoop::commandRuns(int pid) {
 }
 
 // Holds a stop's clock until every lock-stepped controller's process on this machine has run since
-// its command (its call has returned) and rests: every thread blocked, none run between two looks.
+// its command (its call has returned) and rests: every thread blocked, none run between two looks,
+// but for dormant threads (ThreadsAtWork: woken by their own timers, not run since the command).
 // Then none is between the two clock readings of its Rate, which run on from the call's return
 // without blocking, so each wakes where the world stops, however the machine delays it. A process
 // that never rests (a busy thread, or one stopped by SIGSTOP) holds the clock at most
@@ -456,13 +458,25 @@ void SimLoop::awaitAsleep(const std::vector<Lockstep::Watched>& controllers,
     while (efforts_replied_ < heard && ros::ok() && Lockstep::Clock::now() < give_up_at)
       replied_.wait_until(lock, std::min(give_up_at, Lockstep::Clock::now() + kAsleepWaitSlice));
   }
+  std::vector<ProcessActivity> rests(controllers.size());
   for (;;) {
     std::vector<const Lockstep::Watched*> busy;
-    for (const Lockstep::Watched& controller : controllers) {
-      const ProcessActivity activity = loopView(controller.pid).activity();
-      if (!activity.restedSince(controller.runs_at_command)) busy.push_back(&controller);
+    for (size_t i = 0; i < controllers.size(); ++i) {
+      const Lockstep::Watched& controller = controllers[i];
+      ControllerView& view = loopView(controller.pid);
+      rests[i] = view.threads.activity([&](const ThreadRuns& thread) {
+        return view.work.dormant(controller.runs_at_command, thread);
+      });
+      if (!rests[i].restedSince(controller.runs_at_command)) busy.push_back(&controller);
     }
-    if (busy.empty() || !ros::ok()) return;
+    if (busy.empty()) {
+      for (size_t i = 0; i < controllers.size(); ++i)
+        if (!rests[i].gone)
+          loopView(controllers[i].pid).work.noteRest(controllers[i].runs_at_command,
+                                                     rests[i].threads);
+      return;
+    }
+    if (!ros::ok()) return;
     if (Lockstep::Clock::now() >= give_up_at) {
       for (const Lockstep::Watched* controller : busy)
         if (busy_controllers_.insert(controller->caller).second)

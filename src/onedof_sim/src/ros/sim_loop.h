@@ -161,8 +161,14 @@ class SimLoop {
   void awaitAsleep(const std::vector<Lockstep::Watched>& controllers,
                    Lockstep::Clock::time_point stopped_at);
   std::optional<int> controllerPid(const std::string& caller);
-  // A controller's process as the loop looks at it (awaitAsleep, awaitedAsleep).
-  ProcessThreads& loopView(int pid);
+  // A controller's process as the loop looks at it (awaitAsleep, awaitedAsleep): its threads,
+  // and which of them do its work.
+  struct ControllerView {
+    explicit ControllerView(int pid) : threads(pid) {}
+    ProcessThreads threads;
+    ThreadsAtWork work;
+  };
+  ControllerView& loopView(int pid);
   // Its threads' runs, as the thread serving apply_joint_effort reads them.
   ProcessRuns commandRuns(int pid);
   // Lock held: moves out the plugins of models no longer in the world, stopped.
@@ -235,7 +241,7 @@ class SimLoop {
   // command_views_mutex_), and as the loop reads them (loop thread only).
   std::mutex command_views_mutex_;
   std::map<int, std::unique_ptr<ProcessThreads>> command_views_;
-  std::map<int, std::unique_ptr<ProcessThreads>> loop_views_;
+  std::map<int, std::unique_ptr<ControllerView>> loop_views_;
 
   // Step-loop state (only the loop thread touches these).
   std::set<std::string> busy_controllers_;  // named once for never resting (awaitAsleep)

@@ -1,7 +1,8 @@
 // ProcessThreads: a child process blocked reads asleep, one spinning does not, one gone (or a
 // zombie) reads gone; a thread that exits takes nothing from the runs of those that stay; its
-// files kept open stay within their budget however many views look. ProcessExits: a child's exit
-// is told at once.
+// files kept open stay within their budget however many views look; a thread left out does not
+// hold the rest. ThreadsAtWork: which threads may be left out. ProcessExits: a child's exit is
+// told at once.
 #include <dirent.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -109,6 +110,107 @@ TEST(ProcessThreads, AChildSpinningNeverReadsAsleep) {
   }
 }
 
+// A child whose main thread blocks on a pipe while a second thread spins.
+class ChildWithSpinner {
+ public:
+  ChildWithSpinner() {
+    int fds[2];
+    EXPECT_EQ(::pipe(fds), 0);
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      std::thread([] {
+        for (volatile unsigned long i = 0;; ++i) {
+        }
+      }).detach();
+      char byte;
+      while (::read(fds[0], &byte, 1) != 0) {
+      }
+      ::_exit(0);
+    }
+    ::close(fds[0]);
+    ::close(fds[1]);  // the child's read sees no end: its own copy of the write end stays open
+  }
+  ~ChildWithSpinner() {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+  }
+  int pid() const { return pid_; }
+
+ private:
+  int pid_ = -1;
+};
+
+TEST(ProcessThreads, AThreadLeftOutDoesNotHoldTheRest) {
+  ChildWithSpinner child;
+  ProcessThreads view(child.pid());
+  for (int i = 0; i < 100; ++i) EXPECT_FALSE(view.activity().asleep);
+  // The spinner left out: its process rests when its main thread does (at two looks between which
+  // the spinner was not put on a CPU again), and the spinner is among the threads with its runs.
+  const auto leave_out_spinner = [&](const ThreadRuns& thread) {
+    return thread.tid != child.pid();
+  };
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  ProcessActivity rest;
+  while (!rest.asleep && std::chrono::steady_clock::now() < give_up)
+    rest = view.activity(leave_out_spinner);
+  ASSERT_TRUE(rest.asleep);
+  ASSERT_EQ(rest.threads.size(), 2u);
+  EXPECT_EQ(rest.threads[0].tid, child.pid());
+  EXPECT_NE(rest.threads[1].tid, child.pid());
+  // Leaving out the main thread instead does not make the spinner rest.
+  for (int i = 0; i < 100; ++i)
+    EXPECT_FALSE(view.activity([&](const ThreadRuns& thread) {
+                       return thread.tid == child.pid();
+                     }).asleep);
+}
+
+TEST(ProcessThreads, RunsTellWhichThreadsAreBlocked) {
+  ChildWithSpinner child;
+  ProcessThreads view(child.pid());
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  ProcessRuns runs;
+  while ((runs.size() != 2 || !runs[0].blocked) && std::chrono::steady_clock::now() < give_up)
+    runs = view.runs();
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_TRUE(runs[0].blocked);   // the main thread, on its pipe
+  EXPECT_FALSE(runs[1].blocked);  // the spinner, running or waiting for a CPU
+}
+
+// Threads 1 (the controller's loop: runs in every period) and 2 (a timer's thread: blocked, runs
+// now and then).
+ProcessRuns threadRuns(uint64_t loop, bool loop_blocked, uint64_t timer, bool timer_blocked) {
+  return {{1, loop, loop_blocked}, {2, timer, timer_blocked}};
+}
+
+TEST(ThreadsAtWork, AThreadIsDormantOnlyAfterIdlePeriodsAndIfNotRunSinceTheCommand) {
+  ThreadsAtWork work;
+  const ThreadRuns timer_woken{2, 10, false};
+  // Unknown to any period: at work.
+  EXPECT_FALSE(work.dormant(threadRuns(100, true, 10, true), timer_woken));
+  uint64_t loop = 100;
+  for (int period = 0; period < ThreadsAtWork::kIdlePeriods; ++period) {
+    const ProcessRuns at_command = threadRuns(loop, true, 10, true);
+    EXPECT_FALSE(work.dormant(at_command, timer_woken)) << period;
+    loop += 3;
+    work.noteRest(at_command, threadRuns(loop, true, 10, true));
+  }
+  const ProcessRuns at_command = threadRuns(loop, true, 10, true);
+  EXPECT_TRUE(work.dormant(at_command, timer_woken));
+  // Not once it has been put on a CPU since the command, nor if it was not blocked at it.
+  EXPECT_FALSE(work.dormant(at_command, ThreadRuns{2, 11, false}));
+  EXPECT_FALSE(work.dormant(threadRuns(loop, true, 10, false), timer_woken));
+  // The loop's thread, which runs in every period, never.
+  EXPECT_FALSE(work.dormant(at_command, ThreadRuns{1, loop, false}));
+  // A thread that ran between a command and its rest is at work again.
+  work.noteRest(at_command, threadRuns(loop + 3, true, 12, true));
+  EXPECT_FALSE(work.dormant(threadRuns(loop + 3, true, 12, true), ThreadRuns{2, 12, false}));
+  // A thread new since the command counts as having run: at work.
+  work.noteRest(threadRuns(loop + 3, true, 12, true),
+                {{1, loop + 6, true}, {2, 12, true}, {3, 1, true}});
+  EXPECT_FALSE(work.dormant({{1, loop + 6, true}, {2, 12, true}, {3, 1, true}},
+                            ThreadRuns{3, 1, false}));
+}
+
 TEST(ProcessThreads, AChildGoneReadsGoneWithNoRuns) {
   Child child(false);
   const int pid = child.pid();
@@ -179,8 +281,9 @@ class TwoThreadChild {
 TEST(ProcessThreads, AThreadThatExitsTakesNothingFromTheRunsOfThoseThatStay) {
   TwoThreadChild child;
   ProcessThreads view(child.pid());
-  // Both threads blocked, the helper after its many runs.
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  // Both threads blocked, the helper after its many runs (each a sleep, which on a busy machine
+  // can wait long for a CPU: the deadline bounds only a failure).
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   ProcessRuns at_command;
   while (std::chrono::steady_clock::now() < give_up) {
     const ProcessActivity activity = view.activity();
