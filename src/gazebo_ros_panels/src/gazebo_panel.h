@@ -1,0 +1,41 @@
+// The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
+// gazebo_ros services (GazeboClient), with a line saying what the last action did or why not.
+#pragma once
+
+#include <QLabel>
+#include <QTimer>
+#include <rviz/panel.h>
+
+#include <memory>
+
+namespace gazebo_ros_panels {
+
+class GazeboClient;
+class TimeTab;
+class InsertTab;
+class WorldTab;
+
+class GazeboPanel : public rviz::Panel {
+  Q_OBJECT
+ public:
+  explicit GazeboPanel(QWidget* parent = nullptr);
+  ~GazeboPanel() override;
+  void onInitialize() override;
+
+ private:
+  void report(const QString& text);
+  void refresh();         // the clock's figures and the model states, several times a second
+  void askForPhysics();   // the pause state and the physics, unless a call is under way
+
+  std::unique_ptr<GazeboClient> client_;
+  TimeTab* time_ = nullptr;
+  InsertTab* insert_ = nullptr;
+  WorldTab* world_ = nullptr;
+  QLabel* status_ = nullptr;
+  QTimer refresh_timer_;
+  QTimer physics_timer_;
+  bool physics_pending_ = false;
+  QString last_physics_error_;
+};
+
+}  // namespace gazebo_ros_panels

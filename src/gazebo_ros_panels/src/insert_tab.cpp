@@ -1,0 +1,90 @@
+#include "insert_tab.h"
+
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QPushButton>
+#include <QVBoxLayout>
+
+#include <cmath>
+
+#include "gui_thread.h"
+
+namespace gazebo_ros_panels {
+namespace {
+
+QDoubleSpinBox* coordinate(double low, double high, const char* suffix) {
+  auto* box = new QDoubleSpinBox;
+  box->setRange(low, high);
+  box->setDecimals(3);
+  box->setSingleStep(0.1);
+  box->setSuffix(suffix);
+  return box;
+}
+
+}  // namespace
+
+InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> report,
+                     QWidget* parent)
+    : QWidget(parent), client_(client), report_(std::move(report)) {
+  list_ = new QListWidget;
+  list_->setObjectName("insert_models");
+  x_ = coordinate(-1e4, 1e4, " m");
+  y_ = coordinate(-1e4, 1e4, " m");
+  z_ = coordinate(-1e4, 1e4, " m");
+  yaw_ = coordinate(-180, 180, " deg");
+  auto* refresh = new QPushButton("Refresh");
+  auto* insert = new QPushButton("Insert");
+  insert->setObjectName("insert");
+
+  auto* where = new QFormLayout;
+  where->addRow("x", x_);
+  where->addRow("y", y_);
+  where->addRow("z", z_);
+  where->addRow("yaw", yaw_);
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(refresh);
+  buttons->addWidget(insert);
+  auto* layout = new QVBoxLayout(this);
+  layout->addWidget(list_, 1);
+  layout->addLayout(where);
+  layout->addLayout(buttons);
+
+  connect(refresh, &QPushButton::clicked, this, &InsertTab::refresh);
+  connect(insert, &QPushButton::clicked, this, &InsertTab::insertChosen);
+  connect(list_, &QListWidget::itemDoubleClicked, this, &InsertTab::insertChosen);
+}
+
+void InsertTab::refresh() {
+  client_->catalog([this](const std::vector<CatalogModel>& models) {
+    onGuiThread(this, [this, models] {
+      const QString chosen = list_->currentItem() ? list_->currentItem()->text() : QString();
+      models_ = models;
+      list_->clear();
+      for (const CatalogModel& model : models_) {
+        auto* item = new QListWidgetItem(QString::fromStdString(model.name), list_);
+        item->setToolTip(QString::fromStdString(
+            model.shape.empty() ? "model://" + model.uri_name + " (" + model.sdf_path + ")"
+                                : model.uri_name));
+        if (item->text() == chosen) list_->setCurrentItem(item);
+      }
+    });
+  });
+}
+
+void InsertTab::insertChosen() {
+  const int row = list_->currentRow();
+  if (row < 0 || row >= static_cast<int>(models_.size())) {
+    report_("choose a model to insert");
+    return;
+  }
+  geometry_msgs::Pose pose;
+  pose.position.x = x_->value();
+  pose.position.y = y_->value();
+  pose.position.z = z_->value();
+  const double half_yaw = yaw_->value() * M_PI / 360.0;
+  pose.orientation.z = std::sin(half_yaw);
+  pose.orientation.w = std::cos(half_yaw);
+  client_->insert(models_[static_cast<size_t>(row)], pose, reportOnGui(this, report_));
+}
+
+}  // namespace gazebo_ros_panels
