@@ -110,7 +110,7 @@ gazebo_msgs::ModelStates GazeboClient::modelStates() const {
 
 template <class Srv>
 bool GazeboClient::call(const std::string& name, Srv& srv, Outcome* failed) {
-  const std::string full = service(name);
+  const std::string full = simulatorName(name);
   if (!ros::service::exists(full, false)) {
     failed->text = "no simulator: " + full + " is not served";
     return false;
@@ -153,8 +153,8 @@ void GazeboClient::step(uint64_t steps, Done done) {
     Outcome outcome;
     onedof_sim::StepSimulation srv;
     srv.request.steps = steps;
-    if (!ros::service::exists(service("step_simulation"), false)) {
-      outcome.text = service("step_simulation") +
+    if (!ros::service::exists(simulatorName("step_simulation"), false)) {
+      outcome.text = simulatorName("step_simulation") +
                      " is not served: the simulator serves it when asked for, with its "
                      "~enable_step_simulation (enable_step_simulation:=true or lockstep:=true "
                      "on the launch files)";
@@ -266,7 +266,7 @@ void GazeboClient::modelTrees(
 void GazeboClient::catalog(std::function<void(const std::vector<CatalogModel>&)> done) {
   post([this, done] {
     std::vector<std::string> simulator_path;
-    ros::param::get(service("model_path"), simulator_path);
+    ros::param::get(simulatorName("model_path"), simulator_path);
     const char* env = std::getenv("GAZEBO_MODEL_PATH");
     std::vector<std::pair<std::string, std::string>> exports;
     ros::package::getPlugins("gazebo_ros", "gazebo_model_path", exports, true);

@@ -85,7 +85,8 @@ class GazeboClient {
  private:
   void post(std::function<void()> job);
   void work();
-  std::string service(const std::string& name) const { return namespace_ + "/" + name; }
+  // A name of the simulator node: /gazebo/name.
+  std::string simulatorName(const std::string& name) const { return namespace_ + "/" + name; }
   // Empty-request services (pause_physics, ...): "<what>" on success.
   Outcome callEmpty(const std::string& name, const std::string& what);
   template <class Srv>

@@ -29,9 +29,10 @@ void GazeboPanel::onInitialize() {
   insert_ = new InsertTab(client_.get(), report);
   world_ = new WorldTab(client_.get(), report, physics_changed);
   auto* tabs = new QTabWidget;
-  tabs->addTab(time_, "Time");
-  tabs->addTab(insert_, "Insert");
-  tabs->addTab(world_, "World");
+  // Each button and tab has an Alt mnemonic of its own, none of rviz's menus' (F, P, H).
+  tabs->addTab(time_, "Ti&me");
+  tabs->addTab(insert_, "&Insert");
+  tabs->addTab(world_, "&World");
   status_ = new QLabel;
   status_->setObjectName("status");
   status_->setWordWrap(true);

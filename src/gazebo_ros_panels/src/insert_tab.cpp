@@ -2,6 +2,7 @@
 
 #include <QFormLayout>
 #include <QHBoxLayout>
+#include <QLabel>
 #include <QPushButton>
 #include <QVBoxLayout>
 
@@ -32,8 +33,8 @@ InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> r
   y_ = coordinate(-1e4, 1e4, " m");
   z_ = coordinate(-1e4, 1e4, " m");
   yaw_ = coordinate(-180, 180, " deg");
-  auto* refresh = new QPushButton("Refresh");
-  auto* insert = new QPushButton("Insert");
+  auto* refresh = new QPushButton("Refre&sh");
+  auto* insert = new QPushButton("I&nsert");
   insert->setObjectName("insert");
 
   auto* where = new QFormLayout;
@@ -44,7 +45,10 @@ InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> r
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(refresh);
   buttons->addWidget(insert);
+  auto* models = new QLabel("Mo&dels");
+  models->setBuddy(list_);
   auto* layout = new QVBoxLayout(this);
+  layout->addWidget(models);
   layout->addWidget(list_, 1);
   layout->addLayout(where);
   layout->addLayout(buttons);
@@ -67,6 +71,9 @@ void InsertTab::refresh() {
                                 : model.uri_name));
         if (item->text() == chosen) list_->setCurrentItem(item);
       }
+      report_(QString("Insert: %1 models on the model path and %2 shapes")
+                  .arg(models_.size() - simpleShapes().size())
+                  .arg(simpleShapes().size()));
     });
   });
 }

@@ -14,9 +14,9 @@ TimeTab::TimeTab(GazeboClient* client, std::function<void(const QString&)> repor
       client_(client),
       report_(std::move(report)),
       physics_changed_(std::move(physics_changed)) {
-  play_ = new QPushButton("Pause");
+  play_ = new QPushButton("Pa&use");
   play_->setObjectName("play_pause");
-  step_ = new QPushButton("Step");
+  step_ = new QPushButton("St&ep");
   step_count_ = new QSpinBox;
   step_count_->setRange(1, 1000000);
   step_count_->setToolTip("steps per click (the simulator's /gazebo/step_simulation)");
@@ -25,8 +25,8 @@ TimeTab::TimeTab(GazeboClient* client, std::function<void(const QString&)> repor
   real_time_->setToolTip("wall time since this panel first saw the clock or since Reset Time");
   factor_ = new QLabel("-");
   iterations_ = new QLabel("-");
-  auto* reset_time = new QPushButton("Reset Time");
-  auto* reset_world = new QPushButton("Reset World");
+  auto* reset_time = new QPushButton("&Reset Time");
+  auto* reset_world = new QPushButton("Reset W&orld");
 
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(play_);
@@ -67,7 +67,7 @@ TimeTab::TimeTab(GazeboClient* client, std::function<void(const QString&)> repor
 
 void TimeTab::showPhysics(const PhysicsState& state) {
   paused_ = state.paused;
-  play_->setText(paused_ ? "Play" : "Pause");
+  play_->setText(paused_ ? "Pl&ay" : "Pa&use");
   figures_.stepSize(state.time_step);
 }
 

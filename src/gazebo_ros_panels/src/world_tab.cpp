@@ -51,7 +51,7 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
     pose_[i] = i < 3 ? field(-1e5, 1e5, 4, " m") : field(-180, 180, 2, " deg");
     pose_form->addRow(names[i], pose_[i]);
   }
-  auto* apply_pose = new QPushButton("Move");
+  auto* apply_pose = new QPushButton("Mo&ve");
   pose_form->addRow(apply_pose);
   pose_group->setLayout(pose_form);
 
@@ -67,7 +67,7 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
     gravity_[i] = field(-1e4, 1e4, 4, " m/s²");
     physics_form->addRow(axes[i], gravity_[i]);
   }
-  auto* apply_physics = new QPushButton("Set physics");
+  auto* apply_physics = new QPushButton("Set ph&ysics");
   physics_form->addRow(apply_physics);
   physics_group->setLayout(physics_form);
 

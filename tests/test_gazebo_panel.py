@@ -1,0 +1,161 @@
+"""The Gazebo panel of rviz (src/gazebo_ros_panels), against the real simulator: the panel's
+actions (gazebo_panel_actions runs the GazeboClient calls its buttons make) pause, step and play
+the world, insert copies named name_0, name_1, list what the model path holds when asked and say
+why when there is no simulator or the simulator refuses; and the simulator's rviz view (gzclient)
+loads the panel, whose buttons, pressed with xdotool through their Alt mnemonics, pause and play
+the world and insert cafe_table_0 then cafe_table_1."""
+import subprocess
+
+import pytest
+
+from api_client import GazeboApi
+from conftest import ENGINES, start_sim
+from gazebo_commands import output, run
+from onedof_sim.tutorial.rviz_view import start_xvfb
+
+PANEL_UP = 'gazebo_ros_panels: the Gazebo panel is up'
+
+
+def actions(ros, *args, env=None):
+    return run(ros, 'rosrun', 'gazebo_ros_panels', 'gazebo_panel_actions', *args, env=env,
+               timeout=300)
+
+
+def model_names(api):
+    return sorted(api.get_world_properties().model_names)
+
+
+def write_model(folder, name, shown_name, sdf):
+    model = folder / name
+    model.mkdir(parents=True)
+    (model / 'model.config').write_text(
+        '<model><name>%s</name><sdf version="1.6">model.sdf</sdf></model>' % shown_name)
+    (model / 'model.sdf').write_text(sdf)
+
+
+def test_pause_step_and_play(ros, rospy_client, engine):
+    start_sim(ros, engine)
+    api = GazeboApi(rospy_client)
+    assert not api.get_physics_properties().pause
+    result = actions(ros, 'pause')
+    assert result.returncode == 0 and result.stdout == 'paused\n', output(result)
+    assert api.get_physics_properties().pause
+    before = api.get_world_properties().sim_time
+    result = actions(ros, 'step', '10')
+    assert result.returncode == 0, output(result)
+    assert 'stepped 10 steps' in result.stdout
+    step = api.get_physics_properties().time_step
+    assert api.get_world_properties().sim_time == pytest.approx(before + 10 * step, abs=1e-9)
+    assert api.get_physics_properties().pause
+    result = actions(ros, 'unpause')
+    assert result.returncode == 0 and result.stdout == 'running\n', output(result)
+    assert not api.get_physics_properties().pause
+
+
+def test_insert_names_copies_and_lists_the_model_path(ros, rospy_client, engine, tmp_path):
+    start_sim(ros, engine, env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    api = GazeboApi(rospy_client)
+    catalog = actions(ros, 'catalog', env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    assert catalog.returncode == 0, output(catalog)
+    listed = dict(line.split('\t') for line in catalog.stdout.splitlines())
+    assert listed['cafe_table'] == 'Cafe table' and listed['unit_box'] == 'Box'
+    assert 'late_block' not in listed
+    # A model added to the path is listed the next time the path is read, and inserts.
+    write_model(tmp_path, 'late_block', 'Late block',
+                '<sdf version="1.6"><model name="late_block"><static>true</static>'
+                '<link name="link"><collision name="c"><geometry><box><size>0.2 0.2 0.2</size>'
+                '</box></geometry></collision></link></model></sdf>')
+    catalog = actions(ros, 'catalog', env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    assert 'late_block\tLate block' in catalog.stdout.splitlines(), output(catalog)
+
+    for expected in ('cafe_table_0', 'cafe_table_1'):
+        result = actions(ros, 'insert', 'cafe_table', '1.0', '0.5', '0')
+        assert result.returncode == 0 and result.stdout == 'inserted %s\n' % expected, \
+            output(result)
+    assert model_names(api) == ['cafe_table_0', 'cafe_table_1']
+    position = api.get_model_state('cafe_table_1', '').pose.position
+    assert (position.x, position.y, position.z) == pytest.approx((1.0, 0.5, 0.0))
+    result = actions(ros, 'insert', 'unit_box', '-1', '0', '0')
+    assert result.returncode == 0 and result.stdout == 'inserted unit_box_0\n', output(result)
+    result = actions(ros, 'insert', 'late_block', '0', '-1', '0',
+                     env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    assert result.returncode == 0 and result.stdout == 'inserted late_block_0\n', output(result)
+    assert model_names(api) == ['cafe_table_0', 'cafe_table_1', 'late_block_0', 'unit_box_0']
+
+
+def test_a_refused_insert_shows_the_simulators_reason(ros, rospy_client, tmp_path):
+    start_sim(ros, ENGINES[0], env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    api = GazeboApi(rospy_client)
+    write_model(tmp_path, 'broken', 'Broken', '<sdf version="1.6"><model name="broken">')
+    result = actions(ros, 'insert', 'broken', '0', '0', '0',
+                     env={'GAZEBO_MODEL_PATH': str(tmp_path)})
+    assert result.returncode == 1, output(result)
+    assert result.stdout.startswith('broken_0: '), output(result)
+    reason = result.stdout[len('broken_0: '):].strip()
+    assert reason, output(result)
+    assert model_names(api) == []
+
+
+def test_without_a_simulator_the_panel_says_so(ros):
+    for action in ('pause', 'unpause', 'reset_world', 'reset_time'):
+        result = actions(ros, action)
+        assert result.returncode == 1, output(result)
+    assert result.stdout == 'no simulator: /gazebo/reset_simulation is not served\n', \
+        output(result)
+    result = actions(ros, 'step', '1')
+    assert result.returncode == 1 and 'is not served' in result.stdout, output(result)
+
+
+def xdotool(display, *args):
+    return subprocess.run(['xdotool'] + list(args), env={'DISPLAY': display},
+                          capture_output=True, text=True, timeout=60)
+
+
+def press(display, window, keys):
+    """Focuses rviz's window and types keys (xdotool's names) into it."""
+    focused = xdotool(display, 'windowfocus', '--sync', window)
+    assert focused.returncode == 0, focused.stderr
+    typed = xdotool(display, 'key', '--clearmodifiers', *keys)
+    assert typed.returncode == 0, typed.stderr
+
+
+def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_client):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    _, display = start_xvfb(ros)
+    gzclient = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                         env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    ros.wait_until(lambda: PANEL_UP in ros.log_text(gzclient), 300, what='the Gazebo panel')
+    ros.wait_until(lambda: 'gazebo_ros_panels: Insert: ' in ros.log_text(gzclient), 300,
+                   what='the panel to list the model path')
+    log = ros.log_text(gzclient)
+    assert 'PluginlibFactory' not in log and 'Failed to load' not in log, log
+    window = ros.wait_until(
+        lambda: xdotool(display, 'search', '--onlyvisible', '--name', 'RViz').stdout.split(),
+        120, what="rviz's window")[0]
+
+    # Pause (Alt+U), then Play (Alt+A) once the panel shows the world paused.
+    press(display, window, ['alt+u'])
+    ros.wait_until(lambda: api.get_physics_properties().pause, 60, what='the world paused')
+
+    # Alt+A is Play's only once the panel has seen the pause (it asks each second): pressed until
+    # the world plays; pressed again after that it does nothing (the button says Pause).
+    def played():
+        press(display, window, ['alt+a'])
+        try:
+            return ros.wait_until(lambda: not api.get_physics_properties().pause, 3,
+                                  what='the world playing')
+        except TimeoutError:
+            return False
+    ros.wait_until(played, 120, what='the world playing again')
+
+    # Insert tab (Alt+I), its model list (Alt+D), "Cafe table" chosen by typing, Insert (Alt+N).
+    press(display, window, ['alt+i', 'alt+d', 'C', 'a', 'f', 'e'])
+    for expected in ('cafe_table_0', 'cafe_table_1'):
+        press(display, window, ['alt+n'])
+        ros.wait_until(lambda: expected in model_names(api), 60, what=expected)
+    assert model_names(api) == ['cafe_table_0', 'cafe_table_1']
+    # The panel says what it did (its reply may come after the model shows in the world).
+    ros.wait_until(lambda: 'gazebo_ros_panels: inserted cafe_table_1' in ros.log_text(gzclient),
+                   60, what="the panel's report of the second insert")
+    assert gzclient.poll() is None, ros.log_text(gzclient)
