@@ -4,6 +4,8 @@ the world, insert copies named name_0, name_1, list what the model path holds wh
 why when there is no simulator or the simulator refuses; and the simulator's rviz view (gzclient)
 loads the panel, whose buttons, pressed with xdotool through their Alt mnemonics, pause and play
 the world and insert cafe_table_0 then cafe_table_1."""
+import math
+import re
 import subprocess
 
 import pytest
@@ -158,4 +160,78 @@ def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_clien
     # The panel says what it did (its reply may come after the model shows in the world).
     ros.wait_until(lambda: 'gazebo_ros_panels: inserted cafe_table_1' in ros.log_text(gzclient),
                    60, what="the panel's report of the second insert")
+    assert gzclient.poll() is None, ros.log_text(gzclient)
+
+
+# The view of src/gazebo_ros/rviz/world.rviz: rviz's orbit camera around its focal point, at
+# Ogre's default vertical field of view.
+VIEW = {'distance': 6.0, 'focal': (0.0, 0.0, 0.5), 'pitch': 0.5, 'yaw': 3.93,
+        'fov_y': math.pi / 4}
+
+
+def render_window(display):
+    """(x, y, width, height) of rviz's 3D view on the screen: the one unnamed native window
+    under rviz's main window (Ogre's), as xwininfo lists it."""
+    tree = subprocess.run(['xwininfo', '-root', '-tree'], env={'DISPLAY': display},
+                          capture_output=True, text=True, timeout=60).stdout
+    views = [tuple(int(v) for v in match.groups()) for match in re.finditer(
+        r'\(has no name\): \(\)\s+(\d+)x(\d+)\+-?\d+\+-?\d+\s+\+(-?\d+)\+(-?\d+)', tree)]
+    views = [(x, y, w, h) for w, h, x, y in views if w > 100 and h > 100]
+    return views[0] if len(views) == 1 else None
+
+
+def pixel_of(point, window):
+    """The screen pixel where the view's camera draws a point of the world."""
+    x0, y0, width, height = window
+    yaw, pitch, distance = VIEW['yaw'], VIEW['pitch'], VIEW['distance']
+    focal = VIEW['focal']
+    camera = [focal[0] + distance * math.cos(yaw) * math.cos(pitch),
+              focal[1] + distance * math.sin(yaw) * math.cos(pitch),
+              focal[2] + distance * math.sin(pitch)]
+
+    def unit(v):
+        n = math.sqrt(sum(c * c for c in v))
+        return [c / n for c in v]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    def dot(a, b):
+        return sum(p * q for p, q in zip(a, b))
+
+    forward = unit([f - c for f, c in zip(focal, camera)])
+    right = unit(cross(forward, [0, 0, 1]))
+    up = cross(right, forward)
+    d = [p - c for p, c in zip(point, camera)]
+    f = (height / 2) / math.tan(VIEW['fov_y'] / 2)
+    return (round(x0 + width / 2 + f * dot(d, right) / dot(d, forward)),
+            round(y0 + height / 2 - f * dot(d, up) / dot(d, forward)))
+
+
+def test_a_click_in_the_view_inserts_the_chosen_model_there(ros, rospy_client):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    _, display = start_xvfb(ros)
+    gzclient = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                         env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    ros.wait_until(lambda: 'gazebo_ros_panels: Insert: ' in ros.log_text(gzclient), 300,
+                   what='the panel to list the model path')
+    window = ros.wait_until(
+        lambda: xdotool(display, 'search', '--onlyvisible', '--name', 'RViz').stdout.split(),
+        120, what="rviz's window")[0]
+    view = ros.wait_until(lambda: render_window(display), 120, what="rviz's 3D view")
+    waiting = 'gazebo_ros_panels: click in the 3D view where Cafe table goes'
+    targets = (('cafe_table_0', (1.0, 0.5, 0.0)), ('cafe_table_1', (-1.0, 1.0, 0.0)))
+    for count, (expected, target) in enumerate(targets, 1):
+        # Insert tab, its list, "Cafe table" typed, Insert by clicking (Alt+C), then the click.
+        press(display, window, ['alt+i', 'alt+d', 'C', 'a', 'f', 'e', 'alt+c'])
+        ros.wait_until(lambda: ros.log_text(gzclient).count(waiting) == count, 60,
+                       what='the panel to wait for a click')
+        x, y = pixel_of(target, view)
+        clicked = xdotool(display, 'mousemove', '--sync', str(x), str(y), 'click', '1')
+        assert clicked.returncode == 0, clicked.stderr
+        ros.wait_until(lambda: expected in model_names(api), 60, what=expected)
+        position = api.get_model_state(expected, '').pose.position
+        assert math.hypot(position.x - target[0], position.y - target[1]) < 0.05, position
+        assert abs(position.z) < 0.05, position
     assert gzclient.poll() is None, ros.log_text(gzclient)

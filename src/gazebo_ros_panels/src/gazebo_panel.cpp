@@ -1,8 +1,12 @@
 #include "gazebo_panel.h"
 
+#include <QScrollArea>
 #include <QTabWidget>
 #include <QVBoxLayout>
 #include <pluginlib/class_list_macros.hpp>
+#include <rviz/visualization_manager.h>
+#include <rviz/tool.h>
+#include <rviz/tool_manager.h>
 
 #include <chrono>
 
@@ -13,6 +17,20 @@
 #include "world_tab.h"
 
 namespace gazebo_ros_panels {
+namespace {
+
+const QString kInsertHereTool = "gazebo_ros_panels/InsertHere";  // plugin_description.xml
+
+// A tab's content in a scroll area: the panel fits whatever height rviz's dock leaves it.
+QScrollArea* scrollable(QWidget* content) {
+  auto* area = new QScrollArea;
+  area->setWidget(content);
+  area->setWidgetResizable(true);
+  area->setFrameShape(QFrame::NoFrame);
+  return area;
+}
+
+}  // namespace
 
 GazeboPanel::GazeboPanel(QWidget* parent) : rviz::Panel(parent) {}
 
@@ -26,20 +44,22 @@ void GazeboPanel::onInitialize() {
   auto report = [this](const QString& text) { this->report(text); };
   auto physics_changed = [this] { askForPhysics(); };
   time_ = new TimeTab(client_.get(), report, physics_changed);
-  insert_ = new InsertTab(client_.get(), report);
+  insert_ = new InsertTab(client_.get(), report, [this] { chooseInsertPoint(); });
   world_ = new WorldTab(client_.get(), report, physics_changed);
   auto* tabs = new QTabWidget;
   // Each button and tab has an Alt mnemonic of its own, none of rviz's menus' (F, P, H).
-  tabs->addTab(time_, "Ti&me");
-  tabs->addTab(insert_, "&Insert");
-  tabs->addTab(world_, "&World");
+  tabs->addTab(scrollable(time_), "Ti&me");
+  tabs->addTab(scrollable(insert_), "&Insert");
+  tabs->addTab(scrollable(world_), "&World");
   status_ = new QLabel;
   status_->setObjectName("status");
   status_->setWordWrap(true);
   status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   auto* layout = new QVBoxLayout(this);
-  layout->addWidget(tabs, 1);
   layout->addWidget(status_);
+  // Room for the Time tab whole and most of the others beside rviz's Displays panel.
+  tabs->setMinimumHeight(320);
+  layout->addWidget(tabs, 1);
 
   connect(&refresh_timer_, &QTimer::timeout, this, &GazeboPanel::refresh);
   connect(&physics_timer_, &QTimer::timeout, this, &GazeboPanel::askForPhysics);
@@ -48,6 +68,15 @@ void GazeboPanel::onInitialize() {
   insert_->refresh();
   askForPhysics();
   ROS_INFO("gazebo_ros_panels: the Gazebo panel is up (Time, Insert, World)");
+}
+
+void GazeboPanel::chooseInsertPoint() {
+  rviz::ToolManager* tools = vis_manager_->getToolManager();
+  rviz::Tool* insert_here = nullptr;
+  for (int i = 0; i < tools->numTools() && !insert_here; ++i)
+    if (tools->getTool(i)->getClassId() == kInsertHereTool) insert_here = tools->getTool(i);
+  if (!insert_here) insert_here = tools->addTool(kInsertHereTool);
+  if (insert_here) tools->setCurrentTool(insert_here);
 }
 
 void GazeboPanel::report(const QString& text) {

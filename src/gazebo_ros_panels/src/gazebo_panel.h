@@ -26,6 +26,7 @@ class GazeboPanel : public rviz::Panel {
   void report(const QString& text);
   void refresh();         // the clock's figures and the model states, several times a second
   void askForPhysics();   // the pause state and the physics, unless a call is under way
+  void chooseInsertPoint();  // rviz's Insert Here tool made current (added if it is not there)
 
   std::unique_ptr<GazeboClient> client_;
   TimeTab* time_ = nullptr;

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "gui_thread.h"
+#include "placement.h"
 
 namespace gazebo_ros_panels {
 namespace {
@@ -25,8 +26,11 @@ QDoubleSpinBox* coordinate(double low, double high, const char* suffix) {
 }  // namespace
 
 InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> report,
-                     QWidget* parent)
-    : QWidget(parent), client_(client), report_(std::move(report)) {
+                     std::function<void()> choose_point, QWidget* parent)
+    : QWidget(parent),
+      client_(client),
+      report_(std::move(report)),
+      choose_point_(std::move(choose_point)) {
   list_ = new QListWidget;
   list_->setObjectName("insert_models");
   x_ = coordinate(-1e4, 1e4, " m");
@@ -35,7 +39,10 @@ InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> r
   yaw_ = coordinate(-180, 180, " deg");
   auto* refresh = new QPushButton("Refre&sh");
   auto* insert = new QPushButton("I&nsert");
-  insert->setObjectName("insert");
+  insert->setToolTip("insert the chosen model at the position typed below");
+  auto* click = new QPushButton("Insert by &clicking");
+  click->setToolTip("the next left click in the 3D view inserts the chosen model there "
+                    "(rviz's Insert Here tool, key N)");
 
   auto* where = new QFormLayout;
   where->addRow("x", x_);
@@ -45,6 +52,7 @@ InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> r
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(refresh);
   buttons->addWidget(insert);
+  buttons->addWidget(click);
   auto* models = new QLabel("Mo&dels");
   models->setBuddy(list_);
   auto* layout = new QVBoxLayout(this);
@@ -56,6 +64,21 @@ InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> r
   connect(refresh, &QPushButton::clicked, this, &InsertTab::refresh);
   connect(insert, &QPushButton::clicked, this, &InsertTab::insertChosen);
   connect(list_, &QListWidget::itemDoubleClicked, this, &InsertTab::insertChosen);
+  connect(click, &QPushButton::clicked, this, [this] {
+    if (list_->currentRow() < 0) {
+      report_("choose a model to insert");
+      return;
+    }
+    choose_point_();
+    report_("click in the 3D view where " + list_->currentItem()->text() + " goes");
+  });
+  connect(&Placement::hub(), &Placement::chosen, this, [this](double x, double y, double z) {
+    geometry_msgs::Pose pose;
+    pose.position.x = x;
+    pose.position.y = y;
+    pose.position.z = z;
+    insertAt(pose);
+  });
 }
 
 void InsertTab::refresh() {
@@ -79,15 +102,20 @@ void InsertTab::refresh() {
 }
 
 void InsertTab::insertChosen() {
+  geometry_msgs::Pose pose;
+  pose.position.x = x_->value();
+  pose.position.y = y_->value();
+  pose.position.z = z_->value();
+  insertAt(pose);
+}
+
+void InsertTab::insertAt(const geometry_msgs::Pose& position) {
   const int row = list_->currentRow();
   if (row < 0 || row >= static_cast<int>(models_.size())) {
     report_("choose a model to insert");
     return;
   }
-  geometry_msgs::Pose pose;
-  pose.position.x = x_->value();
-  pose.position.y = y_->value();
-  pose.position.z = z_->value();
+  geometry_msgs::Pose pose = position;
   const double half_yaw = yaw_->value() * M_PI / 360.0;
   pose.orientation.z = std::sin(half_yaw);
   pose.orientation.w = std::cos(half_yaw);

@@ -16,15 +16,18 @@ namespace gazebo_ros_panels {
 class InsertTab : public QWidget {
   Q_OBJECT
  public:
+  // choose_point: rviz's Insert Here tool made current (the next click in the view inserts).
   InsertTab(GazeboClient* client, std::function<void(const QString&)> report,
-            QWidget* parent = nullptr);
+            std::function<void()> choose_point, QWidget* parent = nullptr);
   void refresh();  // lists the model path again (models added to it since appear)
 
  private:
   void insertChosen();
+  void insertAt(const geometry_msgs::Pose& pose);
 
   GazeboClient* client_;
   std::function<void(const QString&)> report_;
+  std::function<void()> choose_point_;
   std::vector<CatalogModel> models_;
   QListWidget* list_;
   QDoubleSpinBox* x_;
