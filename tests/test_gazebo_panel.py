@@ -1,16 +1,17 @@
 """The Gazebo panel of rviz (src/gazebo_ros_panels), against the real simulator: the panel's
 actions (gazebo_panel_actions runs the GazeboClient calls its buttons make) pause, step and play
-the world, insert copies named name_0, name_1, list what the model path holds when asked and say
-why when there is no simulator or the simulator refuses; and the simulator's rviz view (gzclient)
-loads the panel, whose buttons, pressed with xdotool through their Alt mnemonics, pause and play
-the world and insert cafe_table_0 then cafe_table_1."""
+the world, insert copies named name_0, name_1, list what the model path holds when asked, list
+the models' links and joints, move a model and set the physics, and say why when there is no
+simulator or the simulator refuses; and the simulator's rviz view (gzclient) loads the panel,
+whose buttons, pressed with xdotool through their Alt mnemonics, pause and play the world and
+insert cafe_table_0 then cafe_table_1, at a typed position or where a click in the 3D view falls."""
 import math
 import re
 import subprocess
 
 import pytest
 
-from api_client import GazeboApi
+from api_client import ROBOT, GazeboApi
 from conftest import ENGINES, start_sim
 from gazebo_commands import output, run
 from onedof_sim.tutorial.rviz_view import start_xvfb
@@ -235,3 +236,37 @@ def test_a_click_in_the_view_inserts_the_chosen_model_there(ros, rospy_client):
         assert math.hypot(position.x - target[0], position.y - target[1]) < 0.05, position
         assert abs(position.z) < 0.05, position
     assert gzclient.poll() is None, ros.log_text(gzclient)
+
+
+def test_world_tab_lists_moves_and_sets_physics(ros, rospy_client, engine):
+    start_sim(ros, engine)
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_robot()
+    result = actions(ros, 'insert', 'unit_box', '0', '0', '0')
+    assert result.returncode == 0, output(result)
+    tree = actions(ros, 'tree')
+    assert tree.returncode == 0, output(tree)
+    rows = {line.split('\t')[0]: line.split('\t')[1:] for line in tree.stdout.splitlines()}
+    assert rows['unit_box_0'] == ['link', '']
+    properties = api.get_model_properties(ROBOT)
+    assert properties.joint_names
+    assert rows[ROBOT] == [','.join(properties.body_names), ','.join(properties.joint_names)]
+
+    result = actions(ros, 'move', 'unit_box_0', '2', '1', '0.5')
+    assert result.returncode == 0 and result.stdout == 'moved unit_box_0\n', output(result)
+    position = api.get_model_state('unit_box_0', '').pose.position
+    assert (position.x, position.y, position.z) == pytest.approx((2, 1, 0.5))
+    result = actions(ros, 'move', 'no_such_model', '0', '0', '0')
+    assert result.returncode == 1 and result.stdout.startswith('no_such_model: '), output(result)
+
+    before = api.get_physics_properties()
+    result = actions(ros, 'set_physics', '0.002', '250', '0', '0', '-5')
+    assert result.returncode == 0 and result.stdout == 'physics set\n', output(result)
+    after = api.get_physics_properties()
+    assert (after.time_step, after.max_update_rate) == (0.002, 250)
+    assert (after.gravity.x, after.gravity.y, after.gravity.z) == (0, 0, -5)
+    assert after.ode_config == before.ode_config
+    shown = actions(ros, 'physics')
+    assert shown.stdout == 'paused 1 step 0.002 max_update_rate 250 gravity 0 0 -5\n', \
+        output(shown)

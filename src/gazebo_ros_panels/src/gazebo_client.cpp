@@ -253,7 +253,8 @@ void GazeboClient::modelTrees(
         model.request.model_name = name;
         ModelTree tree{name, {}, {}};
         // A model deleted between the two calls is left out.
-        if (!call("get_model_properties", model, &outcome) || !model.response.success) continue;
+        Outcome left_out;
+        if (!call("get_model_properties", model, &left_out) || !model.response.success) continue;
         tree.links = model.response.body_names;
         tree.joints = model.response.joint_names;
         trees.push_back(tree);

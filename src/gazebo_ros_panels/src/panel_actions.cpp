@@ -3,6 +3,10 @@
 //   rosrun gazebo_ros_panels gazebo_panel_actions pause | unpause | step N | reset_time | reset_world
 //   gazebo_panel_actions insert URI_NAME X Y Z     (a model of the panel's catalog, or unit_box)
 //   gazebo_panel_actions catalog                   (uri_name<TAB>name per line)
+//   gazebo_panel_actions move MODEL X Y Z          (the World tab's pose, at rest)
+//   gazebo_panel_actions physics                   (the World tab's physics and the pause state)
+//   gazebo_panel_actions set_physics STEP MAX_UPDATE_RATE GX GY GZ
+//   gazebo_panel_actions tree                      (model<TAB>links<TAB>joints per line)
 #include <ros/ros.h>
 
 #include <future>
@@ -13,14 +17,31 @@
 
 using gazebo_ros_panels::CatalogModel;
 using gazebo_ros_panels::GazeboClient;
+using gazebo_ros_panels::ModelTree;
 using gazebo_ros_panels::Outcome;
+using gazebo_ros_panels::PhysicsState;
 
 namespace {
 
 int usage() {
   std::cerr << "usage: gazebo_panel_actions pause|unpause|step N|reset_time|reset_world|"
-               "insert URI_NAME X Y Z|catalog\n";
+               "insert URI_NAME X Y Z|catalog|move MODEL X Y Z|physics|"
+               "set_physics STEP MAX_UPDATE_RATE GX GY GZ|tree\n";
   return 2;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ",") + name;
+  return text;
+}
+
+std::pair<Outcome, PhysicsState> physicsOf(GazeboClient& client) {
+  std::promise<std::pair<Outcome, PhysicsState>> read;
+  client.physics([&read](const Outcome& outcome, const PhysicsState& state) {
+    read.set_value({outcome, state});
+  });
+  return read.get_future().get();
 }
 
 std::vector<CatalogModel> catalogOf(GazeboClient& client) {
@@ -52,6 +73,46 @@ int main(int argc, char** argv) {
     for (const CatalogModel& model : catalogOf(client))
       std::cout << model.uri_name << "\t" << model.name << "\n";
     return 0;
+  } else if (action == "move" && argc == 6) {
+    geometry_msgs::Pose pose;
+    pose.position.x = std::stod(argv[3]);
+    pose.position.y = std::stod(argv[4]);
+    pose.position.z = std::stod(argv[5]);
+    pose.orientation.w = 1;
+    client.setModelPose(argv[2], pose, done);
+  } else if (action == "physics" && argc == 2) {
+    const auto [outcome, state] = physicsOf(client);
+    if (!outcome.ok) {
+      std::cout << outcome.text << "\n";
+      return 1;
+    }
+    std::cout << "paused " << state.paused << " step " << state.time_step << " max_update_rate "
+              << state.max_update_rate << " gravity " << state.gravity.x << " "
+              << state.gravity.y << " " << state.gravity.z << "\n";
+    return 0;
+  } else if (action == "set_physics" && argc == 7) {
+    // As the World tab: what the simulator says now, with the typed figures.
+    auto [outcome, state] = physicsOf(client);
+    if (!outcome.ok) {
+      std::cout << outcome.text << "\n";
+      return 1;
+    }
+    state.time_step = std::stod(argv[2]);
+    state.max_update_rate = std::stod(argv[3]);
+    state.gravity.x = std::stod(argv[4]);
+    state.gravity.y = std::stod(argv[5]);
+    state.gravity.z = std::stod(argv[6]);
+    client.setPhysics(state, done);
+  } else if (action == "tree" && argc == 2) {
+    std::promise<std::pair<Outcome, std::vector<ModelTree>>> read;
+    client.modelTrees([&read](const Outcome& outcome, const std::vector<ModelTree>& trees) {
+      read.set_value({outcome, trees});
+    });
+    const auto [outcome, trees] = read.get_future().get();
+    for (const ModelTree& tree : trees)
+      std::cout << tree.name << "\t" << joined(tree.links) << "\t" << joined(tree.joints) << "\n";
+    if (!outcome.ok) std::cout << outcome.text << "\n";
+    return outcome.ok ? 0 : 1;
   } else if (action == "insert" && argc == 6) {
     const std::vector<CatalogModel> models = catalogOf(client);
     const CatalogModel* chosen = nullptr;
