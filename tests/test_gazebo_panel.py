@@ -122,20 +122,27 @@ def press(display, window, keys):
     assert typed.returncode == 0, typed.stderr
 
 
-def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_client):
-    start_sim(ros, ENGINES[0])
-    api = GazeboApi(rospy_client)
+def start_gzclient(ros):
+    """gzclient (rviz on the world view) on an Xvfb of its own, once its Gazebo panel has listed
+    the model path; (its process, the display, rviz's window id)."""
     _, display = start_xvfb(ros)
     gzclient = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
                          env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
     ros.wait_until(lambda: PANEL_UP in ros.log_text(gzclient), 300, what='the Gazebo panel')
     ros.wait_until(lambda: 'gazebo_ros_panels: Insert: ' in ros.log_text(gzclient), 300,
                    what='the panel to list the model path')
-    log = ros.log_text(gzclient)
-    assert 'PluginlibFactory' not in log and 'Failed to load' not in log, log
     window = ros.wait_until(
         lambda: xdotool(display, 'search', '--onlyvisible', '--name', 'RViz').stdout.split(),
         120, what="rviz's window")[0]
+    return gzclient, display, window
+
+
+def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_client):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    gzclient, display, window = start_gzclient(ros)
+    log = ros.log_text(gzclient)
+    assert 'PluginlibFactory' not in log and 'Failed to load' not in log, log
 
     # Pause (Alt+U), then Play (Alt+A) once the panel shows the world paused.
     press(display, window, ['alt+u'])
@@ -212,14 +219,7 @@ def pixel_of(point, window):
 def test_a_click_in_the_view_inserts_the_chosen_model_there(ros, rospy_client):
     start_sim(ros, ENGINES[0])
     api = GazeboApi(rospy_client)
-    _, display = start_xvfb(ros)
-    gzclient = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
-                         env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    ros.wait_until(lambda: 'gazebo_ros_panels: Insert: ' in ros.log_text(gzclient), 300,
-                   what='the panel to list the model path')
-    window = ros.wait_until(
-        lambda: xdotool(display, 'search', '--onlyvisible', '--name', 'RViz').stdout.split(),
-        120, what="rviz's window")[0]
+    gzclient, display, window = start_gzclient(ros)
     view = ros.wait_until(lambda: render_window(display), 120, what="rviz's 3D view")
     waiting = 'gazebo_ros_panels: click in the 3D view where Cafe table goes'
     targets = (('cafe_table_0', (1.0, 0.5, 0.0)), ('cafe_table_1', (-1.0, 1.0, 0.0)))

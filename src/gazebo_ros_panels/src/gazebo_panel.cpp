@@ -52,7 +52,6 @@ void GazeboPanel::onInitialize() {
   tabs->addTab(scrollable(insert_), "&Insert");
   tabs->addTab(scrollable(world_), "&World");
   status_ = new QLabel;
-  status_->setObjectName("status");
   status_->setWordWrap(true);
   status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   auto* layout = new QVBoxLayout(this);

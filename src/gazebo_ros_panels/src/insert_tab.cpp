@@ -9,22 +9,10 @@
 #include <cmath>
 
 #include "gui_thread.h"
+#include "number_field.h"
 #include "placement.h"
 
 namespace gazebo_ros_panels {
-namespace {
-
-QDoubleSpinBox* coordinate(double low, double high, const char* suffix) {
-  auto* box = new QDoubleSpinBox;
-  box->setRange(low, high);
-  box->setDecimals(3);
-  box->setSingleStep(0.1);
-  box->setSuffix(suffix);
-  return box;
-}
-
-}  // namespace
-
 InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> report,
                      std::function<void()> choose_point, QWidget* parent)
     : QWidget(parent),
@@ -32,11 +20,10 @@ InsertTab::InsertTab(GazeboClient* client, std::function<void(const QString&)> r
       report_(std::move(report)),
       choose_point_(std::move(choose_point)) {
   list_ = new QListWidget;
-  list_->setObjectName("insert_models");
-  x_ = coordinate(-1e4, 1e4, " m");
-  y_ = coordinate(-1e4, 1e4, " m");
-  z_ = coordinate(-1e4, 1e4, " m");
-  yaw_ = coordinate(-180, 180, " deg");
+  x_ = numberField(-1e4, 1e4, 3, " m");
+  y_ = numberField(-1e4, 1e4, 3, " m");
+  z_ = numberField(-1e4, 1e4, 3, " m");
+  yaw_ = numberField(-180, 180, 1, " deg");
   auto* refresh = new QPushButton("Refre&sh");
   auto* insert = new QPushButton("I&nsert");
   insert->setToolTip("insert the chosen model at the position typed below");

@@ -15,7 +15,6 @@ TimeTab::TimeTab(GazeboClient* client, std::function<void(const QString&)> repor
       report_(std::move(report)),
       physics_changed_(std::move(physics_changed)) {
   play_ = new QPushButton("Pa&use");
-  play_->setObjectName("play_pause");
   step_ = new QPushButton("St&ep");
   step_count_ = new QSpinBox;
   step_count_->setRange(1, 1000000);

@@ -11,20 +11,12 @@
 #include <cmath>
 
 #include "gui_thread.h"
+#include "number_field.h"
 
 namespace gazebo_ros_panels {
 namespace {
 
 constexpr double kDegrees = 180.0 / M_PI;
-
-QDoubleSpinBox* field(double low, double high, int decimals, const char* suffix) {
-  auto* box = new QDoubleSpinBox;
-  box->setRange(low, high);
-  box->setDecimals(decimals);
-  box->setSuffix(suffix);
-  box->setKeyboardTracking(false);
-  return box;
-}
 
 bool anyHasFocus(const QDoubleSpinBox* const* boxes, size_t count) {
   for (size_t i = 0; i < count; ++i)
@@ -41,14 +33,14 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
       report_(std::move(report)),
       physics_changed_(std::move(physics_changed)) {
   tree_ = new QTreeWidget;
-  tree_->setObjectName("world_models");
   tree_->setHeaderLabel("Models");
 
   auto* pose_group = new QGroupBox("Pose of the chosen model (world frame)");
   auto* pose_form = new QFormLayout;
   const char* names[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
   for (size_t i = 0; i < 6; ++i) {
-    pose_[i] = i < 3 ? field(-1e5, 1e5, 4, " m") : field(-180, 180, 2, " deg");
+    pose_[i] = i < 3 ? numberField(-1e5, 1e5, 4, " m")  // x y z
+                     : numberField(-180, 180, 2, " deg");  // roll pitch yaw
     pose_form->addRow(names[i], pose_[i]);
   }
   auto* apply_pose = new QPushButton("Mo&ve");
@@ -57,14 +49,14 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
 
   auto* physics_group = new QGroupBox("Physics");
   auto* physics_form = new QFormLayout;
-  step_size_ = field(1e-6, 1, 6, " s");
-  factor_target_ = field(0, 1e6, 3, "");
+  step_size_ = numberField(1e-6, 1, 6, " s");
+  factor_target_ = numberField(0, 1e6, 3, "");
   factor_target_->setToolTip("real time update rate x step size; 0 runs as fast as it can");
   physics_form->addRow("max step size", step_size_);
   physics_form->addRow("real time factor", factor_target_);
   const char* axes[3] = {"gravity x", "gravity y", "gravity z"};
   for (size_t i = 0; i < 3; ++i) {
-    gravity_[i] = field(-1e4, 1e4, 4, " m/s²");
+    gravity_[i] = numberField(-1e4, 1e4, 4, " m/s²");
     physics_form->addRow(axes[i], gravity_[i]);
   }
   auto* apply_physics = new QPushButton("Set ph&ysics");
