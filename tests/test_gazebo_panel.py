@@ -10,11 +10,13 @@ import re
 import subprocess
 
 import pytest
+import yaml
 
 from api_client import ROBOT, GazeboApi
 from conftest import ENGINES, start_sim
 from gazebo_commands import output, run
 from onedof_sim.tutorial.rviz_view import start_xvfb
+from test_rviz_sensors import WORLD_RVIZ, project
 
 PANEL_UP = 'gazebo_ros_panels: the Gazebo panel is up'
 
@@ -171,12 +173,6 @@ def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_clien
     assert gzclient.poll() is None, ros.log_text(gzclient)
 
 
-# The view of src/gazebo_ros/rviz/world.rviz: rviz's orbit camera around its focal point, at
-# Ogre's default vertical field of view.
-VIEW = {'distance': 6.0, 'focal': (0.0, 0.0, 0.5), 'pitch': 0.5, 'yaw': 3.93,
-        'fov_y': math.pi / 4}
-
-
 def render_window(display):
     """(x, y, width, height) of rviz's 3D view on the screen: the one unnamed native window
     under rviz's main window (Ogre's), as xwininfo lists it."""
@@ -189,31 +185,13 @@ def render_window(display):
 
 
 def pixel_of(point, window):
-    """The screen pixel where the view's camera draws a point of the world."""
-    x0, y0, width, height = window
-    yaw, pitch, distance = VIEW['yaw'], VIEW['pitch'], VIEW['distance']
-    focal = VIEW['focal']
-    camera = [focal[0] + distance * math.cos(yaw) * math.cos(pitch),
-              focal[1] + distance * math.sin(yaw) * math.cos(pitch),
-              focal[2] + distance * math.sin(pitch)]
-
-    def unit(v):
-        n = math.sqrt(sum(c * c for c in v))
-        return [c / n for c in v]
-
-    def cross(a, b):
-        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-    def dot(a, b):
-        return sum(p * q for p, q in zip(a, b))
-
-    forward = unit([f - c for f, c in zip(focal, camera)])
-    right = unit(cross(forward, [0, 0, 1]))
-    up = cross(right, forward)
-    d = [p - c for p, c in zip(point, camera)]
-    f = (height / 2) / math.tan(VIEW['fov_y'] / 2)
-    return (round(x0 + width / 2 + f * dot(d, right) / dot(d, forward)),
-            round(y0 + height / 2 - f * dot(d, up) / dot(d, forward)))
+    """The screen pixel where world.rviz's view draws a point of the world, in rviz's 3D view
+    at window (x, y, width, height)."""
+    with open(WORLD_RVIZ) as f:
+        view = yaml.safe_load(f)['Visualization Manager']['Views']['Current']
+    x, y, width, height = window
+    column, row = project(view, (x, y, x + width, y + height), point)
+    return round(column), round(row)
 
 
 def test_a_click_in_the_view_inserts_the_chosen_model_there(ros, rospy_client):

@@ -109,13 +109,17 @@ gazebo_msgs::ModelStates GazeboClient::modelStates() const {
 }
 
 template <class Srv>
-bool GazeboClient::call(const std::string& name, Srv& srv, Outcome* failed) {
+bool GazeboClient::call(const std::string& name, Srv& srv, Outcome* failed, bool reading) {
   const std::string full = simulatorName(name);
   if (!ros::service::exists(full, false)) {
     failed->text = "no simulator: " + full + " is not served";
     return false;
   }
-  if (!ros::service::call(full, srv)) {
+  bool called = ros::service::call(full, srv);
+  // A reading whose connection dropped (a busy machine) is made once more before it counts as
+  // failed; a change is not, as it may have been made.
+  if (!called && reading) called = ros::service::call(full, srv);
+  if (!called) {
     failed->text = full + " failed (the simulator's log says why)";
     return false;
   }
@@ -177,7 +181,7 @@ void GazeboClient::insert(const CatalogModel& model, const geometry_msgs::Pose& 
       return done(outcome);
     }
     gazebo_msgs::GetWorldProperties world;
-    if (!call("get_world_properties", world, &outcome)) return done(outcome);
+    if (!call("get_world_properties", world, &outcome, true)) return done(outcome);
     spawn.request.model_name = copyName(model.uri_name, world.response.model_names);
     spawn.request.initial_pose = pose;
     if (!call("spawn_sdf_model", spawn, &outcome)) return done(outcome);
@@ -211,7 +215,7 @@ void GazeboClient::physics(std::function<void(const Outcome&, const PhysicsState
     Outcome outcome;
     PhysicsState state;
     gazebo_msgs::GetPhysicsProperties srv;
-    if (call("get_physics_properties", srv, &outcome)) {
+    if (call("get_physics_properties", srv, &outcome, true)) {
       outcome.ok = srv.response.success;
       outcome.text = srv.response.status_message;
       state.paused = srv.response.pause;
@@ -246,7 +250,7 @@ void GazeboClient::modelTrees(
     Outcome outcome;
     std::vector<ModelTree> trees;
     gazebo_msgs::GetWorldProperties world;
-    if (call("get_world_properties", world, &outcome)) {
+    if (call("get_world_properties", world, &outcome, true)) {
       outcome.ok = true;
       for (const std::string& name : world.response.model_names) {
         gazebo_msgs::GetModelProperties model;
@@ -254,7 +258,8 @@ void GazeboClient::modelTrees(
         ModelTree tree{name, {}, {}};
         // A model deleted between the two calls is left out.
         Outcome left_out;
-        if (!call("get_model_properties", model, &left_out) || !model.response.success) continue;
+        if (!call("get_model_properties", model, &left_out, true) || !model.response.success)
+          continue;
         tree.links = model.response.body_names;
         tree.joints = model.response.joint_names;
         trees.push_back(tree);

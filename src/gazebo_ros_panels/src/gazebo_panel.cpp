@@ -1,5 +1,7 @@
 #include "gazebo_panel.h"
 
+#include <QDockWidget>
+#include <QMainWindow>
 #include <QScrollArea>
 #include <QTabWidget>
 #include <QVBoxLayout>
@@ -56,8 +58,6 @@ void GazeboPanel::onInitialize() {
   status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(status_);
-  // Room for the Time tab whole and most of the others beside rviz's Displays panel.
-  tabs->setMinimumHeight(320);
   layout->addWidget(tabs, 1);
 
   connect(&refresh_timer_, &QTimer::timeout, this, &GazeboPanel::refresh);
@@ -66,7 +66,22 @@ void GazeboPanel::onInitialize() {
   physics_timer_.start(1000);
   insert_->refresh();
   askForPhysics();
+  shareTheDisplaysPlace();
   ROS_INFO("gazebo_ros_panels: the Gazebo panel is up (Time, Insert, World)");
+}
+
+void GazeboPanel::shareTheDisplaysPlace() {
+  auto* dock = qobject_cast<QDockWidget*>(parentWidget());
+  auto* window = dock ? qobject_cast<QMainWindow*>(dock->parentWidget()) : nullptr;
+  if (!window) return;  // floating, or not in rviz's window
+  for (QDockWidget* other : window->findChildren<QDockWidget*>()) {
+    if (other != dock && other->windowTitle() == "Displays" &&
+        window->dockWidgetArea(other) == window->dockWidgetArea(dock)) {
+      window->tabifyDockWidget(other, dock);
+      dock->raise();
+      return;
+    }
+  }
 }
 
 void GazeboPanel::chooseInsertPoint() {

@@ -27,6 +27,10 @@ class GazeboPanel : public rviz::Panel {
   void refresh();         // the clock's figures and the model states, several times a second
   void askForPhysics();   // the pause state and the physics, unless a call is under way
   void chooseInsertPoint();  // rviz's Insert Here tool made current (added if it is not there)
+  // Tabbed with rviz's Displays panel in its dock, raised (as Gazebo's World and Insert tabs
+  // share its left panel): the sensors' image panels docked below keep their room. A saved
+  // window state (rviz's config) places it as saved.
+  void shareTheDisplaysPlace();
 
   std::unique_ptr<GazeboClient> client_;
   TimeTab* time_ = nullptr;
