@@ -1,0 +1,46 @@
+// The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
+// gazebo_ros services (GazeboClient), with a line saying what the last action did or why not.
+#pragma once
+
+#include <QLabel>
+#include <QTimer>
+#include <rviz/panel.h>
+
+#include <memory>
+
+namespace gazebo_ros_panels {
+
+class GazeboClient;
+class TimeTab;
+class InsertTab;
+class WorldTab;
+
+class GazeboPanel : public rviz::Panel {
+  Q_OBJECT
+ public:
+  explicit GazeboPanel(QWidget* parent = nullptr);
+  ~GazeboPanel() override;
+  void onInitialize() override;
+
+ private:
+  void report(const QString& text);
+  void refresh();         // the clock's figures and the model states, several times a second
+  void askForPhysics();   // the pause state and the physics, unless a call is under way
+  void chooseInsertPoint();  // rviz's Insert Here tool made current (added if it is not there)
+  // Tabbed with rviz's Displays panel in its dock, raised (as Gazebo's World and Insert tabs
+  // share its left panel): the sensors' image panels docked below keep their room. A saved
+  // window state (rviz's config) places it as saved.
+  void shareTheDisplaysPlace();
+
+  std::unique_ptr<GazeboClient> client_;
+  TimeTab* time_ = nullptr;
+  InsertTab* insert_ = nullptr;
+  WorldTab* world_ = nullptr;
+  QLabel* status_ = nullptr;
+  QTimer refresh_timer_;
+  QTimer physics_timer_;
+  bool physics_pending_ = false;
+  QString last_physics_error_;
+};
+
+}  // namespace gazebo_ros_panels
