@@ -591,7 +591,7 @@ def test_start_up_parameters(ros, engine, api):
 
 def test_invalid_start_up_parameter_stops_the_node_with_a_message(ros, engine):
     proc = start_sim(ros, engine, ['_time_step:=-1'], wait=False)
-    assert proc.wait(timeout=60) != 0
+    assert proc.wait(timeout=300) != 0
     assert 'time_step' in ros.log_text(proc) or 'step' in ros.log_text(proc)
 
 

@@ -69,7 +69,7 @@ def test_a_catkin_package_using_eigen3_builds_and_runs(tmp_path):
     points = ['0', '0', '0', '1', '0', '1', '0', '1', '0', '1', '1', '1', '2', '3', '2']
     result = subprocess.run(['bash', '-c', 'source %s && rosrun eigen_package plane_normal %s'
                              % (setup, ' '.join(points))], capture_output=True, text=True,
-                            timeout=60)
+                            timeout=300)
     assert result.returncode == 0, result.stderr
     normal = [float(v) for v in result.stdout.split()]
     assert normal == pytest.approx([-math.sqrt(0.5), 0, math.sqrt(0.5)], abs=1e-6)

@@ -58,7 +58,7 @@ def test_the_exit_status_is_the_commands_and_the_spinners_ran_beside_it(tmp_path
     spinners = wait_until(lambda: len(spinners_of(runner.pid)) == 3 and spinners_of(runner.pid),
                           60, what='3 spinners')
     seen.touch()
-    assert runner.wait(timeout=60) == 3, runner.stdout.read()
+    assert runner.wait(timeout=300) == 3, runner.stdout.read()
     assert not any(alive(pid) for pid in spinners)
 
 
@@ -99,5 +99,5 @@ def test_spinners_stop_after_max_seconds_while_the_command_runs_on():
     # It stopped on its own: the command still runs, and the runner waits for it.
     assert alive(command) and runner.poll() is None
     runner.terminate()  # passed on to the command
-    assert runner.wait(timeout=60) == 128 + signal.SIGTERM
+    assert runner.wait(timeout=300) == 128 + signal.SIGTERM
     assert not alive(command)

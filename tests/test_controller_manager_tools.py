@@ -35,7 +35,7 @@ def test_spawner_loads_and_starts_then_takes_down_on_sigint(manager, rospy_clien
                         may_exit=True)
     wait_for_listing(ros, rospy_client, BOOK_CONTROLLERS_RUNNING, 'both controllers running')
     os.killpg(spawner.pid, signal.SIGINT)
-    assert spawner.wait(timeout=60) == 0, ros.log_text(spawner)
+    assert spawner.wait(timeout=300) == 0, ros.log_text(spawner)
     assert listing(ros) == ['No controllers are loaded in mechanism control']
 
 

@@ -23,8 +23,10 @@ ONE_ENGINE = pytest.mark.parametrize('engine', ENGINES[:1], indirect=True)
 CHOSEN_ENGINE = pytest.mark.parametrize('engine', ENGINES[-1:], indirect=True)
 
 
-def spawn_model(ros, *args, cwd=None, env=None, input=None, timeout=60):
-    """Runs `rosrun onedof_sim spawn_model ARGS` to completion, in cwd (default the workspace)."""
+def spawn_model(ros, *args, cwd=None, env=None, input=None, timeout=300):
+    """Runs `rosrun onedof_sim spawn_model ARGS` to completion, in cwd (default the workspace).
+    The timeout only catches a hang: at load 20 a python command gets a twentieth of a core and
+    takes a minute and more to start, spawn and exit."""
     return subprocess.run(['rosrun', 'onedof_sim', 'spawn_model'] + list(args),
                           env=dict(ros.env, **(env or {})), cwd=cwd or WORKSPACE, input=input,
                           stdin=subprocess.DEVNULL if input is None else None,
@@ -381,7 +383,7 @@ def test_wait_spawns_only_after_the_awaited_model_exists(ros, running_sim, rospy
 
     robot = spawn_model(ros, *TUTORIAL_SPAWN_ROBOT, cwd=DESCRIPTION_DIR)
     assert robot.returncode == 0, succeeded(robot)
-    assert waiting.wait(timeout=60) == 0, ros.log_text(waiting)
+    assert waiting.wait(timeout=300) == 0, ros.log_text(waiting)
     assert api.get_world_properties().model_names == [GROUND, ROBOT, 'cafe_table']
 
 
@@ -394,7 +396,7 @@ def test_bond_deletes_the_model_when_spawn_model_is_stopped(ros, running_sim, ro
     assert api.get_world_properties().model_names == [GROUND, 'cafe_table']
 
     os.killpg(bonded.pid, signal.SIGINT)  # Ctrl-C
-    assert bonded.wait(timeout=60) == 0, ros.log_text(bonded)
+    assert bonded.wait(timeout=300) == 0, ros.log_text(bonded)
     assert 'DeleteModel: successfully deleted model' in ros.log_text(bonded)
     assert api.get_world_properties().model_names == [GROUND]
 

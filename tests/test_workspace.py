@@ -52,7 +52,7 @@ def foreign_python3(tmp_path):
 ])
 def test_tutorial_commands_run_under_a_python_with_rospy(foreign_python3, command):
     result = subprocess.run(command, env=foreign_python3, capture_output=True, text=True,
-                            timeout=60)
+                            timeout=300)
     assert 'foreign python3 was used' not in result.stderr
     assert result.returncode == 0, result.stdout + result.stderr
 
