@@ -71,9 +71,11 @@ def test_each_line_says_how_far_the_forked_suite_on_workers_is_and_the_summary_s
     # Every test's end gives a line here (a line at most every 0 s).
     assert len(lines) == 5, result.stdout
     for done, line in enumerate(lines, 1):
+        # Durations of a minute and more read `1 min 0 s` (a busy machine's tests take that).
+        duration = r'(\d+ min )?\d+ s'
         assert re.fullmatch(r'progress: %d/5 tests done \((\d+ \w+)(, \d+ \w+)*\)'
-                            r'(, [12] running)?, \d+ s so far(, about \d+ s left)?' % done,
-                            line), line
+                            r'(, [12] running)?, %s so far(, about %s left)?'
+                            % (done, duration, duration), line), line
         assert ('about' in line) == (done < 5), line
     assert lines[-1].startswith(
         'progress: 5/5 tests done (2 passed, 1 failed, 1 error, 1 skipped), ')
@@ -96,7 +98,8 @@ def test_a_line_comes_while_no_test_ends(tmp_path):
                            interval='1', stdout=output)
     text = (tmp_path / 'output').read_text()
     assert result.returncode == 0, text
-    assert re.search(r'^progress: 0/1 tests done, 1 running, \d+ s so far$', text, re.M), text
+    assert re.search(r'^progress: 0/1 tests done, 1 running, (\d+ min )?\d+ s so far$', text, re.M), \
+        text
     assert re.search(r'=+ 1 passed in [\d.]+s', text), text
 
 
