@@ -10,6 +10,10 @@ changes (a robot with sensors spawned or deleted) it saves rviz's current config
 user's camera and settings), replaces the sensor displays in it and has rviz load it again. A
 world without sensors shows exactly world.rviz.
 
+Beside rviz the view runs the model handles (gazebo_ros.model_handles, the node
+/gazebo_model_handles): Gazebo's translate and rotate modes as interactive markers on every
+non-static model, world.rviz's "Move models" display; it stops with rviz.
+
 Scans and point clouds are drawn where TF puts their frames relative to `world`, as in any rviz:
 robot_state_publisher places a robot's links (a URDF rooted at a link named `world` is placed
 in the world; a mobile base's tree starts at the diff drive's `odom`, which with
@@ -37,6 +41,8 @@ SENSOR_DISPLAY_PREFIX = 'Sensor: '
 DEPTH_SHOWN_M = 5.0
 # Seconds between two looks at the master: a sensor appears in the view this long after spawn.
 POLL_SECONDS = 1.0
+# Bounds the model handles' orderly exit after rviz's; only a hung node waits this long.
+HANDLES_STOP_SECONDS = 10.0
 
 
 def sensor_display(topic, msg_type):
@@ -146,14 +152,31 @@ class WorldView:
             base = yaml.safe_load(f)
         self._write(with_sensor_displays(base, self.topics))
         self.rviz = None
+        self.handles = None
 
     def command(self):
         return ['rosrun', 'rviz', 'rviz', '-d', self.config, '__name:=' + self.name] + self.ros_args
 
+    def handles_command(self):
+        """The model handles' node (gazebo_ros.model_handles): its own name, this view's
+        remappings and namespace, not its log file."""
+        return ([sys.executable, '-m', 'gazebo_ros.model_handles'] +
+                [arg for arg in self.ros_args if not arg.startswith('__log:=')])
+
     def start(self):
         request_collision_markers(self.node)
+        self.handles = subprocess.Popen(self.handles_command())
         self.rviz = subprocess.Popen(self.command())
         return self.rviz
+
+    def stop_handles(self):
+        if self.handles and self.handles.poll() is None:
+            self.handles.send_signal(signal.SIGINT)
+            try:
+                self.handles.wait(timeout=HANDLES_STOP_SECONDS)
+            except subprocess.TimeoutExpired:
+                self.handles.kill()
+                self.handles.wait()
 
     def _sensor_topics(self):
         """The simulator's sensor streams, or None when the master does not answer."""
@@ -203,6 +226,7 @@ class WorldView:
                 except subprocess.TimeoutExpired:
                     self.update()
         finally:
+            self.stop_handles()
             shutil.rmtree(self.folder, ignore_errors=True)
 
 
@@ -210,8 +234,9 @@ def main(argv):
     view = WorldView([arg for arg in argv if ':=' in arg])
 
     def forward(signum, frame):
-        if view.rviz and view.rviz.poll() is None:
-            view.rviz.send_signal(signum)
+        for process in (view.rviz, view.handles):
+            if process and process.poll() is None:
+                process.send_signal(signum)
 
     signal.signal(signal.SIGINT, forward)
     signal.signal(signal.SIGTERM, forward)

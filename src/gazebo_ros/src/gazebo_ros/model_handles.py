@@ -1,0 +1,274 @@
+"""Gazebo's translate and rotate modes in the simulator's rviz view: an interactive marker server
+(topics under /gazebo_model_handles, the node /gazebo_model_handles) with one handle per
+non-static model of /gazebo/model_states, at the model's pose: arrows along the world's x, y and z
+(translate) and rings about them (rotate), dragged with rviz's Interact tool. world.rviz's "Move
+models" display shows them; it starts unticked, as Gazebo starts in its select mode, so that the
+picture of the world is the world's until the user asks for the handles.
+
+A handle follows its model while it is not dragged (at most FOLLOW_HZ times a wall second, and only
+when the model moved): the poses of /gazebo/model_states, or, while none has come for STALE_S (a
+paused world publishes none, as Gazebo's), those /gazebo/get_world_properties and
+/gazebo/get_model_state answer, so that a model inserted or moved in a paused world is handled. While a handle is dragged, the model is held where the mouse puts it: the
+dragged pose, with zero velocity, through /gazebo/set_model_state at most DRAG_HZ times a wall
+second, sent again at that rate while the mouse is down so the model does not fall meanwhile; the
+pose where the mouse is released is sent last, and the model is let go with zero velocity.
+
+No simulator, or a refused move, is logged once per reason; the node keeps serving.
+"""
+import math
+import sys
+import threading
+import time
+
+SERVER_TOPIC = '/gazebo_model_handles'
+NODE_NAME = 'gazebo_model_handles'
+MODEL_STATES = '/gazebo/model_states'
+SET_MODEL_STATE = '/gazebo/set_model_state'
+GET_MODEL_PROPERTIES = '/gazebo/get_model_properties'
+GET_WORLD_PROPERTIES = '/gazebo/get_world_properties'
+GET_MODEL_STATE = '/gazebo/get_model_state'
+FRAME = 'world'
+FOLLOW_HZ = 10.0
+DRAG_HZ = 20.0
+# A handle is moved to its model once the model is this far (m, rad) from the handle.
+FOLLOW_TOLERANCE = 1e-3
+# Wall seconds without model_states after which the poses are asked for instead.
+STALE_S = 0.5
+
+
+def axis_controls():
+    """Translate (MOVE_AXIS) and rotate (ROTATE_AXIS) controls along and about the world's x, y
+    and z: a control's axis is the x axis of its orientation."""
+    from visualization_msgs.msg import InteractiveMarkerControl
+    half = math.sqrt(0.5)
+    controls = []
+    for axis, (qx, qy, qz) in (('x', (half, 0, 0)), ('y', (0, 0, half)), ('z', (0, half, 0))):
+        for mode, verb in ((InteractiveMarkerControl.MOVE_AXIS, 'move'),
+                           (InteractiveMarkerControl.ROTATE_AXIS, 'rotate')):
+            control = InteractiveMarkerControl()
+            control.name = '%s_%s' % (verb, axis)
+            control.orientation.w, control.orientation.x = half, qx
+            control.orientation.y, control.orientation.z = qy, qz
+            control.orientation_mode = InteractiveMarkerControl.FIXED
+            control.interaction_mode = mode
+            controls.append(control)
+    return controls
+
+
+def handle_marker(name, pose):
+    """The interactive marker of model `name` at `pose` (geometry_msgs/Pose in FRAME)."""
+    from visualization_msgs.msg import InteractiveMarker
+    marker = InteractiveMarker()
+    marker.header.frame_id = FRAME
+    marker.name = name
+    marker.description = name
+    marker.pose = pose
+    marker.scale = 1.0
+    marker.controls = axis_controls()
+    return marker
+
+
+def pose_distance(a, b):
+    """The larger of the positions' distance (m) and the orientations' angle (rad) between two
+    geometry_msgs/Pose."""
+    position = math.dist((a.position.x, a.position.y, a.position.z),
+                         (b.position.x, b.position.y, b.position.z))
+    dot = abs(a.orientation.x * b.orientation.x + a.orientation.y * b.orientation.y +
+              a.orientation.z * b.orientation.z + a.orientation.w * b.orientation.w)
+    return max(position, 2 * math.acos(min(1.0, dot)))
+
+
+class ServiceUnavailable(Exception):
+    """A simulator's service that is not served, or failed to answer."""
+
+
+class ModelHandles:
+    """The handles of the simulator's models on `server` (an InteractiveMarkerServer). The
+    simulator's calls are `get_properties(name)` (a GetModelProperties response),
+    `set_state(ModelState)` (a SetModelState response) and `ask_poses()` ({name: Pose}); each
+    raises ServiceUnavailable when it cannot be made. `log(text)` says a problem."""
+
+    def __init__(self, server, get_properties, set_state, ask_poses, log):
+        self.server = server
+        self.get_properties = get_properties
+        self.set_state = set_state
+        self.ask_poses = ask_poses
+        self.log = log
+        self.logged = set()
+        self.lock = threading.Lock()
+        self.latest = None        # the latest model_states, serialised
+        self.latest_at = -math.inf  # and the wall time it came
+        self.is_static = {}       # name -> bool, asked once per model
+        self.shown = {}           # name -> the Pose its handle was last put at
+        self.dragged = {}         # name -> the Pose the mouse holds it at
+        self.to_send = {}         # name -> a dragged or released Pose not yet sent
+        self.last_sent = {}       # name -> wall time of the last move sent
+
+    def say_once(self, text):
+        if text not in self.logged:
+            self.logged.add(text)
+            self.log(text)
+
+    def on_model_states(self, raw):
+        """Keeps the latest /gazebo/model_states undecoded (a rospy.AnyMsg): the simulator may
+        publish it every step, and the handles read it FOLLOW_HZ times a second."""
+        with self.lock:
+            self.latest = raw._buff
+            self.latest_at = time.monotonic()
+
+    def current_poses(self, now):
+        """{name: Pose} of the simulator's models, or None when it cannot say."""
+        from gazebo_msgs.msg import ModelStates
+        with self.lock:
+            latest, latest_at = self.latest, self.latest_at
+        if now - latest_at < STALE_S:
+            states = ModelStates().deserialize(latest)
+            return dict(zip(states.name, states.pose))
+        try:
+            return self.ask_poses()
+        except ServiceUnavailable as error:
+            self.say_once('no model poses: %s' % error)
+            return None
+
+    def on_feedback(self, feedback):
+        with self.lock:
+            name = feedback.marker_name
+            if name not in self.shown:
+                return
+            if feedback.event_type in (feedback.MOUSE_DOWN, feedback.POSE_UPDATE):
+                self.dragged[name] = feedback.pose
+                self.to_send[name] = feedback.pose
+            elif feedback.event_type == feedback.MOUSE_UP:
+                self.dragged.pop(name, None)
+                self.to_send[name] = feedback.pose
+                self.shown[name] = feedback.pose
+                self.last_sent.pop(name, None)  # the release is sent at once
+
+    def _static(self, name):
+        """Whether model `name` is static; None while the simulator does not answer."""
+        if name not in self.is_static:
+            try:
+                properties = self.get_properties(name)
+            except ServiceUnavailable as error:  # said once, asked again on the next look
+                self.say_once('cannot ask %s about %s: %s' % (GET_MODEL_PROPERTIES, name, error))
+                return None
+            if not properties.success:
+                return None  # a model deleted meanwhile
+            self.is_static[name] = properties.is_static
+        return self.is_static[name]
+
+    def follow(self, now):
+        """Adds, moves and erases handles after the simulator's current poses."""
+        poses = self.current_poses(now)
+        if poses is None:
+            return
+        changed = False
+        for name in [name for name in self.shown if name not in poses]:
+            self.server.erase(name)
+            with self.lock:
+                for table in (self.shown, self.dragged, self.to_send, self.last_sent):
+                    table.pop(name, None)
+            changed = True
+        for name in [name for name in self.is_static if name not in poses]:
+            del self.is_static[name]
+        for name, pose in poses.items():
+            if self._static(name) is not False:
+                continue
+            with self.lock:
+                if name in self.dragged or name in self.to_send:
+                    continue
+                if name not in self.shown:
+                    self.server.insert(handle_marker(name, pose), self.on_feedback)
+                elif pose_distance(pose, self.shown[name]) > FOLLOW_TOLERANCE:
+                    self.server.setPose(name, pose)
+                else:
+                    continue
+                self.shown[name] = pose
+            changed = True
+        if changed:
+            self.server.applyChanges()
+
+    def send_moves(self, now):
+        """Sends each dragged or released pose whose model was last moved at least 1 / DRAG_HZ
+        ago; a model still held is sent its pose again at that rate."""
+        from gazebo_msgs.msg import ModelState
+        with self.lock:
+            for name, pose in self.dragged.items():
+                self.to_send.setdefault(name, pose)
+            due = [(name, pose) for name, pose in self.to_send.items()
+                   if now - self.last_sent.get(name, -math.inf) >= 1.0 / DRAG_HZ]
+            for name, _ in due:
+                del self.to_send[name]
+                self.last_sent[name] = now
+        for name, pose in due:
+            state = ModelState(model_name=name, pose=pose, reference_frame='')
+            try:
+                result = self.set_state(state)
+            except ServiceUnavailable as error:
+                self.say_once('cannot move %s through %s: %s' % (name, SET_MODEL_STATE, error))
+                continue
+            if not result.success:
+                self.say_once('%s refused to move %s: %s'
+                              % (SET_MODEL_STATE, name, result.status_message))
+
+
+def proxy_call(rospy, service, service_class):
+    """A call of `service` over one connection kept open (the poses are asked for FOLLOW_HZ
+    times a second while the world is paused), opened again after a failure; raises
+    ServiceUnavailable when the service is not served or the call fails."""
+    proxies = []
+
+    def call(*args):
+        if not proxies:
+            proxies.append(rospy.ServiceProxy(service, service_class, persistent=True))
+        try:
+            return proxies[0](*args)
+        except (rospy.ServiceException, rospy.ROSException, OSError) as error:
+            proxies.pop().close()
+            raise ServiceUnavailable(str(error)) from None
+    return call
+
+
+def asked_poses(get_world_properties, get_model_state):
+    """The ask_poses of ModelHandles through the two calls (proxy_call's)."""
+    def ask():
+        world = get_world_properties()
+        if not world.success:
+            raise ServiceUnavailable(world.status_message)
+        poses = {}
+        for name in world.model_names:
+            state = get_model_state(name, '')
+            if state.success:  # else deleted meanwhile
+                poses[name] = state.pose
+        return poses
+    return ask
+
+
+def main(argv):
+    import rospy
+    from gazebo_msgs.srv import (GetModelProperties, GetModelState, GetWorldProperties,
+                                 SetModelState)
+    from interactive_markers.interactive_marker_server import InteractiveMarkerServer
+    rospy.init_node(NODE_NAME, argv=argv)
+    server = InteractiveMarkerServer(SERVER_TOPIC)
+    handles = ModelHandles(server, proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
+                           proxy_call(rospy, SET_MODEL_STATE, SetModelState),
+                           asked_poses(proxy_call(rospy, GET_WORLD_PROPERTIES, GetWorldProperties),
+                                       proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
+                           lambda text: rospy.logwarn('model handles: %s', text))
+    rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
+    rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
+    # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).
+    next_follow = time.monotonic()
+    while not rospy.is_shutdown():
+        now = time.monotonic()
+        handles.send_moves(now)
+        if now >= next_follow:
+            handles.follow(now)
+            next_follow = now + 1.0 / FOLLOW_HZ
+        time.sleep(1.0 / DRAG_HZ)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv))
