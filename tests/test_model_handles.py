@@ -11,6 +11,7 @@ import pytest
 
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
+from onedof_sim.tutorial.rviz_view import start_xvfb
 
 SERVER = '/gazebo_model_handles'
 HANDLES = ['rosrun', 'gazebo_ros', 'model_handles']
@@ -121,6 +122,14 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     assert deleted.success, deleted.status_message
     ros.wait_until(lambda: 'box' not in seen.markers, 60, what="the box's handle gone")
     assert 'box2' in seen.markers
+
+    # In a running world the handle follows a falling box down to where it rests.
+    dropped = api.set_model_state(model_state('box2', pose(0, 1, 0.6)))
+    assert dropped.success, dropped.status_message
+    api.unpause_physics()
+    ros.wait_until(lambda: seen.markers['box2'].pose.position.z < 0.2 and close(
+        seen.markers['box2'].pose, model_pose(api, 'box2'), 3e-3), 120,
+        what='the handle following the falling box to rest')
     assert handles.poll() is None, ros.log_text(handles)
 
 
@@ -154,3 +163,22 @@ def test_a_refused_move_is_logged_once_and_the_handles_keep_serving(ros, rospy_c
                    what='the box moved')
     assert ros.log_text(handles).count(refusal) == 1, ros.log_text(handles)
     assert handles.poll() is None, ros.log_text(handles)
+
+
+def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rospy_client):
+    import rosnode
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_box('box', pose(0.5, 0, 0.1))
+    xvfb, display = start_xvfb(ros)
+    view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                     env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(0.5, 0, 0.1)), 300,
+                   what="the view's handle on the box")
+    assert rosnode.rosnode_ping(SERVER, max_count=1)
+    ros.terminate(view)
+    ros.wait_until(lambda: not rosnode.rosnode_ping(SERVER, max_count=1), 120,
+                   what='the handles stopped with the view')
+    ros.terminate(xvfb)
