@@ -48,8 +48,14 @@ class Mouse:
         message.header.frame_id = 'world'
         self.publisher.publish(message)
 
-    def drag(self, name, target):
-        self.send(name, self.feedback.POSE_UPDATE, target)
+    def drag_until(self, ros, name, target, condition, what):
+        """Drags the handle to target until condition holds: rviz sends a POSE_UPDATE at each
+        move of the mouse (the server takes a client's feedback only 1 s after the marker
+        appeared or another client's feedback came)."""
+        def dragged():
+            self.send(name, self.feedback.POSE_UPDATE, target)
+            return condition()
+        ros.wait_until(dragged, 60, interval=0.1, what=what)
 
     def release(self, name, target):
         self.send(name, self.feedback.MOUSE_UP, target)
@@ -99,8 +105,8 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     # The mouse drags the box up and about z, the box follows; released, the box stays there.
     mouse = Mouse(ros, rospy_client)
     held = yawed(1.0, 0.5, 0.6, 0.3)
-    mouse.drag('box', held)
-    ros.wait_until(lambda: close(model_pose(api, 'box'), held), 60, what='the box held')
+    mouse.drag_until(ros, 'box', held, lambda: close(model_pose(api, 'box'), held),
+                     'the box held')
     released = yawed(1.2, 0.5, 0.6, math.pi / 2)
     mouse.release('box', released)
     ros.wait_until(lambda: close(model_pose(api, 'box'), released), 60, what='the box released')
@@ -152,10 +158,9 @@ def test_a_refused_move_is_logged_once_and_the_handles_keep_serving(ros, rospy_c
     # A pose the simulator refuses (not finite), dragged and held: said once, the box where it was.
     mouse = Mouse(ros, rospy_client)
     nowhere = pose(math.nan, 0, 0.1)
-    for _ in range(3):
-        mouse.drag('box', nowhere)
     refusal = '/gazebo/set_model_state refused to move box: '
-    ros.wait_until(lambda: refusal in ros.log_text(handles), 60, what='the refusal logged')
+    mouse.drag_until(ros, 'box', nowhere, lambda: refusal in ros.log_text(handles),
+                     'the refusal logged')
     assert close(model_pose(api, 'box'), pose(0, 0, 0.1))
     # Released at a pose it takes, the box moves there: the node kept serving.
     mouse.release('box', pose(0.3, 0, 0.1))

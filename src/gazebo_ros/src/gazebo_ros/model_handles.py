@@ -99,7 +99,7 @@ class ModelHandles:
         self.latest = None        # the latest model_states, serialised
         self.latest_at = -math.inf  # and the wall time it came
         self.is_static = {}       # name -> bool, asked once per model
-        self.shown = {}           # name -> the Pose its handle was last put at
+        self.shown = {}           # name -> the Pose its handle was last put at (None: released)
         self.dragged = {}         # name -> the Pose the mouse holds it at
         self.to_send = {}         # name -> a dragged or released Pose not yet sent
         self.last_sent = {}       # name -> wall time of the last move sent
@@ -141,7 +141,7 @@ class ModelHandles:
             elif feedback.event_type == feedback.MOUSE_UP:
                 self.dragged.pop(name, None)
                 self.to_send[name] = feedback.pose
-                self.shown[name] = feedback.pose
+                self.shown[name] = None  # put at its model's pose once the release is sent
                 self.last_sent.pop(name, None)  # the release is sent at once
 
     def _static(self, name):
@@ -162,13 +162,11 @@ class ModelHandles:
         poses = self.current_poses(now)
         if poses is None:
             return
-        changed = False
         for name in [name for name in self.shown if name not in poses]:
             self.server.erase(name)
             with self.lock:
                 for table in (self.shown, self.dragged, self.to_send, self.last_sent):
                     table.pop(name, None)
-            changed = True
         for name in [name for name in self.is_static if name not in poses]:
             del self.is_static[name]
         for name, pose in poses.items():
@@ -179,14 +177,14 @@ class ModelHandles:
                     continue
                 if name not in self.shown:
                     self.server.insert(handle_marker(name, pose), self.on_feedback)
-                elif pose_distance(pose, self.shown[name]) > FOLLOW_TOLERANCE:
+                elif (self.shown[name] is None or
+                      pose_distance(pose, self.shown[name]) > FOLLOW_TOLERANCE):
                     self.server.setPose(name, pose)
                 else:
                     continue
                 self.shown[name] = pose
-            changed = True
-        if changed:
-            self.server.applyChanges()
+        # Also publishes the pose the server took from a drag's feedback (nothing when none).
+        self.server.applyChanges()
 
     def send_moves(self, now):
         """Sends each dragged or released pose whose model was last moved at least 1 / DRAG_HZ
@@ -244,12 +242,25 @@ def asked_poses(get_world_properties, get_model_state):
     return ask
 
 
+def keep_wall_time(rospy):
+    """Makes this node's ROS time the wall clock's whatever /use_sim_time says. The marker
+    server refuses a client's feedback within 1 s of ROS time after the marker's creation or
+    another client's feedback, and sends its keep-alives on a ROS timer: on the simulator's clock
+    a paused world would refuse every drag and stop the keep-alives."""
+    from rospy.impl import simtime
+    if getattr(simtime, '_clock_sub', None) is not None:
+        simtime._clock_sub.unregister()
+        simtime._clock_sub = None
+    rospy.rostime.switch_to_wallclock()
+
+
 def main(argv):
     import rospy
     from gazebo_msgs.srv import (GetModelProperties, GetModelState, GetWorldProperties,
                                  SetModelState)
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
     rospy.init_node(NODE_NAME, argv=argv)
+    keep_wall_time(rospy)
     server = InteractiveMarkerServer(SERVER_TOPIC)
     handles = ModelHandles(server, proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
                            proxy_call(rospy, SET_MODEL_STATE, SetModelState),
