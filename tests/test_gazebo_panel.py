@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from api_client import ROBOT, GazeboApi
-from conftest import ENGINES, start_sim
+from conftest import ENGINES, GROUND, start_sim
 from gazebo_commands import output, run
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_rviz_sensors import WORLD_RVIZ, project
@@ -27,7 +27,8 @@ def actions(ros, *args, env=None):
 
 
 def model_names(api):
-    return sorted(api.get_world_properties().model_names)
+    """The models inserted: the world's, but for the ground_plane its world file places."""
+    return sorted(name for name in api.get_world_properties().model_names if name != GROUND)
 
 
 def write_model(folder, name, shown_name, sdf):
