@@ -195,7 +195,6 @@ void SimLoop::run() {
 void SimLoop::stepOnce(StepOutput* out) {
   const bool want_model_states = model_states_pub_.getNumSubscribers() > 0;
   const bool want_link_states = link_states_pub_.getNumSubscribers() > 0;
-  view_markers_.want(&out->views);
 
   // Let waiting service callbacks in first; they hold the lock only for one world call.
   std::unique_lock<std::mutex> lock(mutex_);

@@ -271,18 +271,9 @@ void ViewMarkers::shutdown() {
   advertised_ = false;
 }
 
-void ViewMarkers::want(Facts* out) const {
-  if (!advertised_) return;
-  out->visuals = visuals_.pub.getNumSubscribers() > 0;
-  out->collisions = collisions_.pub.getNumSubscribers() > 0;
-  out->joints = joints_.pub.getNumSubscribers() > 0;
-  out->coms = coms_.pub.getNumSubscribers() > 0;
-  out->inertias = inertias_.pub.getNumSubscribers() > 0;
-  out->contacts = contacts_.pub.getNumSubscribers() > 0;
-}
-
 void ViewMarkers::collect(const World& world, bool stepped, Facts* out) {
-  if (!out->any()) return;  // no view open: nothing to look at
+  *out = Facts();
+  if (!advertised_) return;
   const int64_t time_ns = world.timeNs();
   const auto now = std::chrono::steady_clock::now();
   const auto since = std::chrono::duration<double>(now - last_wall_).count();
@@ -290,10 +281,14 @@ void ViewMarkers::collect(const World& world, bool stepped, Facts* out) {
                                  (double(time_ns - last_ns_) >= 1e9 / kViewFrequency &&
                                   since >= 1 / kMaxViewFrequency)
                            : since >= 1 / kPausedViewFrequency;
-  if (!due) {
-    *out = Facts();
-    return;
-  }
+  if (!due) return;
+  out->visuals = visuals_.pub.getNumSubscribers() > 0;
+  out->collisions = collisions_.pub.getNumSubscribers() > 0;
+  out->joints = joints_.pub.getNumSubscribers() > 0;
+  out->coms = coms_.pub.getNumSubscribers() > 0;
+  out->inertias = inertias_.pub.getNumSubscribers() > 0;
+  out->contacts = contacts_.pub.getNumSubscribers() > 0;
+  if (!out->any()) return;  // no view open: nothing to look at
   last_ns_ = time_ns;
   last_wall_ = now;
   out->taken = true;

@@ -74,11 +74,9 @@ class ViewMarkers {
   void advertise(ros::NodeHandle& nh);
   void shutdown();
   bool advertised() const { return advertised_; }
-  // Before the world is locked: marks in *out the views someone subscribes to.
-  void want(Facts* out) const;
   // World locked, after a step (stepped) or while the world stands: when the views are due (by
-  // the world's time, or by the wall clock while it stands), takes what the wanted ones need;
-  // else wants none.
+  // the world's time, or by the wall clock while it stands), marks in *out the views someone
+  // subscribes to and takes what they need. Subscribers are asked only then, not at every step.
   void collect(const World& world, bool stepped, Facts* out);
   // Unlocked: the wanted views' messages, published.
   void publish(const Facts& facts);
