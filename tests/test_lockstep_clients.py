@@ -83,8 +83,9 @@ class ClockArrivals:
             return list(self._arrivals)
 
     def latest(self):
-        arrivals = self.arrivals()
-        return arrivals[-1] if arrivals else (None, -1)
+        # Polled every few ms while the arrivals grow to tens of thousands: no copy of them.
+        with self._lock:
+            return self._arrivals[-1] if self._arrivals else (None, -1)
 
     def world_gaps(self):
         """(wall time it starts, its length, the world's part of it) of each gap between two
