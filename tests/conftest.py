@@ -29,6 +29,10 @@ TUTORIAL_URDF = os.path.join(WORKSPACE, 'src', 'minimal_robot_description',
                              'minimal_robot_description.urdf')
 # The node lists its engines; pytest parametrizes with them at collection.
 ENGINES = engine_names()
+# The bound of each test in a file whose first test builds an overlay with catkin_make (the others
+# wait for that build): the build's bound and as long again, past the suite's per-test bound,
+# which a build on a busy machine exceeds.
+OVERLAY_TESTS_TIMEOUT = pytest.mark.timeout(2 * private_ros.BUILD_TIMEOUT)
 # The model a node started without a world file places, as gzserver's worlds/empty.world does:
 # the world's ground.
 GROUND = 'ground_plane'

@@ -3,14 +3,14 @@ against a test's ROS graph: to completion, or started and waited for until /gaze
 import subprocess
 
 from conftest import WORKSPACE
-from onedof_harness.private_ros import wait_until
+from onedof_harness.private_ros import COMMAND_TIMEOUT, wait_until
 
 
 def output(result):
     return '%s\nstdout:\n%s\nstderr:\n%s' % (result.args, result.stdout, result.stderr)
 
 
-def run(ros, *args, env=None, timeout=120):
+def run(ros, *args, env=None, timeout=COMMAND_TIMEOUT):
     return subprocess.run(list(args), env=dict(ros.env, **(env or {})), cwd=WORKSPACE,
                           stdin=subprocess.DEVNULL, capture_output=True, text=True,
                           timeout=timeout)

@@ -15,7 +15,7 @@ import pytest
 from api_client import (BOX_SDF, FOREVER_NS, ROBOT, SERVICE_TYPES, STEP_NS, GazeboApi, pendulum_period,
                         pose, ros_duration, ros_time, tutorial_urdf)
 from conftest import start_sim
-from onedof_harness.private_ros import wait_until
+from onedof_harness.private_ros import COMMAND_TIMEOUT, wait_until
 from onedof_sim.tutorial import physics
 
 # Noetic's gazebo_msgs (gazebo_ros_pkgs noetic-devel), every type: the sums genmsg computes from
@@ -937,7 +937,7 @@ def dynparam(ros, *args):
     the system Python (the one with rospy) goes first on PATH."""
     env = dict(ros.env, PATH='/usr/bin:' + ros.env['PATH'])
     out = subprocess.run(['rosrun', 'dynamic_reconfigure', 'dynparam'] + list(args), env=env,
-                         capture_output=True, text=True, timeout=120)
+                         capture_output=True, text=True, timeout=COMMAND_TIMEOUT)
     assert out.returncode == 0, out.stdout + out.stderr
     return out.stdout
 

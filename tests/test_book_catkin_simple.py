@@ -9,10 +9,13 @@ import xml.etree.ElementTree as ElementTree
 
 import pytest
 
-from conftest import session_folder
+from conftest import OVERLAY_TESTS_TIMEOUT, session_folder
 from onedof_harness import book_client
+from onedof_harness.private_ros import COMMAND_TIMEOUT
 from onedof_sim.tools import workspace_root
 from test_book_perception import answer, in_overlay
+
+pytestmark = OVERLAY_TESTS_TIMEOUT
 
 PACKAGE = 'book_action_server'
 
@@ -34,7 +37,7 @@ def test_the_package_is_shaped_as_the_books_action_packages():
 
 def test_the_overlay_builds_with_this_workspaces_catkin_simple(overlay_setup):
     found = subprocess.run(in_overlay(overlay_setup, 'rospack find catkin_simple'),
-                           capture_output=True, text=True, timeout=120)
+                           capture_output=True, text=True, timeout=COMMAND_TIMEOUT)
     assert found.returncode == 0, found.stderr
     assert found.stdout.strip() == os.path.join(workspace_root(), 'src', 'catkin_simple')
 

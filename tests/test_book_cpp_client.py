@@ -14,10 +14,12 @@ simulator, and that of the in-process run of the tutorial's controller law.
 import pytest
 
 from api_client import GazeboApi
-from conftest import session_folder, start_sim
+from conftest import OVERLAY_TESTS_TIMEOUT, session_folder, start_sim
 from onedof_harness import book_client
 from onedof_harness.private_ros import wait_until
 from onedof_sim.tutorial import physics
+
+pytestmark = OVERLAY_TESTS_TIMEOUT
 
 LOCKSTEP = ['_lockstep:=true']
 COMMAND = 1.0

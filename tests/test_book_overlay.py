@@ -14,10 +14,13 @@ import subprocess
 import pytest
 
 from api_client import ROBOT, GazeboApi, ros_duration, ros_time
-from conftest import session_folder, start_sim
+from conftest import OVERLAY_TESTS_TIMEOUT, session_folder, start_sim
 from controller_manager_cli import (BOOK_CONTROLLERS_RUNNING, NS, STATE_CONTROLLER_RUNNING,
                                      wait_for_listing)
 from onedof_harness import book_client
+from onedof_harness.private_ros import COMMAND_TIMEOUT
+
+pytestmark = OVERLAY_TESTS_TIMEOUT
 
 BOOK_PACKAGE = os.path.join('book_shaped', 'minimal_robot_description')
 
@@ -42,7 +45,7 @@ def in_overlay(setup, *command):
 def test_the_overlays_package_shadows_ours(overlay):
     # rospack reads the package path, no roscore.
     found = subprocess.run(in_overlay(overlay, 'rospack', 'find', 'minimal_robot_description'),
-                           capture_output=True, text=True, timeout=120)
+                           capture_output=True, text=True, timeout=COMMAND_TIMEOUT)
     assert found.returncode == 0, found.stderr
     overlay_root = os.path.dirname(os.path.dirname(overlay))  # <overlay>/devel/setup.bash
     assert found.stdout.strip() == os.path.join(overlay_root, 'src', 'minimal_robot_description')

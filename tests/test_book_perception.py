@@ -15,17 +15,12 @@ import subprocess
 import pytest
 
 from api_client import GazeboApi, pose
-from conftest import ENGINES, session_folder, start_sim
+from conftest import ENGINES, OVERLAY_TESTS_TIMEOUT, session_folder, start_sim
 from onedof_harness import book_client
 from test_camera import BOX, DISTANCE, FACE_X, KINECT, box_sdf, kinect_bot_urdf
 
 PACKAGES = ('book_perception', 'model_states_reader')
-# PCL's headers compile slowly: a generous bound on the overlay's build, for a hung one only.
-BUILD_TIMEOUT = 3600
-# The test that builds the overlay (the first to need it) runs past the suite's per-test bound
-# on a busy machine (at load 20 a compile takes ten times its quiet time): its own bound is the
-# build's and as long again for the rest.
-pytestmark = pytest.mark.timeout(2 * BUILD_TIMEOUT)
+pytestmark = OVERLAY_TESTS_TIMEOUT
 
 
 @pytest.fixture
@@ -33,7 +28,7 @@ def overlay_setup(tmp_path_factory):
     """The overlay's setup.bash, built once for the session's workers (pytest-forked: no fixture
     outlives a test)."""
     folder = session_folder(tmp_path_factory, 'book_perception')
-    return book_client.shared_overlay(folder, PACKAGES, timeout=BUILD_TIMEOUT)
+    return book_client.shared_overlay(folder, PACKAGES)
 
 
 def in_overlay(setup, command):

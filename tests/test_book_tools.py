@@ -8,8 +8,10 @@ import subprocess
 
 import pytest
 
-from conftest import TUTORIAL_URDF
+from conftest import OVERLAY_TESTS_TIMEOUT, TUTORIAL_URDF
 from onedof_harness import book_client
+
+pytestmark = OVERLAY_TESTS_TIMEOUT
 
 
 @pytest.fixture

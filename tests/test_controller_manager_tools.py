@@ -54,7 +54,7 @@ def test_spawner_stopped_and_namespace_option(manager, rospy_client):
 def test_spawner_exits_nonzero_naming_the_controller_that_would_not_load(manager):
     ros = manager
     out = ros.run(['rosrun', 'controller_manager', 'spawner', 'joint_state_controller',
-                   'no_such_controller', '__ns:=' + NS], timeout=120)
+                   'no_such_controller', '__ns:=' + NS])
     assert out.returncode == 1
     assert "Failed to load controller 'no_such_controller'" in out.stdout + out.stderr
     # What it had loaded before the failure is unloaded again.
@@ -63,7 +63,7 @@ def test_spawner_exits_nonzero_naming_the_controller_that_would_not_load(manager
 
 def test_spawner_without_a_controller_manager_gives_up_after_its_timeout(ros):
     out = ros.run(['rosrun', 'controller_manager', 'spawner', '--timeout', '1', 'x',
-                   '__ns:=' + NS], timeout=120)
+                   '__ns:=' + NS])
     assert out.returncode == 1
     assert "couldn't find the expected controller_manager" in out.stdout + out.stderr
 

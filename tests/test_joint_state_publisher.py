@@ -9,6 +9,8 @@ import subprocess
 
 import pytest
 
+from onedof_harness.private_ros import COMMAND_TIMEOUT
+
 ROBOT = """<robot name="wobbler">
   <link name="base_link"/>
   <link name="lidar_link">
@@ -72,7 +74,7 @@ def test_the_books_joint_state_publisher_publishes_whichever_python3_is_first(
     assert (can_import.returncode == 0) == (kind == 'debians')
 
     resolved = subprocess.run(in_shell(first, 'command -v python3'), capture_output=True,
-                              text=True, timeout=120)
+                              text=True, timeout=COMMAND_TIMEOUT)
     assert resolved.returncode == 0, resolved.stderr
     if kind == 'debians':
         assert resolved.stdout.strip() == os.path.join(first, 'python3')

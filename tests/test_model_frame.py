@@ -207,7 +207,7 @@ def test_spawn_model_takes_an_sdfs_own_pose_in_its_pose(api, ros, tmp_path):
 
     def spawn(*args):
         result = ros.run(['rosrun', 'gazebo_ros', 'spawn_model', '-sdf', '-file', str(wall)]
-                         + list(args), timeout=120)
+                         + list(args))
         assert result.returncode == 0, result.stdout + result.stderr
     spawn('-model', 'wall')
     assert xyz(model_pose(api, 'wall')) == pytest.approx((2.1, 0, 0.5), abs=1e-12)

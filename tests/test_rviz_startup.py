@@ -3,6 +3,7 @@ packages export Ogre media through media_export, which Debian does not package; 
 src/media_export stands in for it."""
 import subprocess
 
+from onedof_harness.private_ros import COMMAND_TIMEOUT
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
 
@@ -14,7 +15,7 @@ def publishers(ros, topic, prefix):
 
 def test_rospack_finds_media_exports():
     result = subprocess.run(['rospack', 'plugins', '--attrib=ogre_media_path', 'media_export'],
-                            capture_output=True, text=True, timeout=120)
+                            capture_output=True, text=True, timeout=COMMAND_TIMEOUT)
     assert result.returncode == 0, result.stderr
     assert result.stderr == ''
 

@@ -11,6 +11,7 @@ import pytest
 
 from api_client import GazeboApi
 from conftest import WORKSPACE, start_sim
+from onedof_harness.private_ros import COMMAND_TIMEOUT
 
 XACRO_ROBOT = os.path.join(WORKSPACE, 'tests', 'xacro_robot')
 ARM_XACRO = os.path.join(XACRO_ROBOT, 'urdf', 'arm.xacro')
@@ -31,7 +32,7 @@ def xacro_env(tmp_path):
     return env
 
 
-def run(command, env, cwd=None, timeout=120):
+def run(command, env, cwd=None, timeout=COMMAND_TIMEOUT):
     return subprocess.run(command, env=env, cwd=cwd, capture_output=True, text=True,
                           timeout=timeout)
 

@@ -6,6 +6,7 @@ import os
 import shutil
 import subprocess
 
+from onedof_harness.private_ros import BUILD_TIMEOUT
 from onedof_sim.tools import workspace_root
 
 PACKAGE = 'book_cpp_client'
@@ -15,7 +16,7 @@ EXECUTABLES = {100: 'book_controller', 1000: 'book_controller_1khz'}
 NODE = '/book_controller'
 
 
-def build_overlay(directory, packages=(PACKAGE,), timeout=600):
+def build_overlay(directory, packages=(PACKAGE,), timeout=BUILD_TIMEOUT):
     """catkin_make of packages (folders under the workspace's tests/, the client by default) in
     directory/overlay, under the workspace devel of this process's environment; returns the
     overlay's devel/setup.bash. Raises RuntimeError with the build's output when it fails; timeout
@@ -41,7 +42,7 @@ def build_overlay(directory, packages=(PACKAGE,), timeout=600):
     return os.path.join(overlay, 'devel', 'setup.bash')
 
 
-def shared_overlay(folder, packages=(PACKAGE,), timeout=600):
+def shared_overlay(folder, packages=(PACKAGE,), timeout=BUILD_TIMEOUT):
     """build_overlay(folder, packages, timeout) done once for every process that asks with the
     same folder (an exclusive lock while it builds); returns the overlay's devel/setup.bash."""
     folder = str(folder)

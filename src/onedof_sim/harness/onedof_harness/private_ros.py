@@ -84,6 +84,13 @@ def wait_until(condition, timeout, interval=0.05, what='condition'):
 
 
 BIND_LIBRARY = 'libonedof_bind_to_ros_ip.so'
+# How long a command (rosrun, rosservice, spawn_model, a roslaunch that starts and stops its nodes)
+# may take before it counts as hung (s): seconds on a quiet machine, minutes on a 2-core machine at
+# load 30.
+COMMAND_TIMEOUT = 300
+# How long a catkin_make of a test's overlay may take before it counts as hung (s): at load 20 and
+# more a compile takes ten times its quiet time and more.
+BUILD_TIMEOUT = 3600
 # How long a call to the roscore may take (s): rosmaster answers in milliseconds, seconds on a
 # loaded machine; a port held by a program that never answers must not hang us.
 MASTER_TIMEOUT = 60
@@ -330,10 +337,9 @@ class PrivateRos:
         self.processes.append(proc)
         return proc
 
-    def run(self, args, timeout=300, input=None):
+    def run(self, args, timeout=COMMAND_TIMEOUT, input=None):
         """Runs a command (rosservice, rostopic, ...) against this graph; returns CompletedProcess.
-        The timeout only catches a command that hangs: a roslaunch that starts and stops its
-        nodes took over 60 s on a 2-core machine at load 30."""
+        The timeout only catches a command that hangs."""
         return subprocess.run(args, env=self.env, capture_output=True, text=True, timeout=timeout,
                               input=input)
 
