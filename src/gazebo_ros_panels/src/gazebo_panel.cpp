@@ -1,11 +1,14 @@
 #include "gazebo_panel.h"
 
 #include <QDockWidget>
+#include <QSignalBlocker>
 #include <QMainWindow>
 #include <QScrollArea>
 #include <QTabWidget>
 #include <QVBoxLayout>
 #include <pluginlib/class_list_macros.hpp>
+#include <rviz/display.h>
+#include <rviz/display_group.h>
 #include <rviz/visualization_manager.h>
 #include <rviz/tool.h>
 #include <rviz/tool_manager.h>
@@ -22,6 +25,11 @@ namespace gazebo_ros_panels {
 namespace {
 
 const QString kInsertHereTool = "gazebo_ros_panels/InsertHere";  // plugin_description.xml
+const QString kInteractTool = "rviz/Interact";
+// The display of the model handles (gazebo_ros.model_handles) in gazebo_ros' world.rviz.
+const QString kHandlesDisplay = "Move models";
+const QString kHandlesClass = "rviz/InteractiveMarkers";
+const QString kHandlesTopic = "/gazebo_model_handles/update";
 
 // A tab's content in a scroll area: the panel fits whatever height rviz's dock leaves it.
 QScrollArea* scrollable(QWidget* content) {
@@ -53,11 +61,18 @@ void GazeboPanel::onInitialize() {
   tabs->addTab(scrollable(time_), "Ti&me");
   tabs->addTab(scrollable(insert_), "&Insert");
   tabs->addTab(scrollable(world_), "&World");
+  // Gazebo's T (translate mode); Alt+T here, as the panel's other buttons.
+  move_models_ = new QPushButton("Move models (&T)");
+  move_models_->setCheckable(true);
+  move_models_->setToolTip("Gazebo's translate and rotate modes: arrows and rings on each "
+                           "model, dragged with rviz's Interact tool");
+  connect(move_models_, &QPushButton::toggled, this, &GazeboPanel::moveModels);
   status_ = new QLabel;
   status_->setWordWrap(true);
   status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(status_);
+  layout->addWidget(move_models_);
   layout->addWidget(tabs, 1);
 
   connect(&refresh_timer_, &QTimer::timeout, this, &GazeboPanel::refresh);
@@ -93,6 +108,33 @@ void GazeboPanel::chooseInsertPoint() {
   if (insert_here) tools->setCurrentTool(insert_here);
 }
 
+rviz::Display* GazeboPanel::handlesDisplay(bool add) {
+  rviz::DisplayGroup* displays = vis_manager_->getRootDisplayGroup();
+  for (int i = 0; i < displays->numDisplays(); ++i) {
+    rviz::Display* display = displays->getDisplayAt(i);
+    if (display->getClassId() == kHandlesClass && display->getName() == kHandlesDisplay)
+      return display;
+  }
+  if (!add) return nullptr;
+  rviz::Display* display = vis_manager_->createDisplay(kHandlesClass, kHandlesDisplay, false);
+  if (display) display->subProp("Update Topic")->setValue(kHandlesTopic);
+  return display;
+}
+
+void GazeboPanel::moveModels(bool on) {
+  rviz::Display* display = handlesDisplay(on);
+  if (!display) return;
+  display->setEnabled(on);
+  if (!on) return;
+  rviz::ToolManager* tools = vis_manager_->getToolManager();
+  rviz::Tool* interact = nullptr;
+  for (int i = 0; i < tools->numTools() && !interact; ++i)
+    if (tools->getTool(i)->getClassId() == kInteractTool) interact = tools->getTool(i);
+  if (!interact) interact = tools->addTool(kInteractTool);
+  if (interact) tools->setCurrentTool(interact);
+  report("drag a model's arrows and rings in the 3D view");
+}
+
 void GazeboPanel::report(const QString& text) {
   status_->setText(text);
   if (!text.isEmpty()) ROS_INFO_STREAM("gazebo_ros_panels: " << text.toStdString());
@@ -104,6 +146,10 @@ void GazeboPanel::refresh() {
                           .count();
   time_->showClock(client_->clock(), now);
   world_->showModelStates(client_->modelStates());
+  // The button follows the display ticked or unticked in rviz's Displays panel.
+  const rviz::Display* handles = handlesDisplay(false);
+  const QSignalBlocker quiet(move_models_);
+  move_models_->setChecked(handles && handles->isEnabled());
 }
 
 void GazeboPanel::askForPhysics() {

@@ -1,12 +1,18 @@
 // The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
-// gazebo_ros services (GazeboClient), with a line saying what the last action did or why not.
+// gazebo_ros services (GazeboClient), Gazebo's translate/rotate mode as one checkable button,
+// and a line saying what the last action did or why not.
 #pragma once
 
 #include <QLabel>
+#include <QPushButton>
 #include <QTimer>
 #include <rviz/panel.h>
 
 #include <memory>
+
+namespace rviz {
+class Display;
+}
 
 namespace gazebo_ros_panels {
 
@@ -27,6 +33,10 @@ class GazeboPanel : public rviz::Panel {
   void refresh();         // the clock's figures and the model states, several times a second
   void askForPhysics();   // the pause state and the physics, unless a call is under way
   void chooseInsertPoint();  // rviz's Insert Here tool made current (added if it is not there)
+  // Gazebo's translate and rotate modes: the model handles' display shown (added if the view has
+  // none) and rviz's Interact tool made current, or the handles hidden.
+  void moveModels(bool on);
+  rviz::Display* handlesDisplay(bool add);  // the model handles' display, nullptr if none
   // Tabbed with rviz's Displays panel in its dock, raised (as Gazebo's World and Insert tabs
   // share its left panel): the sensors' image panels docked below keep their room. A saved
   // window state (rviz's config) places it as saved.
@@ -37,6 +47,7 @@ class GazeboPanel : public rviz::Panel {
   InsertTab* insert_ = nullptr;
   WorldTab* world_ = nullptr;
   QLabel* status_ = nullptr;
+  QPushButton* move_models_ = nullptr;
   QTimer refresh_timer_;
   QTimer physics_timer_;
   bool physics_pending_ = false;
