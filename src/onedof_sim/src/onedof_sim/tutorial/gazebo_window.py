@@ -186,6 +186,19 @@ class GazeboWindow:
             self._must('mousemove', '--sync',
                        *(round(s + (e - s) * i / DRAG_MOVES) for s, e in zip(start, end)))
 
+    def choose_from_menu(self, point, entry, timeout=60):
+        """Right-clicks where the view shows `point` (a handle's control) and chooses the
+        entry-th (from 1) entry of the menu that opens there, with the keyboard."""
+        shown = self._shown_windows()
+        self._must('mousemove', '--sync', *self.pixel(point))
+        self._must('click', '3')
+        self.ros.wait_until(lambda: self._shown_windows() - shown, timeout,
+                            what='the right-click menu')
+        self._must('key', *(['Down'] * entry), 'Return')
+
+    def _shown_windows(self):
+        return set(self.xdotool('search', '--onlyvisible', '--classname', 'rviz').stdout.split())
+
     def release(self):
         self._must('mouseup', '1')
 
