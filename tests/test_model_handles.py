@@ -6,7 +6,8 @@ the handle follows a model moved by anyone else, and goes with a deleted model; 
 is logged once and the node keeps serving; started before the simulator, the node serves and
 picks the simulator up when it comes. And in the simulator's window (a real rviz under Xvfb), the
 mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project to, holding the model in the
-air while the world runs, and turns it by a quarter turn on its z ring."""
+air while the world runs, and turns it by a quarter turn on its z ring; Delete in a handle's
+right-click menu deletes its model."""
 import math
 
 import pytest
@@ -179,6 +180,28 @@ def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rosp
     ros.terminate(xvfb)
 
 
+def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_box('box', pose(1.0, 0.0, 0.1))
+    api.spawn_box('kept', pose(-1.0, 1.0, 0.1))
+    window = GazeboWindow(ros)
+    window.show_handles()
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.1)), 120,
+                   what="the box's handle")
+    assert seen.markers['box'].menu_entries[0].title == 'Delete'
+    window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
+    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), 1)
+    ros.wait_until(lambda: 'box' not in api.get_world_properties().model_names, 60,
+                   what='the box deleted')
+    assert api.get_world_properties().model_names == ['ground_plane', 'kept']
+    ros.wait_until(lambda: 'box' not in seen.markers, 60, what="the box's handle gone")
+    assert window.gzclient.poll() is None, window.log()
+    window.stop()
+
+
 # Metres from the centre of a turn where the mouse releases the ring.
 TURN_TO = 1.5
 
@@ -230,8 +253,10 @@ def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_
     far = math.sqrt(0.5) * TURN_TO
     window.press_and_move((centre.x - half, centre.y - half, centre.z),
                           (centre.x + far, centre.y - far, centre.z))
-    turned = settled(ros, lambda: math.degrees(yaw_of(model_pose(api, 'box').orientation)),
-                     'the box to follow the ring')
+    def yaw():
+        return math.degrees(yaw_of(model_pose(api, 'box').orientation))
+    ros.wait_until(lambda: yaw() > 45, 120, interval=0.1, what='the box turning with the ring')
+    turned = settled(ros, yaw, 'the box to follow the ring to where the mouse stopped')
     window.release()
     print('the mouse moved the box %.4f m for 0.3 m, held it no lower than %.4f m (from 0.5 m), '
           'turned it %.2f degrees for 90' % (held.x - 1.0, min(lowest), turned))

@@ -1,7 +1,6 @@
 #include "gazebo_panel.h"
 
 #include <QDockWidget>
-#include <QSignalBlocker>
 #include <QMainWindow>
 #include <QScrollArea>
 #include <QTabWidget>
@@ -62,17 +61,16 @@ void GazeboPanel::onInitialize() {
   tabs->addTab(scrollable(insert_), "&Insert");
   tabs->addTab(scrollable(world_), "&World");
   // Gazebo's T (translate mode); Alt+T here, as the panel's other buttons.
-  move_models_ = new QPushButton("Move models (&T)");
-  move_models_->setCheckable(true);
-  move_models_->setToolTip("Gazebo's translate and rotate modes: arrows and rings on each "
-                           "model, dragged with rviz's Interact tool");
-  connect(move_models_, &QPushButton::toggled, this, &GazeboPanel::moveModels);
+  auto* move_models = new QPushButton("Move models (&T)");
+  move_models->setToolTip("Gazebo's translate and rotate modes: arrows and rings on each "
+                          "model, dragged with rviz's Interact tool; pressed again, hidden");
+  connect(move_models, &QPushButton::clicked, this, &GazeboPanel::toggleMoveModels);
   status_ = new QLabel;
   status_->setWordWrap(true);
   status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(status_);
-  layout->addWidget(move_models_);
+  layout->addWidget(move_models);
   layout->addWidget(tabs, 1);
 
   connect(&refresh_timer_, &QTimer::timeout, this, &GazeboPanel::refresh);
@@ -99,14 +97,16 @@ void GazeboPanel::shareTheDisplaysPlace() {
   }
 }
 
-void GazeboPanel::chooseInsertPoint() {
+void GazeboPanel::useTool(const QString& class_id) {
   rviz::ToolManager* tools = vis_manager_->getToolManager();
-  rviz::Tool* insert_here = nullptr;
-  for (int i = 0; i < tools->numTools() && !insert_here; ++i)
-    if (tools->getTool(i)->getClassId() == kInsertHereTool) insert_here = tools->getTool(i);
-  if (!insert_here) insert_here = tools->addTool(kInsertHereTool);
-  if (insert_here) tools->setCurrentTool(insert_here);
+  rviz::Tool* tool = nullptr;
+  for (int i = 0; i < tools->numTools() && !tool; ++i)
+    if (tools->getTool(i)->getClassId() == class_id) tool = tools->getTool(i);
+  if (!tool) tool = tools->addTool(class_id);
+  if (tool) tools->setCurrentTool(tool);
 }
+
+void GazeboPanel::chooseInsertPoint() { useTool(kInsertHereTool); }
 
 rviz::Display* GazeboPanel::handlesDisplay(bool add) {
   rviz::DisplayGroup* displays = vis_manager_->getRootDisplayGroup();
@@ -121,17 +121,18 @@ rviz::Display* GazeboPanel::handlesDisplay(bool add) {
   return display;
 }
 
-void GazeboPanel::moveModels(bool on) {
+void GazeboPanel::toggleMoveModels() {
+  // The display's own state decides: it may have been ticked in rviz's Displays panel.
+  const rviz::Display* shown = handlesDisplay(false);
+  const bool on = !(shown && shown->isEnabled());
   rviz::Display* display = handlesDisplay(on);
   if (!display) return;
   display->setEnabled(on);
-  if (!on) return;
-  rviz::ToolManager* tools = vis_manager_->getToolManager();
-  rviz::Tool* interact = nullptr;
-  for (int i = 0; i < tools->numTools() && !interact; ++i)
-    if (tools->getTool(i)->getClassId() == kInteractTool) interact = tools->getTool(i);
-  if (!interact) interact = tools->addTool(kInteractTool);
-  if (interact) tools->setCurrentTool(interact);
+  if (!on) {
+    report("models shown without their handles");
+    return;
+  }
+  useTool(kInteractTool);
   report("drag a model's arrows and rings in the 3D view");
 }
 
@@ -146,10 +147,6 @@ void GazeboPanel::refresh() {
                           .count();
   time_->showClock(client_->clock(), now);
   world_->showModelStates(client_->modelStates());
-  // The button follows the display ticked or unticked in rviz's Displays panel.
-  const rviz::Display* handles = handlesDisplay(false);
-  const QSignalBlocker quiet(move_models_);
-  move_models_->setChecked(handles && handles->isEnabled());
 }
 
 void GazeboPanel::askForPhysics() {

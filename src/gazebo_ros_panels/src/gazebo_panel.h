@@ -4,7 +4,6 @@
 #pragma once
 
 #include <QLabel>
-#include <QPushButton>
 #include <QTimer>
 #include <rviz/panel.h>
 
@@ -32,10 +31,11 @@ class GazeboPanel : public rviz::Panel {
   void report(const QString& text);
   void refresh();         // the clock's figures and the model states, several times a second
   void askForPhysics();   // the pause state and the physics, unless a call is under way
-  void chooseInsertPoint();  // rviz's Insert Here tool made current (added if it is not there)
-  // Gazebo's translate and rotate modes: the model handles' display shown (added if the view has
-  // none) and rviz's Interact tool made current, or the handles hidden.
-  void moveModels(bool on);
+  void useTool(const QString& class_id);  // the rviz tool made current (added if not there)
+  void chooseInsertPoint();  // rviz's Insert Here tool made current
+  // Gazebo's translate and rotate modes, on and off: the model handles' display shown (added if
+  // the view has none) and rviz's Interact tool made current, or the handles hidden.
+  void toggleMoveModels();
   rviz::Display* handlesDisplay(bool add);  // the model handles' display, nullptr if none
   // Tabbed with rviz's Displays panel in its dock, raised (as Gazebo's World and Insert tabs
   // share its left panel): the sensors' image panels docked below keep their room. A saved
@@ -47,7 +47,6 @@ class GazeboPanel : public rviz::Panel {
   InsertTab* insert_ = nullptr;
   WorldTab* world_ = nullptr;
   QLabel* status_ = nullptr;
-  QPushButton* move_models_ = nullptr;
   QTimer refresh_timer_;
   QTimer physics_timer_;
   bool physics_pending_ = false;

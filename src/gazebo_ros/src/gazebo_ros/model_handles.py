@@ -17,7 +17,9 @@ the dragged pose, with zero velocity, through /gazebo/set_model_state at most DR
 second, sent again at that rate while the mouse is down; the pose where the mouse is released is
 sent last, then the links' gravity is back on, and the model is let go with zero velocity.
 
-No simulator, or a refused move, is logged once per reason; the node keeps serving.
+A handle's right-click menu has Gazebo's Delete (/gazebo/delete_model).
+
+No simulator, or a refused move or delete, is logged once per reason; the node keeps serving.
 """
 import math
 import sys
@@ -29,6 +31,7 @@ NODE_NAME = 'gazebo_model_handles'
 MODEL_STATES = '/gazebo/model_states'
 SET_MODEL_STATE = '/gazebo/set_model_state'
 GET_MODEL_PROPERTIES = '/gazebo/get_model_properties'
+DELETE_MODEL = '/gazebo/delete_model'
 GET_LINK_PROPERTIES = '/gazebo/get_link_properties'
 SET_LINK_PROPERTIES = '/gazebo/set_link_properties'
 GET_WORLD_PROPERTIES = '/gazebo/get_world_properties'
@@ -152,14 +155,16 @@ class ModelHandles:
     """The handles of the simulator's models on `server` (an InteractiveMarkerServer). The
     simulator's calls are `set_state(ModelState)` (a SetModelState response) and `ask_poses()`
     ({name: Pose}); each raises ServiceUnavailable when it cannot be made. `gravity` (a
-    GravityHold) holds a dragged model up. `say_once(text)` says a problem (said_once)."""
+    GravityHold) holds a dragged model up. `menu` (an interactive_markers MenuHandler, or None)
+    is each handle's right-click menu. `say_once(text)` says a problem (said_once)."""
 
-    def __init__(self, server, set_state, ask_poses, gravity, say_once):
+    def __init__(self, server, set_state, ask_poses, gravity, say_once, menu=None):
         self.server = server
         self.set_state = set_state
         self.ask_poses = ask_poses
         self.gravity = gravity
         self.say_once = say_once
+        self.menu = menu
         self.lock = threading.Lock()
         self.latest = None        # the latest model_states, serialised
         self.latest_at = -math.inf  # and the wall time it came
@@ -222,6 +227,8 @@ class ModelHandles:
                     continue
                 if name not in self.shown:
                     self.server.insert(handle_marker(name, pose), self.on_feedback)
+                    if self.menu:
+                        self.menu.apply(self.server, name)
                 elif (self.shown[name] is None or
                       pose_distance(pose, self.shown[name]) > FOLLOW_TOLERANCE):
                     self.server.setPose(name, pose)
@@ -262,6 +269,26 @@ class ModelHandles:
                         if name not in self.dragged and name not in self.to_send]
         for name in released:
             self.gravity.let_go(self.held.pop(name))
+
+
+def model_menu(delete, say_once):
+    """A handle's right-click menu (an interactive_markers MenuHandler): Delete, through
+    delete(name) (a DeleteModel call that raises ServiceUnavailable when it cannot be made)."""
+    from interactive_markers.menu_handler import MenuHandler
+    menu = MenuHandler()
+
+    def on_delete(feedback):
+        try:
+            result = delete(feedback.marker_name)
+        except ServiceUnavailable as error:
+            say_once('cannot delete %s through %s: %s' % (feedback.marker_name, DELETE_MODEL,
+                                                           error))
+            return
+        if not result.success:
+            say_once('%s refused to delete %s: %s' % (DELETE_MODEL, feedback.marker_name,
+                                                      result.status_message))
+    menu.insert('Delete', callback=on_delete)
+    return menu
 
 
 def proxy_call(rospy, service, service_class):
@@ -310,8 +337,9 @@ def keep_wall_time(rospy):
 
 def main(argv):
     import rospy
-    from gazebo_msgs.srv import (GetLinkProperties, GetModelProperties, GetModelState,
-                                 GetWorldProperties, SetLinkProperties, SetModelState)
+    from gazebo_msgs.srv import (DeleteModel, GetLinkProperties, GetModelProperties,
+                                 GetModelState, GetWorldProperties, SetLinkProperties,
+                                 SetModelState)
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
     rospy.init_node(NODE_NAME, argv=argv)
     keep_wall_time(rospy)
@@ -323,7 +351,8 @@ def main(argv):
     handles = ModelHandles(server, proxy_call(rospy, SET_MODEL_STATE, SetModelState),
                            asked_poses(proxy_call(rospy, GET_WORLD_PROPERTIES, GetWorldProperties),
                                        proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
-                           gravity, say_once)
+                           gravity, say_once,
+                           model_menu(proxy_call(rospy, DELETE_MODEL, DeleteModel), say_once))
     rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).
