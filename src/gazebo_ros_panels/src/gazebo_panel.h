@@ -1,5 +1,5 @@
 // The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
-// gazebo_ros services (GazeboClient), Gazebo's translate/rotate mode as one checkable button,
+// gazebo_ros services (GazeboClient), Gazebo's translate/rotate mode as a button that toggles it,
 // and a line saying what the last action did or why not.
 #pragma once
 
