@@ -1,0 +1,912 @@
+// MuJoCo 2.2 (Debian's libmujoco) behind the engine seam: generalised coordinates. Each model's
+// bodies form kinematic trees: a body that is no joint's child is a root with a free joint, a
+// joint's child hangs below its parent (the world for parent -1) on a hinge or a slide. A body
+// that is the child of two joints (a closed loop) is refused at spawn.
+//
+// MuJoCo compiles a whole model at once (MJCF text, mj_loadXML) and MuJoCo 2.2 cannot edit a
+// compiled one, so adding or removing a model, attaching a model's joints or changing a body's
+// mass recompiles the world's model, at most once between two steps (lazily, at the next step or
+// ray cast); the models that stay carry their joint positions and rates over (qpos, qvel) bit
+// for bit. A spawn costs one compile of the world, linear in its size. Each new model is first
+// compiled on its own (addModel), so that what MuJoCo cannot take (a flat mesh, an inertia that
+// breaks the triangle inequality) refuses the spawn with MuJoCo's own message as EngineFault,
+// before it reaches the world's model.
+//
+// Each body's frame is its centre of mass with the BodySpec's axes; the body frames in the MJCF
+// are the zero configuration (attachJoints), so that every joint reads 0 there. setBodyState
+// turns body states into joint coordinates: a root's free joint takes the pose and twist, a
+// hinge the child's rotation relative to its parent about the axis, a slide the displacement of
+// the child's anchor along it (what does not fit the joint is dropped: the joint holds it).
+//
+// The step is MuJoCo's forward pipeline and its semi-implicit Euler step (mj_step without the
+// checks that reset a diverging state: the world rolls non-finite states back itself), opened up
+// at three places:
+// - after collision: contacts between two shapes of one model are dropped (MuJoCo's contype
+//   bits cannot tell models apart), and each contact takes the smaller friction of its two shapes
+//   (MuJoCo takes the larger);
+// - after the velocity stage: a joint's friction and its velocity motor are MuJoCo's friction
+//   loss row of the joint's degree of freedom (bounded by the friction or the motor's effort),
+//   whose reference is moved from rate 0 to the motor's velocity;
+// - after the constraint solve: each joint's constraint wrench (cfrc_int) and the contacts'
+//   forces are taken, before the step integrates.
+// MuJoCo's constraints are soft. Here contacts, joint limits and friction rows take the stiffest
+// reference MuJoCo's refsafe allows (a time constant of two steps, critically damped) and an
+// impedance near 1, so that they act as the other engines' hard constraints: a 1 kg box rests
+// about 0.4 micrometre deep at a 1 ms step, and a velocity motor reaches its speed within a step
+// but for 1e-4 of the difference.
+//
+// PhysicsParams: gravity; the step; sor_pgs_iters is Newton's iteration bound (100 at least).
+// MuJoCo has no counterpart for erp, cfm, contact_surface_layer, contact_max_correcting_vel,
+// quick_step, sor_pgs_w, max_contacts (its collision functions give up to 8 points a pair) or
+// auto_disable_bodies. Friction is Coulomb's elliptic cone (mu along MuJoCo's first contact
+// tangent, mu2 along the second). Shapes: boxes, spheres, cylinders, planes (anchored) and meshes,
+// which MuJoCo collides as their convex hulls. MuJoCo 2.2 finds one contact point a step between
+// two convex shapes without a dedicated routine (cylinder or mesh against a box, a cylinder or a
+// mesh): such a shape resting on a box face rocks on it; on a plane it rests on several points.
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include "engine.h"
+#include "onedof_sim/pose_math.h"
+
+namespace onedof_sim {
+namespace core {
+namespace {
+
+// The solver reference (solref) of contacts and joint limits: a time constant of four steps,
+// critically damped. At two, the least MuJoCo's refsafe allows, a cylinder spun on its end face
+// hops on its rim points and is thrown.
+constexpr double kContactSteps = 4;
+// The solver reference of the rows that hold a joint's rate (friction, a velocity motor): a time
+// constant below any step, which refsafe raises to two steps, so that a motor reaches its
+// velocity within a step.
+constexpr const char* kStiffestReference = "1e-9 1";
+// Impedance (solimp) of contacts and joint limits, and of the rate rows: MuJoCo's largest,
+// 0.9999 (mjMAXIMP).
+constexpr const char* kContactImpedance = "0.99 0.99 0.001";
+constexpr const char* kRowImpedance = "0.9999 0.9999 0.001";
+// Friction rows of a contact are this much stiffer than its normal (MuJoCo's impratio). At 1 and
+// at 100 a cylinder spun on its end face is thrown.
+constexpr double kImpRatio = 10;
+// MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
+// coefficients are 0 is frictionless (one row).
+constexpr double kMinFriction = 1e-5;
+// A mesh is flat when no vertex is further from its largest triangle's plane than this fraction
+// of its size; MuJoCo collides it as a plate this thick (m).
+constexpr double kFlatMeshTolerance = 1e-9;
+constexpr double kFlatMeshThickness = 1e-4;
+// The gap between two stops at one position (rad or m), which MuJoCo cannot take.
+constexpr double kMeetingStops = 1e-9;
+// Newton's iterations at least, and its tolerance.
+constexpr int kMinIterations = 100;
+constexpr double kTolerance = 1e-10;
+
+// MuJoCo's warnings (a full contact buffer) go to the stepping engine's message; its errors
+// (mju_error, which would end the process) throw EngineFault out of the MuJoCo call.
+thread_local std::string* stepping_message = nullptr;
+
+void collectWarning(const char* text) {
+  if (stepping_message && stepping_message->empty()) *stepping_message = std::string("MuJoCo: ") + text;
+  else if (!stepping_message) std::fprintf(stderr, "MuJoCo warning: %s\n", text);
+}
+
+void throwError(const char* text) { throw EngineFault(std::string("MuJoCo error: ") + text); }
+
+std::string num(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+std::string vec(const Vec3& v) { return num(v.x) + " " + num(v.y) + " " + num(v.z); }
+std::string quat(const Quat& q) {
+  return num(q.w) + " " + num(q.x) + " " + num(q.y) + " " + num(q.z);
+}
+std::string placement(const Pose& pose) {
+  return " pos=\"" + vec(pose.position) + "\" quat=\"" + quat(pose.orientation) + "\"";
+}
+
+// The MJCF head every compile shares: radians, inertias as given, the stiff soft constraints.
+std::string mjcfHead(const PhysicsParams& params, int njmax) {
+  const std::string contact_reference = num(kContactSteps * params.step) + " 1";
+  return "<mujoco model=\"onedof_sim\"><compiler angle=\"radian\" inertiafromgeom=\"false\" "
+         "boundmass=\"0\" boundinertia=\"0\"/>"
+         "<size njmax=\"" + std::to_string(njmax) + "\" nconmax=\"" + std::to_string(njmax / 3) +
+         "\"/><option timestep=\"" + num(params.step) + "\" gravity=\"" + vec(params.gravity) +
+         "\" integrator=\"Euler\" solver=\"Newton\" cone=\"elliptic\" impratio=\"" +
+         num(kImpRatio) + "\" iterations=\"" +
+         std::to_string(std::max<int>(kMinIterations, static_cast<int>(params.sor_pgs_iters))) +
+         "\" tolerance=\"" + num(kTolerance) + "\"/>"
+         "<default><geom condim=\"3\" margin=\"0\" solref=\"" + contact_reference +
+         "\" solimp=\"" + kContactImpedance + "\"/><joint damping=\"0\" armature=\"0\" "
+         "solreflimit=\"" + contact_reference + "\" solimplimit=\"" + kContactImpedance +
+         "\" solreffriction=\"" + kStiffestReference + "\" solimpfriction=\"" + kRowImpedance +
+         "\"/></default>";
+}
+
+// A mesh whose vertices lie in one plane (a plate of triangles) has no hull that MuJoCo can take:
+// it is given the hull of its vertices and of their copies moved by the returned offset,
+// kFlatMeshThickness behind its largest triangle's face. Nothing for a mesh with volume, and for
+// one with no triangle of any area (MuJoCo refuses it).
+std::optional<Vec3> flatBack(const TriangleMesh& mesh) {
+  Vec3 normal;
+  double largest = 0, extent = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[t[0]];
+    const Vec3 n = cross(mesh.vertices[t[1]] - a, mesh.vertices[t[2]] - a);
+    if (norm(n) > largest) largest = norm(n), normal = (1 / norm(n)) * n;
+  }
+  if (!(largest > 0)) return std::nullopt;
+  const Vec3& origin = mesh.vertices[mesh.triangles[0][0]];
+  double off_plane = 0;
+  for (const Vec3& v : mesh.vertices) {
+    off_plane = std::max(off_plane, std::fabs(dot(v - origin, normal)));
+    extent = std::max(extent, norm(v - origin));
+  }
+  if (off_plane > kFlatMeshTolerance * extent) return std::nullopt;
+  return -kFlatMeshThickness * normal;
+}
+
+// A geom element's type and size, and a mesh's asset.
+std::string geomShape(const ShapeSpec& shape, const std::string& mesh_name, std::string* assets) {
+  const Vec3& s = shape.size;
+  switch (shape.shape) {
+    case GeometryShape::Box: return "type=\"box\" size=\"" + vec(0.5 * s) + "\"";
+    case GeometryShape::Cylinder:
+      return "type=\"cylinder\" size=\"" + num(s.x) + " " + num(s.z / 2) + "\"";
+    case GeometryShape::Sphere: return "type=\"sphere\" size=\"" + num(s.x) + "\"";
+    case GeometryShape::Plane: return "type=\"plane\" size=\"0 0 1\"";
+    case GeometryShape::Mesh: {
+      *assets += "<mesh name=\"" + mesh_name + "\" vertex=\"";
+      for (const Vec3& v : shape.mesh->vertices) *assets += vec(v) + " ";
+      if (const std::optional<Vec3> back = flatBack(*shape.mesh))
+        for (const Vec3& v : shape.mesh->vertices) *assets += vec(v + *back) + " ";
+      *assets += "\"/>";
+      return "type=\"mesh\" mesh=\"" + mesh_name + "\"";
+    }
+  }
+  return "";
+}
+
+// A body's inertia as MJCF attributes. MuJoCo refuses principal moments A <= B <= C with A + B < C,
+// which no rigid body has and the other engines take: the largest moment is lowered to A + B
+// (a flat plate's, the nearest a body can have).
+std::string inertia(const BodySpec& spec) {
+  const mjtNum tensor[9] = {spec.ixx, spec.ixy, spec.ixz, spec.ixy, spec.iyy,
+                            spec.iyz, spec.ixz, spec.iyz, spec.izz};
+  mjtNum moments[3], axes[9], axes_quat[4];
+  mju_eig3(moments, axes, axes_quat, tensor);  // moments in decreasing order
+  if (moments[1] + moments[2] >= moments[0])
+    return "fullinertia=\"" + vec({spec.ixx, spec.iyy, spec.izz}) + " " +
+           vec({spec.ixy, spec.ixz, spec.iyz}) + "\"";
+  return "quat=\"" + quat({axes_quat[0], axes_quat[1], axes_quat[2], axes_quat[3]}) +
+         "\" diaginertia=\"" + vec({moments[1] + moments[2], moments[1], moments[2]}) + "\"";
+}
+
+// An MJCF model's compile, with MuJoCo's message when it fails.
+mjModel* compileMjcf(const std::string& xml, std::string* error) {
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* file = "world.xml";
+  mj_makeEmptyFileVFS(vfs.get(), file, static_cast<int>(xml.size()));
+  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file)], xml.data(), xml.size());
+  char text[1000] = "";
+  mjModel* model = mj_loadXML(file, vfs.get(), text, sizeof text);
+  mj_deleteVFS(vfs.get());
+  if (!model) *error = text;
+  return model;
+}
+
+struct BodyState {
+  Pose pose;
+  Twist twist;
+};
+
+// The rotation angle of `turn` about the unit `axis`, in (-pi, pi].
+double angleAbout(Quat turn, const Vec3& axis) {
+  if (turn.w < 0) turn = {-turn.w, -turn.x, -turn.y, -turn.z};
+  const double angle = 2 * std::atan2(dot({turn.x, turn.y, turn.z}, axis), turn.w);
+  return angle <= -M_PI ? angle + 2 * M_PI : angle;
+}
+
+class MujocoEngine;
+
+class MujocoModel : public EngineModel {
+ public:
+  MujocoModel(MujocoEngine* engine, int id, const ModelSpec& spec);
+  ~MujocoModel() override;
+
+  void attachJoints(const std::vector<Pose>& zero_poses,
+                    const std::vector<JointFrame>& frames) override;
+  Pose bodyPose(int body) const override { return state(body).pose; }
+  Twist bodyTwist(int body) const override { return state(body).twist; }
+  void setBodyState(int body, const Pose& pose, const Twist& twist) override {
+    if (pending_.empty()) pending_.resize(spec_.bodies.size());
+    pending_[body] = BodyState{pose, twist};
+  }
+  void setAnchoredShapePose(int shape, const Pose& world_pose) override;
+  void setBodyMass(int body, const BodySpec& spec) override;
+  double jointPosition(int joint) const override;
+  double jointRate(int joint) const override;
+  Wrench jointConstraintWrench(int joint) const override { return joints_[joint].wrench; }
+  void addJointEffort(int joint, double effort) override { joints_[joint].effort += effort; }
+  void setJointMotor(int joint, double velocity, double max_effort) override {
+    joints_[joint].motor_velocity = max_effort > 0 ? velocity : 0;
+    joints_[joint].motor_effort = std::max(0.0, max_effort);
+  }
+  void addBodyWrench(int body, const Vec3& force, const Vec3& world_point,
+                     const Vec3& torque) override {
+    Body& b = bodies_[body];
+    b.force = b.force + force;
+    b.torque = b.torque + torque + cross(world_point - bodyPose(body).position, force);
+  }
+
+  // For the engine.
+  int id() const { return id_; }
+  bool attached() const { return attached_; }
+  // The model's bodies (under the world body) and anchored shapes (on it) as MJCF, and their
+  // meshes; alone: every body free at its zero pose (set or not), without its joints.
+  void writeMjcf(std::string* bodies, std::string* anchored, std::string* assets,
+                 bool alone = false) const;
+  // Binds to a newly compiled model: `carried` the model's qpos and qvel from the last compile
+  // (empty: it starts in its zero configuration).
+  void bind(const mjModel* m, mjData* d, const std::vector<double>& carried);
+  std::vector<double> carriedState() const;
+  bool applyPending();                       // writes pending body states into qpos, qvel
+  void loadForces(const mjModel* m, mjData* d);  // efforts, wrenches, gravity, friction rows
+  void motorTargets(std::vector<double>* target) const;
+  void takeWrenches(const mjModel* m, const mjData* d);
+  ShapeRef anchoredShape(int shape) const { return {this, -1, shape}; }
+  const ModelSpec& spec() const { return spec_; }
+
+ private:
+  struct Body {
+    int id = -1;               // MuJoCo's body, in the current compile
+    int parent_joint = -1;     // the joint whose child it is
+    Pose zero;                 // in the zero configuration
+    Vec3 force, torque;        // for the coming step, about the centre of mass
+  };
+  struct Joint {
+    JointSpec spec;
+    Vec3 axis_in_parent, anchor_in_parent, anchor_in_child;
+    Quat zero_relative;        // the child's orientation in the parent's at zero
+    int qpos = -1, dof = -1;   // in the current compile
+    double effort = 0;
+    double motor_velocity = 0, motor_effort = 0;
+    Wrench wrench;
+  };
+
+  BodyState state(int body) const;
+  BodyState compiledState(int body) const;
+  Pose parentPose(const Joint& joint, const std::vector<BodyState>& states) const {
+    return joint.spec.parent < 0 ? Pose() : states[joint.spec.parent].pose;
+  }
+  std::vector<BodyState> targets() const;
+  double hingeAngle(const Joint& joint, const std::vector<BodyState>& states) const;
+  double slideOffset(const Joint& joint, const std::vector<BodyState>& states) const;
+  double jointRateOf(const Joint& joint, const std::vector<BodyState>& states) const;
+  void writeBody(int body, const std::vector<std::vector<int>>& children, std::string* out,
+                 std::string* assets, bool alone) const;
+
+  MujocoEngine* engine_;
+  int id_;
+  ModelSpec spec_;
+  std::vector<Body> bodies_;
+  std::vector<Joint> joints_;
+  std::vector<Pose> anchored_poses_;
+  std::vector<int> anchored_geoms_;    // MuJoCo's geom per anchored shape, current compile
+  std::vector<Pose> anchored_offsets_;  // MuJoCo's geom frame in the shape's (a mesh's centre)
+  bool attached_ = false;
+  bool bound_ = false;  // in the current compile, with its current structure
+  const mjModel* m_ = nullptr;
+  const mjData* d_ = nullptr;
+  std::vector<std::optional<BodyState>> pending_;  // set since the last step, not yet written
+};
+
+class MujocoEngine : public Engine {
+ public:
+  MujocoEngine() {
+    mju_user_warning = &collectWarning;
+    mju_user_error = &throwError;
+  }
+  ~MujocoEngine() override { release(); }
+
+  // A new step size changes the contacts' reference (kContactSteps): the model is compiled anew.
+  void setParams(const PhysicsParams& params) override {
+    if (params.step != params_.step) changed();
+    params_ = params;
+    if (!m_) return;
+    m_->opt.timestep = params.step;
+    for (int k = 0; k < 3; ++k) m_->opt.gravity[k] = (&params.gravity.x)[k];
+    m_->opt.iterations = std::max<int>(kMinIterations, static_cast<int>(params.sor_pgs_iters));
+  }
+
+  std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
+    auto model = std::make_unique<MujocoModel>(this, next_id_++, spec);
+    models_.push_back(model.get());
+    changed();
+    return model;
+  }
+
+  bool exactSolver(const PhysicsParams&) const override { return false; }
+  bool retakesFailedSteps(const PhysicsParams&) const override { return false; }
+  std::vector<BodyRef> contactBodies() const override { return {}; }
+  // The solver starts each step from the last one's accelerations (warm start), which a state
+  // put back does not put back: reset_simulation builds the engine anew.
+  bool repeatsWhenPutBack() const override { return false; }
+
+  void contacts(std::vector<EngineContact>* out) const override { *out = contacts_; }
+
+  void step(double dt, std::string* solver_message, bool) override;
+  void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) override;
+
+  // For the models.
+  const PhysicsParams& params() const { return params_; }
+  void changed() { compiled_ = false; contacts_.clear(); }
+  void remove(MujocoModel* model) {
+    models_.erase(std::find(models_.begin(), models_.end(), model));
+    changed();
+  }
+
+ private:
+  void release() {
+    if (d_) mj_deleteData(d_);
+    if (m_) mj_deleteModel(m_);
+    d_ = nullptr, m_ = nullptr;
+  }
+  void compile();
+  void sync();  // compiled, every pending state written, the kinematics current
+  void updateKinematics() {
+    mj_kinematics(m_, d_);
+    mj_comPos(m_, d_);
+    mj_comVel(m_, d_);
+  }
+  void filterContacts();
+  void takeContacts();
+  bool holdsPoint(int geom, const mjtNum* point) const;
+
+  PhysicsParams params_;
+  std::vector<MujocoModel*> models_;
+  int next_id_ = 0;
+  mjModel* m_ = nullptr;
+  mjData* d_ = nullptr;
+  bool compiled_ = false;
+  // Per geom of the current compile: its shape, and its friction.
+  std::vector<ShapeRef> geom_shapes_;
+  std::vector<std::pair<double, double>> geom_mu_;
+  std::vector<double> motor_target_;  // per degree of freedom
+  std::vector<EngineContact> contacts_;
+};
+
+MujocoModel::MujocoModel(MujocoEngine* engine, int id, const ModelSpec& spec)
+    : engine_(engine), id_(id), spec_(spec), bodies_(spec.bodies.size()),
+      joints_(spec.joints.size()), anchored_poses_(spec.anchored_shapes.size()) {
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    joints_[j].spec = spec.joints[j];
+    Body& child = bodies_[spec.joints[j].child];
+    if (child.parent_joint >= 0)
+      throw EngineFault("mujoco: closed kinematic loop not supported (a body is the child of "
+                        "two joints)");
+    child.parent_joint = static_cast<int>(j);
+  }
+  // Every body must reach a root (a body no joint holds) going up its parents.
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    int at = static_cast<int>(b);
+    for (size_t up = 0; at >= 0 && bodies_[at].parent_joint >= 0; ++up) {
+      if (up > bodies_.size())
+        throw EngineFault("mujoco: closed kinematic loop not supported (joints in a cycle)");
+      at = joints_[bodies_[at].parent_joint].spec.parent;
+    }
+  }
+  for (size_t s = 0; s < anchored_poses_.size(); ++s)
+    anchored_poses_[s] = spec.anchored_shapes[s].pose;
+  // Compiled on its own, each body a free body at the origin: what MuJoCo refuses, it refuses
+  // here, at the spawn.
+  std::string bodies, anchored, assets;
+  writeMjcf(&bodies, &anchored, &assets, true);
+  std::string error;
+  mjModel* alone = compileMjcf(mjcfHead(engine->params(), 100) + "<asset>" + assets +
+                                   "</asset><worldbody>" + anchored + bodies +
+                                   "</worldbody></mujoco>",
+                               &error);
+  if (!alone) throw EngineFault("mujoco: the model cannot be compiled: " + error);
+  mj_deleteModel(alone);
+}
+
+MujocoModel::~MujocoModel() { engine_->remove(this); }
+
+void MujocoModel::attachJoints(const std::vector<Pose>& zero_poses,
+                               const std::vector<JointFrame>& frames) {
+  for (size_t b = 0; b < bodies_.size(); ++b) bodies_[b].zero = zero_poses[b];
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    Joint& joint = joints_[j];
+    const Pose parent = joint.spec.parent < 0 ? Pose() : zero_poses[joint.spec.parent];
+    const Pose& child = zero_poses[joint.spec.child];
+    joint.axis_in_parent = inFrame(parent.orientation, frames[j].axis);
+    joint.anchor_in_parent = transformPoint(inverse(parent), frames[j].anchor);
+    joint.anchor_in_child = transformPoint(inverse(child), frames[j].anchor);
+    joint.zero_relative = multiply(conjugate(parent.orientation), child.orientation);
+  }
+  attached_ = true;
+  bound_ = false;
+  pending_.clear();
+  engine_->changed();
+}
+
+void MujocoModel::setAnchoredShapePose(int shape, const Pose& world_pose) {
+  anchored_poses_[shape] = world_pose;
+  if (!bound_) return;
+  // A static geom's pose is the model's own (geom_pos, geom_quat on the world body).
+  const int geom = anchored_geoms_[shape];
+  const Pose placed = compose(world_pose, anchored_offsets_[shape]);
+  auto* m = const_cast<mjModel*>(m_);
+  for (int k = 0; k < 3; ++k) m->geom_pos[3 * geom + k] = (&placed.position.x)[k];
+  const Quat& q = placed.orientation;
+  const double values[4] = {q.w, q.x, q.y, q.z};
+  std::copy(values, values + 4, m->geom_quat + 4 * geom);
+}
+
+void MujocoModel::setBodyMass(int body, const BodySpec& spec) {
+  spec_.bodies[body] = spec;
+  bound_ = false;
+  engine_->changed();
+}
+
+// A body, its inertia, its shapes, its joint and the bodies below it, in its parent's frame.
+void MujocoModel::writeBody(int body, const std::vector<std::vector<int>>& children,
+                            std::string* out, std::string* assets, bool alone) const {
+  const Body& b = bodies_[body];
+  const BodySpec& spec = spec_.bodies[body];
+  const std::string name = "m" + std::to_string(id_) + "b" + std::to_string(body);
+  Pose in_parent = b.zero;
+  if (!alone && b.parent_joint >= 0) {
+    const Joint& joint = joints_[b.parent_joint];
+    if (joint.spec.parent >= 0) in_parent = compose(inverse(bodies_[joint.spec.parent].zero), b.zero);
+  }
+  *out += "<body name=\"" + name + "\"" + placement(in_parent) + ">";
+  if (alone || b.parent_joint < 0) {
+    *out += "<freejoint/>";
+  } else {
+    const Joint& joint = joints_[b.parent_joint];
+    const Vec3 axis = inFrame(joint.zero_relative, joint.axis_in_parent);
+    *out += std::string("<joint type=\"") + (joint.spec.prismatic ? "slide" : "hinge") +
+            "\" pos=\"" + vec(joint.anchor_in_child) + "\" axis=\"" + vec(axis) + "\"";
+    if (joint.spec.has_limits && joint.spec.lower <= joint.spec.upper) {
+      // MuJoCo wants lower < upper: stops that meet (a joint held at one position) are opened
+      // by kMeetingStops.
+      const double open = joint.spec.lower < joint.spec.upper ? 0 : kMeetingStops / 2;
+      *out += " limited=\"true\" range=\"" + num(joint.spec.lower - open) + " " +
+              num(joint.spec.upper + open) + "\"";
+    }
+    *out += "/>";
+  }
+  *out += "<inertial pos=\"0 0 0\" mass=\"" + num(spec.mass) + "\" " + inertia(spec) + "/>";
+  for (size_t s = 0; s < spec.shapes.size(); ++s) {
+    const std::string geom = name + "g" + std::to_string(s);
+    *out += "<geom name=\"" + geom + "\" " + geomShape(spec.shapes[s], geom, assets) +
+            placement(spec.shapes[s].pose) + "/>";
+  }
+  if (!alone)
+    for (int child : children[body]) writeBody(child, children, out, assets, false);
+  *out += "</body>";
+}
+
+void MujocoModel::writeMjcf(std::string* bodies, std::string* anchored, std::string* assets,
+                            bool alone) const {
+  std::vector<std::vector<int>> children(bodies_.size());
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const int joint = bodies_[b].parent_joint;
+    if (joint >= 0 && joints_[joint].spec.parent >= 0)
+      children[joints_[joint].spec.parent].push_back(static_cast<int>(b));
+  }
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const int joint = bodies_[b].parent_joint;
+    if (alone || joint < 0 || joints_[joint].spec.parent < 0)
+      writeBody(static_cast<int>(b), children, bodies, assets, alone);
+  }
+  for (size_t s = 0; s < spec_.anchored_shapes.size(); ++s) {
+    const std::string geom = "m" + std::to_string(id_) + "a" + std::to_string(s);
+    *anchored += "<geom name=\"" + geom + "\" " +
+                 geomShape(spec_.anchored_shapes[s], geom, assets) + placement(anchored_poses_[s]) +
+                 "/>";
+  }
+}
+
+std::vector<double> MujocoModel::carriedState() const {
+  std::vector<double> state;
+  if (!bound_) return state;
+  for (const Body& body : bodies_) {
+    const int joint = m_->body_jntadr[body.id];
+    const int nq = body.parent_joint < 0 ? 7 : 1, nv = body.parent_joint < 0 ? 6 : 1;
+    state.insert(state.end(), d_->qpos + m_->jnt_qposadr[joint], d_->qpos + m_->jnt_qposadr[joint] + nq);
+    state.insert(state.end(), d_->qvel + m_->jnt_dofadr[joint], d_->qvel + m_->jnt_dofadr[joint] + nv);
+  }
+  return state;
+}
+
+void MujocoModel::bind(const mjModel* m, mjData* d, const std::vector<double>& carried) {
+  m_ = m, d_ = d;
+  const std::string prefix = "m" + std::to_string(id_);
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    bodies_[b].id = mj_name2id(m, mjOBJ_BODY, (prefix + "b" + std::to_string(b)).c_str());
+  for (Joint& joint : joints_) {
+    const int jnt = m->body_jntadr[bodies_[joint.spec.child].id];
+    joint.qpos = m->jnt_qposadr[jnt];
+    joint.dof = m->jnt_dofadr[jnt];
+  }
+  anchored_geoms_.resize(anchored_poses_.size());
+  anchored_offsets_.resize(anchored_poses_.size());
+  for (size_t s = 0; s < anchored_poses_.size(); ++s) {
+    const int geom = mj_name2id(m, mjOBJ_GEOM, (prefix + "a" + std::to_string(s)).c_str());
+    anchored_geoms_[s] = geom;
+    const mjtNum* p = m->geom_pos + 3 * geom;
+    const mjtNum* q = m->geom_quat + 4 * geom;
+    anchored_offsets_[s] = compose(inverse(anchored_poses_[s]), {{p[0], p[1], p[2]}, {q[0], q[1], q[2], q[3]}});
+  }
+  size_t at = 0;
+  for (const Body& body : bodies_) {
+    if (carried.empty()) break;
+    const int joint = m->body_jntadr[body.id];
+    const int nq = body.parent_joint < 0 ? 7 : 1, nv = body.parent_joint < 0 ? 6 : 1;
+    std::copy(&carried[at], &carried[at] + nq, d->qpos + m->jnt_qposadr[joint]);
+    std::copy(&carried[at + nq], &carried[at + nq] + nv, d->qvel + m->jnt_dofadr[joint]);
+    at += nq + nv;
+  }
+  bound_ = true;
+}
+
+// The body's state as MuJoCo's data has it (its kinematics current).
+BodyState MujocoModel::compiledState(int body) const {
+  const int id = bodies_[body].id;
+  const mjtNum* p = d_->xpos + 3 * id;
+  const mjtNum* q = d_->xquat + 4 * id;
+  mjtNum velocity[6];  // angular, linear, at the centre of mass, world axes
+  mj_objectVelocity(m_, d_, mjOBJ_BODY, id, velocity, 0);
+  return {{{p[0], p[1], p[2]}, {q[0], q[1], q[2], q[3]}},
+          {{velocity[3], velocity[4], velocity[5]}, {velocity[0], velocity[1], velocity[2]}}};
+}
+
+// A pending state, else the compiled one, else (not compiled yet) the zero configuration at rest.
+BodyState MujocoModel::state(int body) const {
+  if (!pending_.empty() && pending_[body]) return *pending_[body];
+  if (bound_) return compiledState(body);
+  return {bodies_[body].zero, Twist()};
+}
+
+std::vector<BodyState> MujocoModel::targets() const {
+  std::vector<BodyState> states;
+  for (size_t b = 0; b < bodies_.size(); ++b) states.push_back(state(static_cast<int>(b)));
+  return states;
+}
+
+double MujocoModel::hingeAngle(const Joint& joint, const std::vector<BodyState>& states) const {
+  const Quat relative =
+      multiply(conjugate(parentPose(joint, states).orientation), states[joint.spec.child].pose.orientation);
+  return angleAbout(multiply(relative, conjugate(joint.zero_relative)), joint.axis_in_parent);
+}
+
+double MujocoModel::slideOffset(const Joint& joint, const std::vector<BodyState>& states) const {
+  const Pose parent = parentPose(joint, states);
+  const Vec3 moved = transformPoint(states[joint.spec.child].pose, joint.anchor_in_child) -
+                     transformPoint(parent, joint.anchor_in_parent);
+  return dot(rotate(parent.orientation, joint.axis_in_parent), moved);
+}
+
+double MujocoModel::jointRateOf(const Joint& joint, const std::vector<BodyState>& states) const {
+  const Pose parent = parentPose(joint, states);
+  const Twist parent_twist = joint.spec.parent < 0 ? Twist() : states[joint.spec.parent].twist;
+  const BodyState& child = states[joint.spec.child];
+  const Vec3 axis = rotate(parent.orientation, joint.axis_in_parent);
+  if (!joint.spec.prismatic) return dot(axis, child.twist.angular - parent_twist.angular);
+  // d/dt of slideOffset: the child's anchor point moving relative to the parent's, along the
+  // axis, and the axis turning with the parent.
+  const Vec3 child_arm = rotate(child.pose.orientation, joint.anchor_in_child);
+  const Vec3 parent_arm = rotate(parent.orientation, joint.anchor_in_parent);
+  const Vec3 apart = (child.pose.position + child_arm) - (parent.position + parent_arm);
+  const Vec3 closing = (child.twist.linear + cross(child.twist.angular, child_arm)) -
+                       (parent_twist.linear + cross(parent_twist.angular, parent_arm));
+  return dot(axis, closing) + dot(cross(parent_twist.angular, axis), apart);
+}
+
+double MujocoModel::jointPosition(int joint) const {
+  const Joint& j = joints_[joint];
+  if (bound_ && pending_.empty()) {
+    const double q = d_->qpos[j.qpos];
+    if (j.spec.prismatic) return q;
+    const double wrapped = std::remainder(q, 2 * M_PI);
+    return wrapped <= -M_PI ? wrapped + 2 * M_PI : wrapped;
+  }
+  const std::vector<BodyState> states = targets();
+  return j.spec.prismatic ? slideOffset(j, states) : hingeAngle(j, states);
+}
+
+double MujocoModel::jointRate(int joint) const {
+  const Joint& j = joints_[joint];
+  if (bound_ && pending_.empty()) return d_->qvel[j.dof];
+  return jointRateOf(j, targets());
+}
+
+bool MujocoModel::applyPending() {
+  if (pending_.empty()) return false;
+  const std::vector<BodyState> states = targets();
+  pending_.clear();
+  mjtNum* qpos = const_cast<mjData*>(d_)->qpos;
+  mjtNum* qvel = const_cast<mjData*>(d_)->qvel;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    if (bodies_[b].parent_joint >= 0) continue;
+    const BodyState& s = states[b];
+    const int joint = m_->body_jntadr[bodies_[b].id];
+    mjtNum* q = qpos + m_->jnt_qposadr[joint];
+    mjtNum* v = qvel + m_->jnt_dofadr[joint];
+    const Quat& o = s.pose.orientation;
+    const Vec3 local = inFrame(o, s.twist.angular);  // a free joint's rate is in body axes
+    const double values[13] = {s.pose.position.x, s.pose.position.y, s.pose.position.z, o.w, o.x,
+                               o.y, o.z, s.twist.linear.x, s.twist.linear.y, s.twist.linear.z,
+                               local.x, local.y, local.z};
+    std::copy(values, values + 7, q);
+    std::copy(values + 7, values + 13, v);
+  }
+  for (const Joint& joint : joints_) {
+    double q;
+    if (joint.spec.prismatic) {
+      q = slideOffset(joint, states);
+    } else {
+      // The turn nearest the hinge's present angle: MuJoCo's hinge angles are not wrapped.
+      const double now = qpos[joint.qpos];
+      q = hingeAngle(joint, states);
+      q += 2 * M_PI * std::round((now - q) / (2 * M_PI));
+    }
+    qpos[joint.qpos] = q;
+    qvel[joint.dof] = jointRateOf(joint, states);
+  }
+  return true;
+}
+
+void MujocoModel::loadForces(const mjModel* m, mjData* d) {
+  auto* model = const_cast<mjModel*>(m);
+  for (Joint& joint : joints_) {
+    d->qfrc_applied[joint.dof] += joint.effort;
+    model->dof_frictionloss[joint.dof] =
+        joint.motor_effort > 0 ? joint.motor_effort : joint.spec.friction;
+  }
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    Body& body = bodies_[b];
+    mjtNum* frc = d->xfrc_applied + 6 * body.id;
+    Vec3 force = body.force;
+    if (!spec_.bodies[b].gravity) force = force - spec_.bodies[b].mass * engine_->params().gravity;
+    const double values[6] = {force.x, force.y, force.z, body.torque.x, body.torque.y, body.torque.z};
+    for (int k = 0; k < 6; ++k) frc[k] += values[k];
+    body.force = body.torque = Vec3();
+  }
+}
+
+void MujocoModel::motorTargets(std::vector<double>* target) const {
+  for (const Joint& joint : joints_) (*target)[joint.dof] = joint.motor_velocity;
+}
+
+// cfrc_int: the force and torque (about the tree's centre of mass, subtree_com of its root) the
+// parent put on the child through the joint, the joint's own effort along its axis included.
+void MujocoModel::takeWrenches(const mjModel* m, const mjData* d) {
+  for (Joint& joint : joints_) {
+    const int id = bodies_[joint.spec.child].id;
+    const mjtNum* c = d->cfrc_int + 6 * id;
+    const mjtNum* ref = d->subtree_com + 3 * m->body_rootid[id];
+    const mjtNum* com = d->xipos + 3 * id;
+    const mjtNum* axis = d->xaxis + 3 * m->body_jntadr[id];
+    const Vec3 arm = {ref[0] - com[0], ref[1] - com[1], ref[2] - com[2]};
+    Vec3 force = {c[3], c[4], c[5]};
+    Vec3 torque = Vec3{c[0], c[1], c[2]} + cross(arm, force);
+    const Vec3 effort = joint.effort * Vec3{axis[0], axis[1], axis[2]};
+    if (joint.spec.prismatic) force = force - effort;
+    else torque = torque - effort;
+    joint.wrench = {force, torque};
+    joint.effort = 0;
+  }
+}
+
+void MujocoEngine::compile() {
+  std::vector<std::vector<double>> carried;
+  std::string bodies, anchored, assets;
+  int moving_geoms = 0, dofs = 0;
+  for (const MujocoModel* model : models_) {
+    carried.push_back(model->carriedState());
+    if (!model->attached()) continue;
+    model->writeMjcf(&bodies, &anchored, &assets);
+    for (const BodySpec& body : model->spec().bodies)
+      moving_geoms += static_cast<int>(body.shapes.size());
+    dofs += 6 * static_cast<int>(model->spec().bodies.size());
+  }
+  // Room for the constraint rows: up to 8 contacts a moving shape, 3 rows each.
+  const int njmax = std::min(3000, 150 + dofs + 24 * moving_geoms);
+  std::string error;
+  mjModel* m = compileMjcf(mjcfHead(params_, njmax) + "<asset>" + assets + "</asset><worldbody>" +
+                               anchored + bodies + "</worldbody></mujoco>",
+                           &error);
+  if (!m) throw EngineFault("mujoco: the world's model cannot be compiled: " + error);
+  release();
+  m_ = m;
+  d_ = mj_makeData(m_);
+  for (size_t i = 0; i < models_.size(); ++i)
+    if (models_[i]->attached()) models_[i]->bind(m_, d_, carried[i]);
+  geom_shapes_.assign(m_->ngeom, ShapeRef());
+  geom_mu_.assign(m_->ngeom, {1.0, 1.0});
+  std::map<int, const MujocoModel*> by_id;
+  for (const MujocoModel* model : models_) by_id[model->id()] = model;
+  for (int g = 0; g < m_->ngeom; ++g) {
+    int id, body, shape;
+    const char* name = m_->names + m_->name_geomadr[g];
+    const MujocoModel* model = nullptr;
+    if (std::sscanf(name, "m%db%dg%d", &id, &body, &shape) == 3) {
+      model = by_id[id];
+      geom_shapes_[g] = {model, body, shape};
+      const ShapeSpec& s = model->spec().bodies[body].shapes[shape];
+      geom_mu_[g] = {s.mu, s.mu2};
+    } else if (std::sscanf(name, "m%da%d", &id, &shape) == 2) {
+      model = by_id[id];
+      geom_shapes_[g] = model->anchoredShape(shape);
+      const ShapeSpec& s = model->spec().anchored_shapes[shape];
+      geom_mu_[g] = {s.mu, s.mu2};
+    }
+  }
+  motor_target_.assign(m_->nv, 0.0);
+  compiled_ = true;
+  updateKinematics();
+}
+
+void MujocoEngine::sync() {
+  if (!compiled_) compile();
+  bool moved = false;
+  for (MujocoModel* model : models_)
+    if (model->attached()) moved = model->applyPending() || moved;
+  if (moved) updateKinematics();
+}
+
+// Drops contacts between two shapes of one model; sets the rest's friction.
+void MujocoEngine::filterContacts() {
+  int kept = 0;
+  for (int i = 0; i < d_->ncon; ++i) {
+    mjContact& c = d_->contact[i];
+    const ShapeRef& a = geom_shapes_[c.geom1];
+    const ShapeRef& b = geom_shapes_[c.geom2];
+    if (a.model && a.model == b.model) continue;
+    const double mu = std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first);
+    const double mu2 = std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second);
+    if (mu <= 0 && mu2 <= 0) {
+      c.dim = 1;
+    } else {
+      c.dim = 3;
+      c.friction[0] = std::max(mu, kMinFriction);
+      c.friction[1] = std::max(mu2, kMinFriction);
+    }
+    d_->contact[kept++] = c;
+  }
+  d_->ncon = kept;
+}
+
+// The contact frame's first row is the normal, from geom1 to geom2; mj_contactForce gives the
+// force on geom2 in that frame.
+void MujocoEngine::takeContacts() {
+  contacts_.clear();
+  for (int i = 0; i < d_->ncon; ++i) {
+    const mjContact& c = d_->contact[i];
+    if (c.efc_address < 0) continue;
+    mjtNum local[6];
+    mj_contactForce(m_, d_, i, local);
+    Vec3 force;
+    for (int row = 0; row < 3; ++row)
+      force = force + local[row] * Vec3{c.frame[3 * row], c.frame[3 * row + 1], c.frame[3 * row + 2]};
+    contacts_.push_back({geom_shapes_[c.geom2], geom_shapes_[c.geom1],
+                         {c.pos[0], c.pos[1], c.pos[2]},
+                         {c.frame[0], c.frame[1], c.frame[2]}, -c.dist, force});
+  }
+}
+
+void MujocoEngine::step(double dt, std::string* solver_message, bool) {
+  stepping_message = solver_message;
+  struct Clear {
+    ~Clear() { stepping_message = nullptr; }
+  } clear;
+  sync();
+  m_->opt.timestep = dt;
+  mju_zero(d_->qfrc_applied, m_->nv);
+  mju_zero(d_->xfrc_applied, 6 * m_->nbody);
+  std::fill(motor_target_.begin(), motor_target_.end(), 0.0);
+  for (MujocoModel* model : models_)
+    if (model->attached()) {
+      model->loadForces(m_, d_);
+      model->motorTargets(&motor_target_);
+    }
+  // mj_fwdPosition, with the contacts filtered between collision and the constraints.
+  mj_kinematics(m_, d_);
+  mj_comPos(m_, d_);
+  mj_camlight(m_, d_);
+  mj_tendon(m_, d_);
+  mj_crb(m_, d_);
+  mj_factorM(m_, d_);
+  mj_collision(m_, d_);
+  filterContacts();
+  mj_makeConstraint(m_, d_);
+  mj_transmission(m_, d_);
+  mj_projectConstraint(m_, d_);
+  mj_fwdVelocity(m_, d_);
+  // Friction rows: from rate 0 to the motor's velocity (aref = -B (v - target)).
+  for (int i = d_->ne; i < d_->ne + d_->nf; ++i)
+    if (d_->efc_type[i] == mjCNSTR_FRICTION_DOF)
+      d_->efc_aref[i] += d_->efc_KBIP[4 * i + 1] * motor_target_[d_->efc_id[i]];
+  mj_fwdActuation(m_, d_);
+  mj_fwdAcceleration(m_, d_);
+  mj_fwdConstraint(m_, d_);
+  mj_rnePostConstraint(m_, d_);
+  for (MujocoModel* model : models_)
+    if (model->attached()) model->takeWrenches(m_, d_);
+  takeContacts();
+  mj_Euler(m_, d_);
+  updateKinematics();
+}
+
+// Whether a closed primitive holds the point (inside or on its surface): a ray that starts there
+// does not meet it, as with the other engines (a lidar on a box link starts on its face).
+bool MujocoEngine::holdsPoint(int geom, const mjtNum* point) const {
+  constexpr double kOnSurface = 1e-9;
+  const mjtNum* pos = d_->geom_xpos + 3 * geom;
+  const mjtNum* mat = d_->geom_xmat + 9 * geom;
+  const mjtNum* size = m_->geom_size + 3 * geom;
+  mjtNum local[3];
+  for (int r = 0; r < 3; ++r)
+    local[r] = mat[r] * (point[0] - pos[0]) + mat[3 + r] * (point[1] - pos[1]) +
+               mat[6 + r] * (point[2] - pos[2]);
+  switch (m_->geom_type[geom]) {
+    case mjGEOM_BOX:
+      return std::fabs(local[0]) <= size[0] + kOnSurface &&
+             std::fabs(local[1]) <= size[1] + kOnSurface && std::fabs(local[2]) <= size[2] + kOnSurface;
+    case mjGEOM_SPHERE: return std::hypot(local[0], local[1], local[2]) <= size[0] + kOnSurface;
+    case mjGEOM_CYLINDER:
+      return std::fabs(local[2]) <= size[1] + kOnSurface &&
+             std::hypot(local[0], local[1]) <= size[0] + kOnSurface;
+    default: return false;
+  }
+}
+
+// Each ray against every shape (mju_rayGeom, mj_rayMesh on a mesh's hull) whose bounding sphere
+// it reaches, a plane always.
+void MujocoEngine::castRays(const std::vector<Ray>& rays, std::vector<double>* distances) {
+  distances->assign(rays.size(), std::numeric_limits<double>::infinity());
+  sync();
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray& ray = rays[i];
+    if (!(ray.length > 0)) continue;
+    const mjtNum from[3] = {ray.from.x, ray.from.y, ray.from.z};
+    const mjtNum direction[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int g = 0; g < m_->ngeom; ++g) {
+      const mjtNum* centre = d_->geom_xpos + 3 * g;
+      const int type = m_->geom_type[g];
+      if (type != mjGEOM_PLANE) {
+        const Vec3 offset = {centre[0] - from[0], centre[1] - from[1], centre[2] - from[2]};
+        const double along = std::clamp(dot(offset, ray.direction), 0.0, ray.length);
+        if (norm(offset - along * ray.direction) > m_->geom_rbound[g]) continue;
+      }
+      if (holdsPoint(g, from)) continue;
+      const double hit =
+          type == mjGEOM_MESH
+              ? mj_rayMesh(m_, d_, g, from, direction)
+              : mju_rayGeom(centre, d_->geom_xmat + 9 * g, m_->geom_size + 3 * g, from, direction, type);
+      if (hit >= 0 && hit <= ray.length) nearest = std::min(nearest, hit);
+    }
+    (*distances)[i] = nearest;
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Engine> makeMujocoEngine() { return std::make_unique<MujocoEngine>(); }
+
+}  // namespace core
+}  // namespace onedof_sim
