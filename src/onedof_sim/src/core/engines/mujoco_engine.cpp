@@ -22,27 +22,31 @@
 // checks that reset a diverging state: the world rolls non-finite states back itself), opened up
 // at three places:
 // - after collision: contacts between two shapes of one model are dropped (MuJoCo's contype
-//   bits cannot tell models apart), and each contact takes the smaller friction of its two shapes
-//   (MuJoCo takes the larger);
+//   bits cannot tell models apart); each contact takes the smaller friction of its two shapes
+//   (MuJoCo takes the larger); a cylinder lying on a plane gets its line's middle
+//   (lyingCylinder); a contact sliding faster than kSlidingSpeed (engine.h) leaves the solve
+//   without friction and takes Coulomb's, mu N against its slip, as an applied force
+//   (slidingFriction);
 // - after the velocity stage: a joint's friction and its velocity motor are MuJoCo's friction
 //   loss row of the joint's degree of freedom (bounded by the friction or the motor's effort),
 //   whose reference is moved from rate 0 to the motor's velocity;
 // - after the constraint solve: each joint's constraint wrench (cfrc_int) and the contacts'
 //   forces are taken, before the step integrates.
-// MuJoCo's constraints are soft. Here contacts, joint limits and friction rows take the stiffest
-// reference MuJoCo's refsafe allows (a time constant of two steps, critically damped) and an
-// impedance near 1, so that they act as the other engines' hard constraints: a 1 kg box rests
-// about 0.4 micrometre deep at a 1 ms step, and a velocity motor reaches its speed within a step
-// but for 1e-4 of the difference.
+// MuJoCo's constraints are soft. Contacts and joint limits here take a time constant of four
+// steps, critically damped, at an impedance of 0.99 (a box at rest sinks about 2 micrometres at a
+// 1 ms step); the rows that hold a joint's rate take the stiffest reference MuJoCo's refsafe
+// allows (two steps) at its largest impedance, so that a velocity motor reaches its speed within
+// a step but for 1e-4 of the difference.
 //
 // PhysicsParams: gravity; the step; sor_pgs_iters is Newton's iteration bound (100 at least).
 // MuJoCo has no counterpart for erp, cfm, contact_surface_layer, contact_max_correcting_vel,
 // quick_step, sor_pgs_w, max_contacts (its collision functions give up to 8 points a pair) or
-// auto_disable_bodies. Friction is Coulomb's elliptic cone (mu along MuJoCo's first contact
-// tangent, mu2 along the second). Shapes: boxes, spheres, cylinders, planes (anchored) and meshes,
-// which MuJoCo collides as their convex hulls. MuJoCo 2.2 finds one contact point a step between
-// two convex shapes without a dedicated routine (cylinder or mesh against a box, a cylinder or a
-// mesh): such a shape resting on a box face rocks on it; on a plane it rests on several points.
+// auto_disable_bodies. Friction is an elliptic cone (mu along MuJoCo's first contact tangent, mu2
+// along the second). Shapes: boxes, spheres, cylinders, planes (anchored) and meshes, which
+// MuJoCo collides, and rays meet, as their convex hulls (a flat mesh as a thin plate). MuJoCo 2.2
+// finds one contact point a step between two convex shapes without a dedicated routine (a
+// cylinder or a mesh against a box, a cylinder or a mesh): a box resting on a mesh rocks on it
+// (about 5 mm/s at the book's scale) where the other engines hold it still.
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -76,6 +80,14 @@ constexpr const char* kRowImpedance = "0.9999 0.9999 0.001";
 // Friction rows of a contact are this much stiffer than its normal (MuJoCo's impratio). At 1 and
 // at 100 a cylinder spun on its end face is thrown.
 constexpr double kImpRatio = 10;
+// A cylinder lies on a plane when its axis is square to the normal within this (the sine of the
+// angle between them), as in the other engines.
+constexpr double kLyingTilt = 0.01;
+// The impedance of the two ends of a lying cylinder's line (lyingCylinder): their compliance
+// 10^4 times the middle's.
+constexpr double kSupportImpedance = 0.01;
+// The solves of a step with sliding contacts after the first (slidingFriction).
+constexpr int kSlidingPasses = 3;
 // MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
 // coefficients are 0 is frictionless (one row).
 constexpr double kMinFriction = 1e-5;
@@ -369,7 +381,10 @@ class MujocoEngine : public Engine {
     mj_comVel(m_, d_);
   }
   void filterContacts();
+  void lyingCylinder(int first);
+  void slidingFriction();
   void takeContacts();
+  Vec3 pointVelocity(int body, const mjtNum* point) const;
   bool holdsPoint(int geom, const mjtNum* point) const;
 
   PhysicsParams params_;
@@ -383,6 +398,16 @@ class MujocoEngine : public Engine {
   std::vector<std::pair<double, double>> geom_mu_;
   std::vector<double> motor_target_;  // per degree of freedom
   std::vector<EngineContact> contacts_;
+  // This step's contacts that slide (filterContacts): the contact, the unit slip of geom2's side
+  // over geom1's, the friction coefficient along it and the friction force on geom2's side.
+  struct Sliding {
+    int contact;
+    Vec3 slip;
+    double mu;
+    Vec3 friction;
+  };
+  std::vector<Sliding> sliding_;
+  std::vector<mjtNum> applied_;  // xfrc_applied before the sliding friction
 };
 
 MujocoModel::MujocoModel(MujocoEngine* engine, int id, const ModelSpec& spec)
@@ -768,8 +793,10 @@ void MujocoEngine::sync() {
   if (moved) updateKinematics();
 }
 
-// Drops contacts between two shapes of one model; sets the rest's friction.
+// Drops contacts between two shapes of one model; sets the rest's friction; gives a cylinder lying
+// on a plane its line's middle (lyingCylinder); takes sliding contacts' friction out of the solve.
 void MujocoEngine::filterContacts() {
+  sliding_.clear();
   int kept = 0;
   for (int i = 0; i < d_->ncon; ++i) {
     mjContact& c = d_->contact[i];
@@ -778,16 +805,101 @@ void MujocoEngine::filterContacts() {
     if (a.model && a.model == b.model) continue;
     const double mu = std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first);
     const double mu2 = std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second);
-    if (mu <= 0 && mu2 <= 0) {
-      c.dim = 1;
-    } else {
-      c.dim = 3;
-      c.friction[0] = std::max(mu, kMinFriction);
-      c.friction[1] = std::max(mu2, kMinFriction);
-    }
+    c.dim = mu <= 0 && mu2 <= 0 ? 1 : 3;
+    c.friction[0] = std::max(mu, kMinFriction);
+    c.friction[1] = std::max(mu2, kMinFriction);
     d_->contact[kept++] = c;
   }
   d_->ncon = kept;
+  for (int i = 0; i + 1 < kept; ++i) lyingCylinder(i);
+  for (int i = 0; i < d_->ncon; ++i) {
+    mjContact& c = d_->contact[i];
+    if (c.dim == 1) continue;
+    const Vec3 normal = {c.frame[0], c.frame[1], c.frame[2]};
+    Vec3 slip = pointVelocity(m_->geom_bodyid[c.geom2], c.pos) -
+                pointVelocity(m_->geom_bodyid[c.geom1], c.pos);
+    slip = slip - dot(slip, normal) * normal;
+    const double speed = norm(slip);
+    if (!(speed > kSlidingSpeed)) continue;
+    // The coefficient along the slip of the friction ellipse (mu along the first tangent, mu2
+    // along the second).
+    const double along1 = dot(slip, {c.frame[3], c.frame[4], c.frame[5]}) / speed;
+    const double along2 = dot(slip, {c.frame[6], c.frame[7], c.frame[8]}) / speed;
+    const double slip_mu = 1 / std::hypot(along1 / c.friction[0], along2 / c.friction[1]);
+    sliding_.push_back({i, (1 / speed) * slip, slip_mu, Vec3()});
+    c.dim = 1;
+  }
+}
+
+// A cylinder lying on a plane touches it along a line, of which MuJoCo gives the two ends
+// (contacts `first` and the next). With friction at both, they resist the cylinder turning about
+// the normal (a wheel's scrub, mu N w / 4 for a line w long): a two-wheeled base dragging a
+// caster turns at a third of its wheels' rate. As in the other engines, the line's middle takes
+// its friction: a contact there, and the two ends kept as supports without friction and so soft
+// (kSupportImpedance) that the middle carries nearly all the load, which bounds its friction.
+void MujocoEngine::lyingCylinder(int first) {
+  mjContact& p = d_->contact[first];
+  mjContact& q = d_->contact[first + 1];
+  if (p.geom1 != q.geom1 || p.geom2 != q.geom2 || d_->ncon >= m_->nconmax) return;
+  const int plane = m_->geom_type[p.geom1] == mjGEOM_PLANE ? p.geom1 : p.geom2;
+  const int cylinder = plane == p.geom1 ? p.geom2 : p.geom1;
+  if (m_->geom_type[plane] != mjGEOM_PLANE || m_->geom_type[cylinder] != mjGEOM_CYLINDER ||
+      p.dim == 1)
+    return;
+  const mjtNum* mat = d_->geom_xmat + 9 * cylinder;
+  const Vec3 axis = {mat[2], mat[5], mat[8]};
+  const Vec3 normal = {p.frame[0], p.frame[1], p.frame[2]};
+  const Vec3 segment = {q.pos[0] - p.pos[0], q.pos[1] - p.pos[1], q.pos[2] - p.pos[2]};
+  if (std::fabs(dot(axis, normal)) > kLyingTilt ||
+      std::fabs(dot(segment, axis)) < norm(segment) * (1 - 1e-6))
+    return;
+  mjContact middle = p;
+  for (int k = 0; k < 3; ++k) middle.pos[k] = (p.pos[k] + q.pos[k]) / 2;
+  middle.dist = (p.dist + q.dist) / 2;
+  for (mjContact* end : {&p, &q}) {
+    end->dim = 1;
+    end->solimp[0] = end->solimp[1] = kSupportImpedance;
+  }
+  d_->contact[d_->ncon++] = middle;
+}
+
+// The velocity of a body's material point, world axes (the world body's: 0).
+Vec3 MujocoEngine::pointVelocity(int body, const mjtNum* point) const {
+  if (body == 0) return {};
+  mjtNum velocity[6];  // angular, linear at the centre of mass
+  mj_objectVelocity(m_, d_, mjOBJ_BODY, body, velocity, 0);
+  const mjtNum* com = d_->xipos + 3 * body;
+  return Vec3{velocity[3], velocity[4], velocity[5]} +
+         cross({velocity[0], velocity[1], velocity[2]},
+               {point[0] - com[0], point[1] - com[1], point[2] - com[2]});
+}
+
+// A sliding contact is frictionless in the solve; its friction, mu times the normal force the
+// solve gave against the slip, is applied to its two bodies and the solve taken again, until the
+// normal forces settle (kSlidingPasses). MuJoCo's own friction cone, a convex relaxation, pushes
+// a sliding contact apart by mu times its slip: a sliding caster hops along the ground.
+void MujocoEngine::slidingFriction() {
+  applied_.assign(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody);
+  for (int pass = 0; pass < kSlidingPasses; ++pass) {
+    std::copy(applied_.begin(), applied_.end(), d_->xfrc_applied);
+    for (Sliding& s : sliding_) {
+      const mjContact& c = d_->contact[s.contact];
+      const double pressing = std::max(0.0, d_->efc_force[c.efc_address]);
+      s.friction = (-s.mu * pressing) * s.slip;
+      for (int side = 0; side < 2; ++side) {
+        const int body = m_->geom_bodyid[side == 0 ? c.geom2 : c.geom1];
+        if (body == 0) continue;
+        const Vec3 force = side == 0 ? s.friction : -s.friction;
+        const mjtNum* com = d_->xipos + 3 * body;
+        const Vec3 torque = cross({c.pos[0] - com[0], c.pos[1] - com[1], c.pos[2] - com[2]}, force);
+        mjtNum* applied = d_->xfrc_applied + 6 * body;
+        const double values[6] = {force.x, force.y, force.z, torque.x, torque.y, torque.z};
+        for (int k = 0; k < 6; ++k) applied[k] += values[k];
+      }
+    }
+    mj_fwdAcceleration(m_, d_);
+    mj_fwdConstraint(m_, d_);
+  }
 }
 
 // The contact frame's first row is the normal, from geom1 to geom2; mj_contactForce gives the
@@ -800,8 +912,10 @@ void MujocoEngine::takeContacts() {
     mjtNum local[6];
     mj_contactForce(m_, d_, i, local);
     Vec3 force;
-    for (int row = 0; row < 3; ++row)
+    for (int row = 0; row < std::min(c.dim, 3); ++row)
       force = force + local[row] * Vec3{c.frame[3 * row], c.frame[3 * row + 1], c.frame[3 * row + 2]};
+    for (const Sliding& s : sliding_)
+      if (s.contact == i) force = force + s.friction;
     contacts_.push_back({geom_shapes_[c.geom2], geom_shapes_[c.geom1],
                          {c.pos[0], c.pos[1], c.pos[2]},
                          {c.frame[0], c.frame[1], c.frame[2]}, -c.dist, force});
@@ -843,6 +957,7 @@ void MujocoEngine::step(double dt, std::string* solver_message, bool) {
   mj_fwdActuation(m_, d_);
   mj_fwdAcceleration(m_, d_);
   mj_fwdConstraint(m_, d_);
+  if (!sliding_.empty()) slidingFriction();
   mj_rnePostConstraint(m_, d_);
   for (MujocoModel* model : models_)
     if (model->attached()) model->takeWrenches(m_, d_);
