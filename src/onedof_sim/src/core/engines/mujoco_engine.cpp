@@ -43,10 +43,9 @@
 // quick_step, sor_pgs_w, max_contacts (its collision functions give up to 8 points a pair) or
 // auto_disable_bodies. Friction is an elliptic cone (mu along MuJoCo's first contact tangent, mu2
 // along the second). Shapes: boxes, spheres, cylinders, planes (anchored) and meshes, which
-// MuJoCo collides, and rays meet, as their convex hulls (a flat mesh as a thin plate). MuJoCo 2.2
-// finds one contact point a step between two convex shapes without a dedicated routine (a
-// cylinder or a mesh against a box, a cylinder or a mesh): a box resting on a mesh rocks on it
-// (about 5 mm/s at the book's scale) where the other engines hold it still.
+// MuJoCo collides, and rays meet, as their convex hulls (a flat mesh as a thin plate). Convex
+// pairs that MuJoCo 2.2 collides at one point a step (a cylinder or a mesh against a box, a
+// cylinder or a mesh) get the rest of their patch from multiPoint. The seam has no capsules.
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -216,6 +215,80 @@ mjModel* compileMjcf(const std::string& xml, std::string* error) {
   return model;
 }
 
+// MuJoCo's own collision function of each pair of geom types, before multiPoint replaces it.
+mjfCollision single_point[mjNGEOMTYPES][mjNGEOMTYPES];
+
+// A pair of convex shapes without a dedicated routine (a cylinder or a mesh against a box, a
+// cylinder or a mesh) gets one point from MuJoCo 2.2's MPR: a box resting on a mesh's face rocks
+// on that point as it moves about the face. multiPoint finds the rest of the patch: it collides
+// the pair again with the second shape tilted by kPatchTilt about the first point, about each
+// of kPatchTilts axes square to the normal, so that MPR finds the patch's rim in that direction;
+// each point found is tilted back, its depth less what the tilt moved the shape along the first
+// point's normal, and kept when it touches and is not one found already.
+constexpr double kPatchTilt = 1e-3;
+constexpr int kPatchTilts = 8;
+
+int multiPoint(const mjModel* m, const mjData* d, mjContact* con, int g1, int g2, mjtNum margin) {
+  const mjfCollision collide = single_point[m->geom_type[g1]][m->geom_type[g2]];
+  const int found = collide(m, d, con, g1, g2, margin);
+  if (found != 1) return found;
+  const Vec3 normal = {con[0].frame[0], con[0].frame[1], con[0].frame[2]};
+  const Vec3 origin = {con[0].pos[0], con[0].pos[1], con[0].pos[2]};
+  Vec3 across = cross(normal, std::fabs(normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
+  across = (1 / norm(across)) * across;
+  const Vec3 other = cross(normal, across);
+  auto* data = const_cast<mjData*>(d);
+  mjtNum* pos = data->geom_xpos + 3 * g2;
+  mjtNum* mat = data->geom_xmat + 9 * g2;
+  mjtNum saved_pos[3], saved_mat[9];
+  std::copy(pos, pos + 3, saved_pos);
+  std::copy(mat, mat + 9, saved_mat);
+  const double unique = 1e-3 * m->geom_rbound[g2] + 1e-9;  // m: points closer are one
+  int count = 1;
+  for (int k = 0; k < kPatchTilts && count < mjMAXCONPAIR; ++k) {
+    const double angle = 2 * M_PI * k / kPatchTilts;
+    const Quat tilt = axisAngle(std::cos(angle) * across + std::sin(angle) * other, kPatchTilt);
+    const Vec3 centre = origin + rotate(tilt, Vec3{saved_pos[0], saved_pos[1], saved_pos[2]} - origin);
+    const double q[4] = {tilt.w, tilt.x, tilt.y, tilt.z};
+    mjtNum turn[9];
+    mju_quat2Mat(turn, q);
+    mju_mulMatMat(mat, turn, saved_mat, 3, 3, 3);
+    pos[0] = centre.x, pos[1] = centre.y, pos[2] = centre.z;
+    mjContact& tilted = con[count];
+    if (collide(m, d, &tilted, g1, g2, margin) != 1) continue;
+    const Vec3 found_at = {tilted.pos[0], tilted.pos[1], tilted.pos[2]};
+    const Vec3 point = origin + inFrame(tilt, found_at - origin);
+    // The tilt moved the second shape's surface there by found_at - point.
+    const double dist = tilted.dist - dot(found_at - point, normal);
+    bool known = dist > margin;
+    for (int i = 0; i < count && !known; ++i)
+      known = norm(point - Vec3{con[i].pos[0], con[i].pos[1], con[i].pos[2]}) < unique;
+    if (known) continue;
+    tilted = con[0];
+    tilted.pos[0] = point.x, tilted.pos[1] = point.y, tilted.pos[2] = point.z;
+    tilted.dist = dist;
+    ++count;
+  }
+  std::copy(saved_pos, saved_pos + 3, pos);
+  std::copy(saved_mat, saved_mat + 9, mat);
+  return count;
+}
+
+// Puts multiPoint in MuJoCo's table of collision functions (one for the process) for the convex
+// pairs MPR alone collides, once.
+void useMultiPoint() {
+  static const bool done = [] {
+    std::copy(&mjCOLLISIONFUNC[0][0], &mjCOLLISIONFUNC[0][0] + mjNGEOMTYPES * mjNGEOMTYPES,
+              &single_point[0][0]);
+    const int pairs[5][2] = {{mjGEOM_CYLINDER, mjGEOM_CYLINDER}, {mjGEOM_CYLINDER, mjGEOM_BOX},
+                             {mjGEOM_CYLINDER, mjGEOM_MESH}, {mjGEOM_BOX, mjGEOM_MESH},
+                             {mjGEOM_MESH, mjGEOM_MESH}};
+    for (const auto& pair : pairs) mjCOLLISIONFUNC[pair[0]][pair[1]] = &multiPoint;
+    return true;
+  }();
+  (void)done;
+}
+
 struct BodyState {
   Pose pose;
   Twist twist;
@@ -327,6 +400,7 @@ class MujocoEngine : public Engine {
   MujocoEngine() {
     mju_user_warning = &collectWarning;
     mju_user_error = &throwError;
+    useMultiPoint();
   }
   ~MujocoEngine() override { release(); }
 
