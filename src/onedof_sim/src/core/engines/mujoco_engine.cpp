@@ -58,27 +58,13 @@
 #include <optional>
 
 #include "engine.h"
+#include "mujoco_mjcf.h"
 #include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
 namespace core {
 namespace {
 
-// The solver reference (solref) of contacts and joint limits: a time constant of four steps,
-// critically damped. At two, the least MuJoCo's refsafe allows, a cylinder spun on its end face
-// hops on its rim points and is thrown.
-constexpr double kContactSteps = 4;
-// The solver reference of the rows that hold a joint's rate (friction, a velocity motor): a time
-// constant below any step, which refsafe raises to two steps, so that a motor reaches its
-// velocity within a step.
-constexpr const char* kStiffestReference = "1e-9 1";
-// Impedance (solimp) of contacts and joint limits, and of the rate rows: MuJoCo's largest,
-// 0.9999 (mjMAXIMP).
-constexpr const char* kContactImpedance = "0.99 0.99 0.001";
-constexpr const char* kRowImpedance = "0.9999 0.9999 0.001";
-// Friction rows of a contact are this much stiffer than its normal (MuJoCo's impratio). At 1 and
-// at 100 a cylinder spun on its end face is thrown.
-constexpr double kImpRatio = 10;
 // A cylinder lies on a plane when its axis is square to the normal within this (the sine of the
 // angle between them), as in the other engines.
 constexpr double kLyingTilt = 0.01;
@@ -90,130 +76,19 @@ constexpr int kSlidingPasses = 3;
 // MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
 // coefficients are 0 is frictionless (one row).
 constexpr double kMinFriction = 1e-5;
-// A mesh is flat when no vertex is further from its largest triangle's plane than this fraction
-// of its size; MuJoCo collides it as a plate this thick (m).
-constexpr double kFlatMeshTolerance = 1e-9;
-constexpr double kFlatMeshThickness = 1e-4;
 // The gap between two stops at one position (rad or m), which MuJoCo cannot take.
 constexpr double kMeetingStops = 1e-9;
-// Newton's iterations at least, and its tolerance.
-constexpr int kMinIterations = 100;
-constexpr double kTolerance = 1e-10;
-
 // MuJoCo's warnings (a full contact buffer) go to the stepping engine's message; its errors
 // (mju_error, which would end the process) throw EngineFault out of the MuJoCo call.
 thread_local std::string* stepping_message = nullptr;
 
 void collectWarning(const char* text) {
-  if (stepping_message && stepping_message->empty()) *stepping_message = std::string("MuJoCo: ") + text;
+  if (stepping_message && stepping_message->empty())
+    *stepping_message = std::string("MuJoCo: ") + text;
   else if (!stepping_message) std::fprintf(stderr, "MuJoCo warning: %s\n", text);
 }
 
 void throwError(const char* text) { throw EngineFault(std::string("MuJoCo error: ") + text); }
-
-std::string num(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-std::string vec(const Vec3& v) { return num(v.x) + " " + num(v.y) + " " + num(v.z); }
-std::string quat(const Quat& q) {
-  return num(q.w) + " " + num(q.x) + " " + num(q.y) + " " + num(q.z);
-}
-std::string placement(const Pose& pose) {
-  return " pos=\"" + vec(pose.position) + "\" quat=\"" + quat(pose.orientation) + "\"";
-}
-
-// The MJCF head every compile shares: radians, inertias as given, the stiff soft constraints.
-std::string mjcfHead(const PhysicsParams& params, int njmax) {
-  const std::string contact_reference = num(kContactSteps * params.step) + " 1";
-  return "<mujoco model=\"onedof_sim\"><compiler angle=\"radian\" inertiafromgeom=\"false\" "
-         "boundmass=\"0\" boundinertia=\"0\"/>"
-         "<size njmax=\"" + std::to_string(njmax) + "\" nconmax=\"" + std::to_string(njmax / 3) +
-         "\"/><option timestep=\"" + num(params.step) + "\" gravity=\"" + vec(params.gravity) +
-         "\" integrator=\"Euler\" solver=\"Newton\" cone=\"elliptic\" impratio=\"" +
-         num(kImpRatio) + "\" iterations=\"" +
-         std::to_string(std::max<int>(kMinIterations, static_cast<int>(params.sor_pgs_iters))) +
-         "\" tolerance=\"" + num(kTolerance) + "\"/>"
-         "<default><geom condim=\"3\" margin=\"0\" solref=\"" + contact_reference +
-         "\" solimp=\"" + kContactImpedance + "\"/><joint damping=\"0\" armature=\"0\" "
-         "solreflimit=\"" + contact_reference + "\" solimplimit=\"" + kContactImpedance +
-         "\" solreffriction=\"" + kStiffestReference + "\" solimpfriction=\"" + kRowImpedance +
-         "\"/></default>";
-}
-
-// A mesh whose vertices lie in one plane (a plate of triangles) has no hull that MuJoCo can take:
-// it is given the hull of its vertices and of their copies moved by the returned offset,
-// kFlatMeshThickness behind its largest triangle's face. Nothing for a mesh with volume, and for
-// one with no triangle of any area (MuJoCo refuses it).
-std::optional<Vec3> flatBack(const TriangleMesh& mesh) {
-  Vec3 normal;
-  double largest = 0, extent = 0;
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.vertices[t[0]];
-    const Vec3 n = cross(mesh.vertices[t[1]] - a, mesh.vertices[t[2]] - a);
-    if (norm(n) > largest) largest = norm(n), normal = (1 / norm(n)) * n;
-  }
-  if (!(largest > 0)) return std::nullopt;
-  const Vec3& origin = mesh.vertices[mesh.triangles[0][0]];
-  double off_plane = 0;
-  for (const Vec3& v : mesh.vertices) {
-    off_plane = std::max(off_plane, std::fabs(dot(v - origin, normal)));
-    extent = std::max(extent, norm(v - origin));
-  }
-  if (off_plane > kFlatMeshTolerance * extent) return std::nullopt;
-  return -kFlatMeshThickness * normal;
-}
-
-// A geom element's type and size, and a mesh's asset.
-std::string geomShape(const ShapeSpec& shape, const std::string& mesh_name, std::string* assets) {
-  const Vec3& s = shape.size;
-  switch (shape.shape) {
-    case GeometryShape::Box: return "type=\"box\" size=\"" + vec(0.5 * s) + "\"";
-    case GeometryShape::Cylinder:
-      return "type=\"cylinder\" size=\"" + num(s.x) + " " + num(s.z / 2) + "\"";
-    case GeometryShape::Sphere: return "type=\"sphere\" size=\"" + num(s.x) + "\"";
-    case GeometryShape::Plane: return "type=\"plane\" size=\"0 0 1\"";
-    case GeometryShape::Mesh: {
-      *assets += "<mesh name=\"" + mesh_name + "\" vertex=\"";
-      for (const Vec3& v : shape.mesh->vertices) *assets += vec(v) + " ";
-      if (const std::optional<Vec3> back = flatBack(*shape.mesh))
-        for (const Vec3& v : shape.mesh->vertices) *assets += vec(v + *back) + " ";
-      *assets += "\"/>";
-      return "type=\"mesh\" mesh=\"" + mesh_name + "\"";
-    }
-  }
-  return "";
-}
-
-// A body's inertia as MJCF attributes. MuJoCo refuses principal moments A <= B <= C with A + B < C,
-// which no rigid body has and the other engines take: the largest moment is lowered to A + B
-// (a flat plate's, the nearest a body can have).
-std::string inertia(const BodySpec& spec) {
-  const mjtNum tensor[9] = {spec.ixx, spec.ixy, spec.ixz, spec.ixy, spec.iyy,
-                            spec.iyz, spec.ixz, spec.iyz, spec.izz};
-  mjtNum moments[3], axes[9], axes_quat[4];
-  mju_eig3(moments, axes, axes_quat, tensor);  // moments in decreasing order
-  if (moments[1] + moments[2] >= moments[0])
-    return "fullinertia=\"" + vec({spec.ixx, spec.iyy, spec.izz}) + " " +
-           vec({spec.ixy, spec.ixz, spec.iyz}) + "\"";
-  return "quat=\"" + quat({axes_quat[0], axes_quat[1], axes_quat[2], axes_quat[3]}) +
-         "\" diaginertia=\"" + vec({moments[1] + moments[2], moments[1], moments[2]}) + "\"";
-}
-
-// An MJCF model's compile, with MuJoCo's message when it fails.
-mjModel* compileMjcf(const std::string& xml, std::string* error) {
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* file = "world.xml";
-  mj_makeEmptyFileVFS(vfs.get(), file, static_cast<int>(xml.size()));
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file)], xml.data(), xml.size());
-  char text[1000] = "";
-  mjModel* model = mj_loadXML(file, vfs.get(), text, sizeof text);
-  mj_deleteVFS(vfs.get());
-  if (!model) *error = text;
-  return model;
-}
 
 // MuJoCo's own collision function of each pair of geom types, before multiPoint replaces it.
 mjfCollision single_point[mjNGEOMTYPES][mjNGEOMTYPES];
@@ -248,7 +123,8 @@ int multiPoint(const mjModel* m, const mjData* d, mjContact* con, int g1, int g2
   for (int k = 0; k < kPatchTilts && count < mjMAXCONPAIR; ++k) {
     const double angle = 2 * M_PI * k / kPatchTilts;
     const Quat tilt = axisAngle(std::cos(angle) * across + std::sin(angle) * other, kPatchTilt);
-    const Vec3 centre = origin + rotate(tilt, Vec3{saved_pos[0], saved_pos[1], saved_pos[2]} - origin);
+    const Vec3 centre =
+        origin + rotate(tilt, Vec3{saved_pos[0], saved_pos[1], saved_pos[2]} - origin);
     const double q[4] = {tilt.w, tilt.x, tilt.y, tilt.z};
     mjtNum turn[9];
     mju_quat2Mat(turn, q);
@@ -411,7 +287,8 @@ class MujocoEngine : public Engine {
     if (!m_) return;
     m_->opt.timestep = params.step;
     for (int k = 0; k < 3; ++k) m_->opt.gravity[k] = (&params.gravity.x)[k];
-    m_->opt.iterations = std::max<int>(kMinIterations, static_cast<int>(params.sor_pgs_iters));
+    m_->opt.iterations =
+        std::max<int>(mjcf::kMinIterations, static_cast<int>(params.sor_pgs_iters));
   }
 
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
@@ -511,7 +388,7 @@ MujocoModel::MujocoModel(MujocoEngine* engine, int id, const ModelSpec& spec)
   std::string bodies, anchored, assets;
   writeMjcf(&bodies, &anchored, &assets, true);
   std::string error;
-  mjModel* alone = compileMjcf(mjcfHead(engine->params(), 100) + "<asset>" + assets +
+  mjModel* alone = mjcf::compile(mjcf::head(engine->params(), 100) + "<asset>" + assets +
                                    "</asset><worldbody>" + anchored + bodies +
                                    "</worldbody></mujoco>",
                                &error);
@@ -567,30 +444,33 @@ void MujocoModel::writeBody(int body, const std::vector<std::vector<int>>& child
   Pose in_parent = b.zero;
   if (!alone && b.parent_joint >= 0) {
     const Joint& joint = joints_[b.parent_joint];
-    if (joint.spec.parent >= 0) in_parent = compose(inverse(bodies_[joint.spec.parent].zero), b.zero);
+    if (joint.spec.parent >= 0)
+      in_parent = compose(inverse(bodies_[joint.spec.parent].zero), b.zero);
   }
-  *out += "<body name=\"" + name + "\"" + placement(in_parent) + ">";
+  *out += "<body name=\"" + name + "\"" + mjcf::placement(in_parent) + ">";
   if (alone || b.parent_joint < 0) {
     *out += "<freejoint/>";
   } else {
     const Joint& joint = joints_[b.parent_joint];
     const Vec3 axis = inFrame(joint.zero_relative, joint.axis_in_parent);
     *out += std::string("<joint type=\"") + (joint.spec.prismatic ? "slide" : "hinge") +
-            "\" pos=\"" + vec(joint.anchor_in_child) + "\" axis=\"" + vec(axis) + "\"";
+            "\" pos=\"" + mjcf::vector(joint.anchor_in_child) + "\" axis=\"" +
+            mjcf::vector(axis) + "\"";
     if (joint.spec.has_limits && joint.spec.lower <= joint.spec.upper) {
       // MuJoCo wants lower < upper: stops that meet (a joint held at one position) are opened
       // by kMeetingStops.
       const double open = joint.spec.lower < joint.spec.upper ? 0 : kMeetingStops / 2;
-      *out += " limited=\"true\" range=\"" + num(joint.spec.lower - open) + " " +
-              num(joint.spec.upper + open) + "\"";
+      *out += " limited=\"true\" range=\"" + mjcf::number(joint.spec.lower - open) + " " +
+              mjcf::number(joint.spec.upper + open) + "\"";
     }
     *out += "/>";
   }
-  *out += "<inertial pos=\"0 0 0\" mass=\"" + num(spec.mass) + "\" " + inertia(spec) + "/>";
+  *out += "<inertial pos=\"0 0 0\" mass=\"" + mjcf::number(spec.mass) + "\" " +
+          mjcf::inertia(spec) + "/>";
   for (size_t s = 0; s < spec.shapes.size(); ++s) {
     const std::string geom = name + "g" + std::to_string(s);
-    *out += "<geom name=\"" + geom + "\" " + geomShape(spec.shapes[s], geom, assets) +
-            placement(spec.shapes[s].pose) + "/>";
+    *out += "<geom name=\"" + geom + "\" " + mjcf::geom(spec.shapes[s], geom, assets) +
+            mjcf::placement(spec.shapes[s].pose) + "/>";
   }
   if (!alone)
     for (int child : children[body]) writeBody(child, children, out, assets, false);
@@ -613,7 +493,8 @@ void MujocoModel::writeMjcf(std::string* bodies, std::string* anchored, std::str
   for (size_t s = 0; s < spec_.anchored_shapes.size(); ++s) {
     const std::string geom = "m" + std::to_string(id_) + "a" + std::to_string(s);
     *anchored += "<geom name=\"" + geom + "\" " +
-                 geomShape(spec_.anchored_shapes[s], geom, assets) + placement(anchored_poses_[s]) +
+                 mjcf::geom(spec_.anchored_shapes[s], geom, assets) +
+                 mjcf::placement(anchored_poses_[s]) +
                  "/>";
   }
 }
@@ -624,8 +505,10 @@ std::vector<double> MujocoModel::carriedState() const {
   for (const Body& body : bodies_) {
     const int joint = m_->body_jntadr[body.id];
     const int nq = body.parent_joint < 0 ? 7 : 1, nv = body.parent_joint < 0 ? 6 : 1;
-    state.insert(state.end(), d_->qpos + m_->jnt_qposadr[joint], d_->qpos + m_->jnt_qposadr[joint] + nq);
-    state.insert(state.end(), d_->qvel + m_->jnt_dofadr[joint], d_->qvel + m_->jnt_dofadr[joint] + nv);
+    const mjtNum* q = d_->qpos + m_->jnt_qposadr[joint];
+    const mjtNum* v = d_->qvel + m_->jnt_dofadr[joint];
+    state.insert(state.end(), q, q + nq);
+    state.insert(state.end(), v, v + nv);
   }
   return state;
 }
@@ -647,7 +530,8 @@ void MujocoModel::bind(const mjModel* m, mjData* d, const std::vector<double>& c
     anchored_geoms_[s] = geom;
     const mjtNum* p = m->geom_pos + 3 * geom;
     const mjtNum* q = m->geom_quat + 4 * geom;
-    anchored_offsets_[s] = compose(inverse(anchored_poses_[s]), {{p[0], p[1], p[2]}, {q[0], q[1], q[2], q[3]}});
+    anchored_offsets_[s] =
+        compose(inverse(anchored_poses_[s]), {{p[0], p[1], p[2]}, {q[0], q[1], q[2], q[3]}});
   }
   size_t at = 0;
   for (const Body& body : bodies_) {
@@ -687,7 +571,8 @@ std::vector<BodyState> MujocoModel::targets() const {
 
 double MujocoModel::hingeAngle(const Joint& joint, const std::vector<BodyState>& states) const {
   const Quat relative =
-      multiply(conjugate(parentPose(joint, states).orientation), states[joint.spec.child].pose.orientation);
+      multiply(conjugate(parentPose(joint, states).orientation),
+               states[joint.spec.child].pose.orientation);
   return angleAbout(multiply(relative, conjugate(joint.zero_relative)), joint.axis_in_parent);
 }
 
@@ -780,7 +665,8 @@ void MujocoModel::loadForces(const mjModel* m, mjData* d) {
     mjtNum* frc = d->xfrc_applied + 6 * body.id;
     Vec3 force = body.force;
     if (!spec_.bodies[b].gravity) force = force - spec_.bodies[b].mass * engine_->params().gravity;
-    const double values[6] = {force.x, force.y, force.z, body.torque.x, body.torque.y, body.torque.z};
+    const double values[6] = {force.x,       force.y,       force.z,
+                              body.torque.x, body.torque.y, body.torque.z};
     for (int k = 0; k < 6; ++k) frc[k] += values[k];
     body.force = body.torque = Vec3();
   }
@@ -825,7 +711,8 @@ void MujocoEngine::compile() {
   // Room for the constraint rows: up to 8 contacts a moving shape, 3 rows each.
   const int njmax = std::min(3000, 150 + dofs + 24 * moving_geoms);
   std::string error;
-  mjModel* m = compileMjcf(mjcfHead(params_, njmax) + "<asset>" + assets + "</asset><worldbody>" +
+  mjModel* m = mjcf::compile(mjcf::head(params_, njmax) + "<asset>" + assets +
+                                 "</asset><worldbody>" +
                                anchored + bodies + "</worldbody></mujoco>",
                            &error);
   if (!m) throw EngineFault("mujoco: the world's model cannot be compiled: " + error);
@@ -987,7 +874,8 @@ void MujocoEngine::takeContacts() {
     mj_contactForce(m_, d_, i, local);
     Vec3 force;
     for (int row = 0; row < std::min(c.dim, 3); ++row)
-      force = force + local[row] * Vec3{c.frame[3 * row], c.frame[3 * row + 1], c.frame[3 * row + 2]};
+      force = force +
+              local[row] * Vec3{c.frame[3 * row], c.frame[3 * row + 1], c.frame[3 * row + 2]};
     for (const Sliding& s : sliding_)
       if (s.contact == i) force = force + s.friction;
     contacts_.push_back({geom_shapes_[c.geom2], geom_shapes_[c.geom1],
@@ -1054,7 +942,8 @@ bool MujocoEngine::holdsPoint(int geom, const mjtNum* point) const {
   switch (m_->geom_type[geom]) {
     case mjGEOM_BOX:
       return std::fabs(local[0]) <= size[0] + kOnSurface &&
-             std::fabs(local[1]) <= size[1] + kOnSurface && std::fabs(local[2]) <= size[2] + kOnSurface;
+             std::fabs(local[1]) <= size[1] + kOnSurface &&
+             std::fabs(local[2]) <= size[2] + kOnSurface;
     case mjGEOM_SPHERE: return std::hypot(local[0], local[1], local[2]) <= size[0] + kOnSurface;
     case mjGEOM_CYLINDER:
       return std::fabs(local[2]) <= size[1] + kOnSurface &&
@@ -1086,7 +975,8 @@ void MujocoEngine::castRays(const std::vector<Ray>& rays, std::vector<double>* d
       const double hit =
           type == mjGEOM_MESH
               ? mj_rayMesh(m_, d_, g, from, direction)
-              : mju_rayGeom(centre, d_->geom_xmat + 9 * g, m_->geom_size + 3 * g, from, direction, type);
+              : mju_rayGeom(centre, d_->geom_xmat + 9 * g, m_->geom_size + 3 * g, from,
+                            direction, type);
       if (hit >= 0 && hit <= ray.length) nearest = std::min(nearest, hit);
     }
     (*distances)[i] = nearest;
