@@ -76,6 +76,10 @@ constexpr int kSlidingPasses = 3;
 // MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
 // coefficients are 0 is frictionless (one row).
 constexpr double kMinFriction = 1e-5;
+// The most links below one another in a model: each is an MJCF body element inside its
+// parent's, and Debian's TinyXML2, MuJoCo's XML reader, refuses elements nested more than 100
+// deep (TINYXML2_MAX_ELEMENT_DEPTH).
+constexpr size_t kMaxTreeDepth = 95;
 // The gap between two stops at one position (rad or m), which MuJoCo cannot take.
 constexpr double kMeetingStops = 1e-9;
 // MuJoCo's warnings (a full contact buffer) go to the stepping engine's message; its errors
@@ -372,12 +376,17 @@ MujocoModel::MujocoModel(MujocoEngine* engine, int id, const ModelSpec& spec)
                         "two joints)");
     child.parent_joint = static_cast<int>(j);
   }
-  // Every body must reach a root (a body no joint holds) going up its parents.
+  // Every body must reach a root (a body no joint holds) going up its parents, within the
+  // nesting the model's text can hold.
   for (size_t b = 0; b < bodies_.size(); ++b) {
     int at = static_cast<int>(b);
     for (size_t up = 0; at >= 0 && bodies_[at].parent_joint >= 0; ++up) {
       if (up > bodies_.size())
         throw EngineFault("mujoco: closed kinematic loop not supported (joints in a cycle)");
+      if (up >= kMaxTreeDepth)
+        throw EngineFault("mujoco: a chain of more than " + std::to_string(kMaxTreeDepth) +
+                          " links below one another not supported (MuJoCo's model text nests "
+                          "each link in its parent, and its XML reader stops at 100 levels)");
       at = joints_[bodies_[at].parent_joint].spec.parent;
     }
   }
