@@ -51,8 +51,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <deque>
 #include <limits>
 #include <map>
 #include <optional>
