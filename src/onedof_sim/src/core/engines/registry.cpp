@@ -8,11 +8,13 @@ namespace core {
 
 std::unique_ptr<Engine> makeOdeEngine();
 std::unique_ptr<Engine> makeBulletEngine();
+std::unique_ptr<Engine> makeDartEngine();
 
 const std::vector<EngineEntry>& engineRegistry() {
   static const std::vector<EngineEntry> entries{
       {"ode", makeOdeEngine},
       {"bullet", makeBulletEngine},
+      {"dart", makeDartEngine},
   };
   return entries;
 }
