@@ -18,9 +18,8 @@
 // DART's Bullet detector would bring Bullet's single-precision libraries into a process that
 // holds the bullet engine's double-precision ones under the same symbols). Bodies of one model
 // never collide (one skeleton, self-collision off), nor two anchored shapes (ModelFilter).
-// Friction is DART's pyramid, its two directions fixed in the contact plane (ODE's dPlaneSpace),
-// each bounded by mu (primary) or mu2 (secondary) times the contact's normal force: a contact
-// sliding faster than kSlidingSpeed is braked along both of them, not against its slip (engine.h).
+// Friction follows Coulomb's law (CoulombContact, CoulombSolver): along the slip at a sliding
+// contact, within mu times the normal force the step ends with everywhere.
 //
 // Rays: DART's ODE detector casts none; the rays go through ODE's ray collision against the
 // detector's own ODE space (ode_rays.h), the geoms DART's contacts are made from.
@@ -40,6 +39,8 @@
 #include <dart/collision/CollisionObject.hpp>
 #include <dart/collision/ode/OdeCollisionDetector.hpp>
 #include <dart/collision/ode/OdeCollisionGroup.hpp>
+#include <dart/constraint/BoxedLcpConstraintSolver.hpp>
+#include <dart/constraint/ConstrainedGroup.hpp>
 #include <dart/constraint/ConstraintSolver.hpp>
 #include <dart/constraint/ContactConstraint.hpp>
 #include <dart/constraint/JointLimitConstraint.hpp>
@@ -190,7 +191,160 @@ struct ModelFilter : dart::collision::CollisionFilter {
   }
 };
 
-using ShapeRefs = std::unordered_map<const dd::ShapeFrame*, ShapeRef>;
+// What the engine keeps of each collision shape: which one it is (contacts), and its friction
+// across the first direction (CoulombContact takes it away at a sliding contact).
+struct ShapeInfo {
+  ShapeRef ref;
+  double mu2 = 1;
+};
+using ShapeRefs = std::unordered_map<const dd::ShapeFrame*, ShapeInfo>;
+
+// At most this many solves of a constrained group a step, and the relative change (with a floor,
+// N s) of every contact's normal impulse from one to the next under which they agree
+// (CoulombSolver).
+constexpr int kFrictionPasses = 10;
+constexpr double kNormalImpulseTolerance = 1e-3;
+constexpr double kNormalImpulseFloor = 1e-9;
+
+// A contact held to Coulomb's law (engine.h). Sliding faster than kSlidingSpeed, its one friction
+// row is along the slip, bounded by mu N (DART's first friction direction, taken from its first
+// shape's dynamics when it is built, set to the slip, and that shape's mu2 to 0 for its second
+// row); slower, DART's pyramid, its directions fixed in the contact plane. fixFrictionBounds then
+// bounds its friction rows by a normal impulse of its own instead of the one the solve finds.
+class CoulombContact : public dart::constraint::ContactConstraint {
+ public:
+  CoulombContact(dart::collision::Contact& contact, double dt, const ShapeRefs& shapes)
+      : ContactConstraint(frictionAlongSlip(contact, shapes), dt), contact_(&contact) {}
+
+  const dart::collision::Contact& contact() const { return *contact_; }
+
+  void fixFrictionBounds(double normal_impulse) {
+    fixed_ = true;
+    normal_impulse_ = normal_impulse;
+  }
+  double normalImpulse(double dt) const {
+    return contact_->force.dot(contact_->normal) * dt;
+  }
+
+ protected:
+  void getInformation(dart::constraint::ConstraintInfo* info) override {
+    ContactConstraint::getInformation(info);
+    if (!fixed_ || getDimension() < 3) return;
+    for (int row = 1; row < 3; ++row) {  // mu and mu2 times the normal impulse, fixed
+      info->findex[row] = -1;
+      info->lo[row] *= normal_impulse_;
+      info->hi[row] *= normal_impulse_;
+    }
+  }
+
+ private:
+  // Sets the contact's shapes' friction dynamics for DART's ContactConstraint to read.
+  static dart::collision::Contact& frictionAlongSlip(dart::collision::Contact& contact,
+                                                     const ShapeRefs& shapes) {
+    const dd::ShapeFrame* frames[2] = {contact.collisionObject1->getShapeFrame(),
+                                       contact.collisionObject2->getShapeFrame()};
+    Eigen::Vector3d slip = Eigen::Vector3d::Zero();
+    for (int side = 0; side < 2; ++side) {
+      const dd::BodyNode* body = frames[side]->asShapeNode()->getBodyNodePtr().get();
+      const Eigen::Vector3d velocity =
+          body->getLinearVelocity() +
+          body->getAngularVelocity().cross(contact.point - body->getWorldTransform().translation());
+      slip += side == 0 ? velocity : -velocity;
+    }
+    slip -= contact.normal.dot(slip) * contact.normal;
+    const bool sliding = slip.norm() > kSlidingSpeed;
+    for (int side = 0; side < 2; ++side) {
+      auto* node = const_cast<dd::ShapeFrame*>(frames[side])->asShapeNode();
+      dd::DynamicsAspect* dynamics = node->getDynamicsAspect();
+      const auto info = shapes.find(frames[side]);
+      const bool along_slip = sliding && side == 0;
+      dynamics->setFirstFrictionDirectionFrame(along_slip ? dd::Frame::World() : nullptr);
+      dynamics->setFirstFrictionDirection(along_slip ? slip.normalized()
+                                                     : Eigen::Vector3d::Zero().eval());
+      dynamics->setSecondaryFrictionCoeff(along_slip || info == shapes.end() ? 0.0
+                                                                            : info->second.mu2);
+    }
+    return contact;
+  }
+
+  dart::collision::Contact* contact_;  // the solver's collision result's
+  bool fixed_ = false;
+  double normal_impulse_ = 0;
+};
+
+// DART's boxed-LCP solver (Dantzig, PGS where it fails) with Coulomb's law at every contact: its
+// Dantzig solver, as ODE's, bounds each friction row by the normal impulse its contact had when
+// the row was reached, not the one the solve ends with (a base whose wheel motors push against a
+// sliding caster loads the caster with the motors' reaction, and crawls). So a group with contacts
+// is solved again, from the same velocities, with each contact's friction bounded by mu times the
+// normal impulse of the last solve, until those impulses agree from one solve to the next.
+class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
+ public:
+  explicit CoulombSolver(const ShapeRefs* shapes) : shapes_(shapes) {}
+
+ protected:
+  void solveConstrainedGroup(dart::constraint::ConstrainedGroup& group) override {
+    namespace dc = dart::constraint;
+    const auto contact_of = contactsOfConstraints();
+    std::vector<dc::ConstraintBasePtr> constraints;
+    std::vector<std::shared_ptr<CoulombContact>> contacts;
+    for (size_t i = 0; i < group.getNumConstraints(); ++i) {
+      dc::ConstraintBasePtr constraint = group.getConstraint(i);
+      const auto contact = contact_of.find(constraint.get());
+      if (contact != contact_of.end()) {
+        auto coulomb = std::make_shared<CoulombContact>(*contact->second, mTimeStep, *shapes_);
+        static_cast<dc::ConstraintBase&>(*coulomb).update();
+        contacts.push_back(coulomb);
+        constraint = coulomb;
+      }
+      constraints.push_back(constraint);
+    }
+    group.removeAllConstraints();
+    for (const dc::ConstraintBasePtr& constraint : constraints) group.addConstraint(constraint);
+    BoxedLcpConstraintSolver::solveConstrainedGroup(group);
+    std::vector<double> normals(contacts.size());
+    for (size_t k = 0; k < contacts.size(); ++k) normals[k] = contacts[k]->normalImpulse(mTimeStep);
+    for (int pass = 0; pass < kFrictionPasses && !contacts.empty(); ++pass) {
+      for (size_t k = 0; k < contacts.size(); ++k) contacts[k]->fixFrictionBounds(normals[k]);
+      for (const auto& contact : contacts)
+        for (const dart::collision::CollisionObject* object :
+             {contact->contact().collisionObject1, contact->contact().collisionObject2})
+          std::const_pointer_cast<dd::Skeleton>(
+              object->getShapeFrame()->asShapeNode()->getBodyNodePtr()->getSkeleton())
+              ->clearConstraintImpulses();
+      BoxedLcpConstraintSolver::solveConstrainedGroup(group);
+      bool agree = true;
+      for (size_t k = 0; k < contacts.size(); ++k) {
+        const double normal = contacts[k]->normalImpulse(mTimeStep);
+        if (std::fabs(normal - normals[k]) >
+            kNormalImpulseTolerance * std::fabs(normal) + kNormalImpulseFloor)
+          agree = false;
+        normals[k] = normal;
+      }
+      if (agree) break;
+    }
+  }
+
+ private:
+  // The contact each of this step's contact constraints was made from. DART 6.12's
+  // ConstraintSolver::updateConstraints makes one, in order, for each contact of the collision
+  // result with a nonzero normal (no shape here is soft); where the counts disagree, none is
+  // matched and DART's own contacts stand.
+  std::unordered_map<const dart::constraint::ConstraintBase*, dart::collision::Contact*>
+  contactsOfConstraints() {
+    std::vector<dart::collision::Contact*> made;
+    for (size_t i = 0; i < mCollisionResult.getNumContacts(); ++i) {
+      dart::collision::Contact& contact = mCollisionResult.getContact(i);
+      if (!dart::collision::Contact::isZeroNormal(contact.normal)) made.push_back(&contact);
+    }
+    std::unordered_map<const dart::constraint::ConstraintBase*, dart::collision::Contact*> out;
+    if (made.size() != mContactConstraints.size()) return out;
+    for (size_t k = 0; k < made.size(); ++k) out[mContactConstraints[k].get()] = made[k];
+    return out;
+  }
+
+  const ShapeRefs* shapes_;
+};
 
 class DartModel : public EngineModel {
  public:
@@ -233,7 +387,8 @@ class DartModel : public EngineModel {
       }
       for (size_t s = 0; s < spec.bodies[b].shapes.size(); ++s) {
         body_shapes_[b].push_back(attachShape(bodies_[b], spec.bodies[b].shapes[s]));
-        (*shape_refs_)[body_shapes_[b].back()] = {this, b, static_cast<int>(s)};
+        (*shape_refs_)[body_shapes_[b].back()] = {{this, b, static_cast<int>(s)},
+                                                  spec.bodies[b].shapes[s].mu2};
       }
       setBodyMass(b, spec.bodies[b]);
     }
@@ -246,7 +401,7 @@ class DartModel : public EngineModel {
           skeleton_->createJointAndBodyNodePair<dd::WeldJoint>(nullptr, weld, body_properties);
       anchored_.push_back(pair.first);
       const dd::ShapeNode* node = attachShape(pair.second, spec.anchored_shapes[s]);
-      (*shape_refs_)[node] = {this, -1, static_cast<int>(s)};
+      (*shape_refs_)[node] = {{this, -1, static_cast<int>(s)}, spec.anchored_shapes[s].mu2};
       setAnchoredShapePose(static_cast<int>(s), spec.anchored_shapes[s].pose);
     }
     pending_poses_.resize(body_count);
@@ -259,7 +414,7 @@ class DartModel : public EngineModel {
     models_->erase(std::find(models_->begin(), models_->end(), this));
     world_->removeSkeleton(skeleton_);
     for (auto it = shape_refs_->begin(); it != shape_refs_->end();)
-      it = it->second.model == this ? shape_refs_->erase(it) : std::next(it);
+      it = it->second.ref.model == this ? shape_refs_->erase(it) : std::next(it);
   }
 
   // The joints' frames in their bodies: each joint's frame is at the anchor with the world's
@@ -342,16 +497,17 @@ class DartModel : public EngineModel {
     return joints_[joint].joint->getVelocity(0);
   }
 
-  // What the joint put on its child in the last step (DART's transmitted wrench, the constraint
-  // impulses of the step included), about the child's centre of mass, in world axes. Joint
-  // efforts reach the bodies as external forces (addJointEffort), so none is in it.
+  // What the joint put on its child in the last step, about the child's centre of mass, in world
+  // axes: DART's transmitted wrench (the constraint impulses of the step included), which is what
+  // the child puts on the joint, turned round. Joint efforts reach the bodies as external forces
+  // (addJointEffort), so none is in it.
   Wrench jointConstraintWrench(int joint) const override {
     if (!stepped_) return {};
     const Joint& j = joints_[joint];
     const dd::BodyNode* child = bodies_[j.spec.child];
     const Eigen::Vector6d wrench = j.joint->getWrenchToChildBodyNode(child);
     const Eigen::Matrix3d rotation = child->getWorldTransform().linear();
-    return {fromEigen(rotation * wrench.tail<3>()), fromEigen(rotation * wrench.head<3>())};
+    return {fromEigen(-rotation * wrench.tail<3>()), fromEigen(-rotation * wrench.head<3>())};
   }
 
   // As a torque (hinge) or a force along the joint's line through the child's centre of mass
@@ -543,6 +699,7 @@ class DartModel : public EngineModel {
 class DartEngine : public Engine {
  public:
   DartEngine() : world_(std::make_shared<dart::simulation::World>()) {
+    world_->setConstraintSolver(std::make_unique<CoulombSolver>(&shape_refs_));
     dart::constraint::ConstraintSolver* solver = world_->getConstraintSolver();
     solver->setCollisionDetector(dart::collision::OdeCollisionDetector::create());
     solver->getCollisionOption().collisionFilter = std::make_shared<ModelFilter>();
@@ -584,7 +741,7 @@ class DartEngine : public Engine {
       const auto a = shape_refs_.find(contact.collisionObject1->getShapeFrame());
       const auto b = shape_refs_.find(contact.collisionObject2->getShapeFrame());
       if (a == shape_refs_.end() || b == shape_refs_.end()) continue;
-      out->push_back({a->second, b->second, fromEigen(contact.point), fromEigen(contact.normal),
+      out->push_back({a->second.ref, b->second.ref, fromEigen(contact.point), fromEigen(contact.normal),
                       contact.penetrationDepth, fromEigen(contact.force)});
     }
   }
