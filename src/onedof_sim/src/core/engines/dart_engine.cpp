@@ -28,8 +28,8 @@
 // allowed penetration) and contact_max_correcting_vel map onto DART's contact constraints, erp and
 // cfm onto its joint stops. DART keeps these per process (static members of its constraint
 // classes): each step sets them from its own engine's parameters. Ignored: quick_step (DART's
-// solver is Dantzig's, PGS where it fails), sor_pgs_* (PGS's own defaults), max_contacts (ODE's
-// collision gives every point of a pair), auto_disable_bodies (nothing sleeps).
+// solver is Dantzig's, PGS where it fails), sor_pgs_* (PGS's own defaults), auto_disable_bodies
+// (nothing sleeps). max_contacts: the deepest of a pair of shapes' points that the solve takes.
 //
 // DART ends no process on bad input in a release build and throws nothing: a body it cannot step
 // comes out non-finite, which the world's rollback takes back (World::stepEngine).
@@ -63,6 +63,7 @@
 #include <limits>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "engine.h"
 #include "ode_rays.h"
@@ -218,9 +219,11 @@ class CoulombContact : public dart::constraint::ContactConstraint {
 
   const dart::collision::Contact& contact() const { return *contact_; }
 
+  // A normal impulse below 0 (rounding) or not finite bounds the friction at 0: the boxed LCP
+  // takes no bounds on the wrong side of 0.
   void fixFrictionBounds(double normal_impulse) {
     fixed_ = true;
-    normal_impulse_ = normal_impulse;
+    normal_impulse_ = normal_impulse > 0 && std::isfinite(normal_impulse) ? normal_impulse : 0;
   }
   double normalImpulse(double dt) const {
     return contact_->force.dot(contact_->normal) * dt;
@@ -281,6 +284,10 @@ class CoulombContact : public dart::constraint::ContactConstraint {
 class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
  public:
   explicit CoulombSolver(const ShapeRefs* shapes) : shapes_(shapes) {}
+  void setMaxContacts(int max_contacts) { max_contacts_ = max_contacts; }
+  // The contacts the solves since forgetSolved took in.
+  bool solved(const dart::collision::Contact* contact) const { return solved_.count(contact); }
+  void forgetSolved() { solved_.clear(); }
 
  protected:
   void solveConstrainedGroup(dart::constraint::ConstrainedGroup& group) override {
@@ -292,6 +299,8 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
       dc::ConstraintBasePtr constraint = group.getConstraint(i);
       const auto contact = contact_of.find(constraint.get());
       if (contact != contact_of.end()) {
+        if (!kept(*contact->second)) continue;
+        solved_.insert(contact->second);
         auto coulomb = std::make_shared<CoulombContact>(*contact->second, mTimeStep, *shapes_);
         static_cast<dc::ConstraintBase&>(*coulomb).update();
         contacts.push_back(coulomb);
@@ -325,7 +334,24 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
     }
   }
 
+
  private:
+  // Whether the contact is among the max_contacts deepest of its pair of shapes (a dense mesh
+  // touches the ground at hundreds of points, ODE's collision gives them all, and the boxed LCP's
+  // cost grows as their cube), as the ode engine keeps them.
+  bool kept(const dart::collision::Contact& contact) const {
+    int deeper = 0;
+    for (size_t i = 0; i < mCollisionResult.getNumContacts(); ++i) {
+      const dart::collision::Contact& other = mCollisionResult.getContact(i);
+      if (other.collisionObject1 == contact.collisionObject1 &&
+          other.collisionObject2 == contact.collisionObject2 &&
+          (other.penetrationDepth > contact.penetrationDepth ||
+           (other.penetrationDepth == contact.penetrationDepth && &other < &contact)))
+        ++deeper;
+    }
+    return deeper < max_contacts_;
+  }
+
   // The contact each of this step's contact constraints was made from. DART 6.12's
   // ConstraintSolver::updateConstraints makes one, in order, for each contact of the collision
   // result with a nonzero normal (no shape here is soft); where the counts disagree, none is
@@ -344,6 +370,8 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
   }
 
   const ShapeRefs* shapes_;
+  int max_contacts_ = 20;
+  std::unordered_set<const dart::collision::Contact*> solved_;
 };
 
 class DartModel : public EngineModel {
@@ -699,7 +727,9 @@ class DartModel : public EngineModel {
 class DartEngine : public Engine {
  public:
   DartEngine() : world_(std::make_shared<dart::simulation::World>()) {
-    world_->setConstraintSolver(std::make_unique<CoulombSolver>(&shape_refs_));
+    auto coulomb = std::make_unique<CoulombSolver>(&shape_refs_);
+    solver_ = coulomb.get();
+    world_->setConstraintSolver(std::move(coulomb));
     dart::constraint::ConstraintSolver* solver = world_->getConstraintSolver();
     solver->setCollisionDetector(dart::collision::OdeCollisionDetector::create());
     solver->getCollisionOption().collisionFilter = std::make_shared<ModelFilter>();
@@ -708,6 +738,7 @@ class DartEngine : public Engine {
   void setParams(const PhysicsParams& p) override {
     params_ = p;
     world_->setGravity(toEigen(p.gravity));
+    solver_->setMaxContacts(static_cast<int>(p.max_contacts));
   }
 
   std::unique_ptr<EngineModel> addModel(const ModelSpec& spec) override {
@@ -723,6 +754,7 @@ class DartEngine : public Engine {
   void step(double dt, std::string*, bool) override {
     for (DartModel* model : models_) model->applyPending();
     setConstraintParams();
+    solver_->forgetSolved();
     world_->setTimeStep(dt);
     world_->step(false);  // keeps the servo motors' commands
     for (DartModel* model : models_) model->markStepped();
@@ -731,13 +763,14 @@ class DartEngine : public Engine {
     stepped_ = true;
   }
 
-  // The last collision pass's contacts, with the force DART's contact constraint stored on each
-  // (on its first shape's body).
+  // The last collision pass's contacts that its solve took in, with the force DART's contact
+  // constraint stored on each (on its first shape's body).
   void contacts(std::vector<EngineContact>* out) const override {
     out->clear();
     if (!stepped_) return;
     const auto& result = world_->getConstraintSolver()->getLastCollisionResult();
     for (const dart::collision::Contact& contact : result.getContacts()) {
+      if (!solver_->solved(&contact)) continue;
       const auto a = shape_refs_.find(contact.collisionObject1->getShapeFrame());
       const auto b = shape_refs_.find(contact.collisionObject2->getShapeFrame());
       if (a == shape_refs_.end() || b == shape_refs_.end()) continue;
@@ -771,6 +804,7 @@ class DartEngine : public Engine {
 
   PhysicsParams params_;
   std::shared_ptr<dart::simulation::World> world_;
+  CoulombSolver* solver_;  // the world's
   ShapeRefs shape_refs_;  // every collision shape's ShapeRef (contacts)
   std::vector<DartModel*> models_;
   // castRays', made at its first call; destroyed before the world's collision detector closes ODE.
