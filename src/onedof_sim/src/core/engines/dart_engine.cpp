@@ -31,8 +31,12 @@
 // solver is Dantzig's, PGS where it fails), sor_pgs_* (PGS's own defaults), auto_disable_bodies
 // (nothing sleeps). max_contacts: the deepest of a pair of shapes' points that the solve takes.
 //
-// DART ends no process on bad input in a release build and throws nothing: a body it cannot step
-// comes out non-finite, which the world's rollback takes back (World::stepEngine).
+// DART's boxed LCP solver is a copy of ODE's (dart::external::ode), whose failed assertions (a
+// singular factorisation on a body of implausible inertia) end the process once their handler
+// returns. Inside a step its handler throws EngineFault instead (the engine can then only be read
+// and destroyed; World builds a new one and takes out a model the step's contacts involve). A
+// body DART otherwise cannot step comes out non-finite, which the world's rollback takes back
+// (World::stepEngine).
 #include <assimp/scene.h>
 
 #include <dart/collision/CollisionFilter.hpp>
@@ -60,6 +64,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -69,11 +75,34 @@
 #include "ode_rays.h"
 #include "onedof_sim/pose_math.h"
 
+// The handlers of DART's copy of ODE's LCP solver (dart/external/odelcpsolver/error.h, whose
+// include guard is ODE's own error.h's, so that it is not read after <ode/ode.h>).
+namespace dart {
+namespace external {
+namespace ode {
+typedef void dMessageFunction(int errnum, const char* msg, va_list ap);
+void dSetErrorHandler(dMessageFunction* fn);
+void dSetDebugHandler(dMessageFunction* fn);
+}  // namespace ode
+}  // namespace external
+}  // namespace dart
+
 namespace onedof_sim {
 namespace core {
 namespace {
 
 namespace dd = dart::dynamics;
+
+// Inside a step: an LCP solver's failed assertion throws EngineFault (see the top of the file).
+thread_local int stepping = 0;
+
+void throwLcpError(int number, const char* format, va_list args) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, args);
+  if (stepping > 0) throw EngineFault(std::string("DART's LCP solver: ") + text);
+  // Outside a step: the solver ends the process when this returns, as it would without it.
+  std::fprintf(stderr, "DART's LCP solver, error %d: %s\n", number, text);
+}
 
 // DART's smallest constraint force mixing (ContactConstraint and JointLimitConstraint warn on
 // less and take this).
@@ -287,7 +316,10 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
   void setMaxContacts(int max_contacts) { max_contacts_ = max_contacts; }
   // The contacts the solves since forgetSolved took in.
   bool solved(const dart::collision::Contact* contact) const { return solved_.count(contact); }
-  void forgetSolved() { solved_.clear(); }
+  void forgetSolved() {
+    solved_.clear();
+    middles_.clear();
+  }
 
  protected:
   void solveConstrainedGroup(dart::constraint::ConstrainedGroup& group) override {
@@ -299,7 +331,7 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
       dc::ConstraintBasePtr constraint = group.getConstraint(i);
       const auto contact = contact_of.find(constraint.get());
       if (contact != contact_of.end()) {
-        if (!kept(*contact->second)) continue;
+        if (!kept(*contact->second) || !lineMiddle(contact->second)) continue;
         solved_.insert(contact->second);
         auto coulomb = std::make_shared<CoulombContact>(*contact->second, mTimeStep, *shapes_);
         static_cast<dc::ConstraintBase&>(*coulomb).update();
@@ -336,6 +368,47 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
 
 
  private:
+  // A cylinder lying on a face touches it along a line, of which ODE's collision gives the two
+  // end points on the rims. Resolved as two points with friction, they hold the cylinder from
+  // turning about the normal (a caster wheel from swivelling: the book's base drove straight
+  // whatever its wheels turned), and the solver splits the line's load between them as it may.
+  // The line's first end becomes its middle, at the middle's depth, carrying the whole line's
+  // load and friction (the line's resultant, as the bullet engine resolves it); false for its
+  // second end, which leaves the solve. A cylinder is taken as lying when its axis is square to
+  // the normal within kLyingTilt (the sine of the angle between them).
+  bool lineMiddle(dart::collision::Contact* contact) {
+    constexpr double kLyingTilt = 0.01;
+    const dart::collision::Contact* ends[2] = {nullptr, nullptr};
+    int count = 0;
+    for (size_t i = 0; i < mCollisionResult.getNumContacts(); ++i) {
+      const dart::collision::Contact& other = mCollisionResult.getContact(i);
+      if (other.collisionObject1 != contact->collisionObject1 ||
+          other.collisionObject2 != contact->collisionObject2)
+        continue;
+      if (count < 2) ends[count] = &other;
+      ++count;
+    }
+    if (count != 2) return true;
+    const Eigen::Vector3d segment = ends[1]->point - ends[0]->point;
+    const double length = segment.norm();
+    if (ends[0]->normal.dot(ends[1]->normal) < 1 - 1e-9 || length == 0) return true;
+    for (const dart::collision::CollisionObject* object :
+         {contact->collisionObject1, contact->collisionObject2}) {
+      if (!object->getShape()->is<dd::CylinderShape>()) continue;
+      const Eigen::Vector3d axis = object->getTransform().linear().col(2);
+      if (std::fabs(axis.dot(contact->normal)) > kLyingTilt ||
+          std::fabs(segment.dot(axis)) < length * (1 - 1e-6))
+        continue;
+      if (contact == ends[1]) return false;
+      if (middles_.insert(contact).second) {  // once a step: the group may be solved again
+        contact->point = (ends[0]->point + ends[1]->point) / 2;
+        contact->penetrationDepth = (ends[0]->penetrationDepth + ends[1]->penetrationDepth) / 2;
+      }
+      return true;
+    }
+    return true;
+  }
+
   // Whether the contact is among the max_contacts deepest of its pair of shapes (a dense mesh
   // touches the ground at hundreds of points, ODE's collision gives them all, and the boxed LCP's
   // cost grows as their cube), as the ode engine keeps them.
@@ -372,6 +445,7 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
   const ShapeRefs* shapes_;
   int max_contacts_ = 20;
   std::unordered_set<const dart::collision::Contact*> solved_;
+  std::unordered_set<const dart::collision::Contact*> middles_;  // lines' ends made their middles
 };
 
 class DartModel : public EngineModel {
@@ -727,6 +801,8 @@ class DartModel : public EngineModel {
 class DartEngine : public Engine {
  public:
   DartEngine() : world_(std::make_shared<dart::simulation::World>()) {
+    dart::external::ode::dSetDebugHandler(&throwLcpError);
+    dart::external::ode::dSetErrorHandler(&throwLcpError);
     auto coulomb = std::make_unique<CoulombSolver>(&shape_refs_);
     solver_ = coulomb.get();
     world_->setConstraintSolver(std::move(coulomb));
@@ -749,14 +825,34 @@ class DartEngine : public Engine {
   // Featherstone's algorithm: linear in the joints; the LCP holds contacts, stops and motors.
   bool exactSolver(const PhysicsParams&) const override { return false; }
   bool retakesFailedSteps(const PhysicsParams&) const override { return false; }
-  std::vector<BodyRef> contactBodies() const override { return {}; }
+  // The bodies of the last collision pass's contacts: those a step that faulted can involve.
+  std::vector<BodyRef> contactBodies() const override {
+    std::vector<BodyRef> out;
+    const auto& result = world_->getConstraintSolver()->getLastCollisionResult();
+    for (const dart::collision::Contact& contact : result.getContacts())
+      for (const dart::collision::CollisionObject* object :
+           {contact.collisionObject1, contact.collisionObject2}) {
+        const auto shape = shape_refs_.find(object->getShapeFrame());
+        if (shape == shape_refs_.end() || shape->second.ref.body < 0) continue;
+        const BodyRef body{shape->second.ref.model, shape->second.ref.body};
+        if (std::find(out.begin(), out.end(), body) == out.end()) out.push_back(body);
+      }
+    return out;
+  }
 
   void step(double dt, std::string*, bool) override {
     for (DartModel* model : models_) model->applyPending();
     setConstraintParams();
     solver_->forgetSolved();
     world_->setTimeStep(dt);
-    world_->step(false);  // keeps the servo motors' commands
+    ++stepping;
+    try {
+      world_->step(false);  // keeps the servo motors' commands
+    } catch (const EngineFault&) {
+      --stepping;
+      throw;
+    }
+    --stepping;
     for (DartModel* model : models_) model->markStepped();
     for (size_t s = 0; s < world_->getNumSkeletons(); ++s)
       world_->getSkeleton(s)->clearExternalForces();
