@@ -97,11 +97,7 @@ namespace dd = dart::dynamics;
 thread_local int stepping = 0;
 
 void throwLcpError(int number, const char* format, va_list args) {
-  char text[512];
-  std::vsnprintf(text, sizeof text, format, args);
-  if (stepping > 0) throw EngineFault(std::string("DART's LCP solver: ") + text);
-  // Outside a step: the solver ends the process when this returns, as it would without it.
-  std::fprintf(stderr, "DART's LCP solver, error %d: %s\n", number, text);
+  faultFromErrorHandler("DART's LCP solver", stepping > 0, number, format, args);
 }
 
 // DART's smallest constraint force mixing (ContactConstraint and JointLimitConstraint warn on

@@ -227,11 +227,7 @@ void collectOdeMessage(int, const char* format, va_list args) {
 thread_local int trap_depth = 0;
 
 void throwOdeError(int number, const char* format, va_list args) {
-  char text[512];
-  std::vsnprintf(text, sizeof text, format, args);
-  if (trap_depth > 0) throw EngineFault(std::string("ODE internal error: ") + text);
-  // Outside an engine call: ODE ends the process when this returns, as it would without it.
-  std::fprintf(stderr, "ODE internal error %d: %s\n", number, text);
+  faultFromErrorHandler("ODE internal error", trap_depth > 0, number, format, args);
 }
 
 // Marks an engine call: an ODE internal error inside it throws EngineFault, and marks the
