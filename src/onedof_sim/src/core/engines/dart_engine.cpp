@@ -13,10 +13,10 @@
 //
 // Collision: DART's ODE collision detector (dart-collision-ode), the only one of DART's four
 // that collides every shape the seam has: boxes, spheres, cylinders, planes and triangle meshes,
-// against each other, with ODE's own box-box and cylinder-plane manifolds (several points, where
-// FCL gives one point for a box on a box, DART's own detector has no cylinders or meshes, and
-// DART's Bullet detector would bring Bullet's single-precision libraries into a process that
-// holds the bullet engine's double-precision ones under the same symbols). Bodies of one model
+// against each other, with ODE's own box-box and cylinder-plane manifolds, as the ode engine
+// collides (DART's own detector has no cylinders or meshes, and DART's Bullet detector would bring
+// Bullet's single-precision libraries into a process that holds the bullet engine's
+// double-precision ones under the same symbols; FCL, DART's default, was not tried). Bodies of one model
 // never collide (one skeleton, self-collision off), nor two anchored shapes (ModelFilter).
 // Friction follows Coulomb's law (CoulombContact, CoulombSolver): along the slip at a sliding
 // contact, within mu times the normal force the step ends with everywhere.
