@@ -43,7 +43,7 @@ APT_PACKAGES := \
   ca-certificates build-essential cmake \
   ros-core-dev python3-rospy python3-rostest python3-rosbag python3-std-srvs libstd-srvs-dev ros-robot-state-publisher rviz \
   python3-geometry-msgs python3-sensor-msgs libsensor-msgs-dev python3-nav-msgs libnav-msgs-dev libtf2-msgs-dev python3-trajectory-msgs libtrajectory-msgs-dev python3-dynamic-reconfigure libdynamic-reconfigure-config-init-mutex-dev python3-visualization-msgs python3-std-msgs python3-tf2-msgs python3-actionlib-msgs libactionlib-msgs-dev \
-  libode-dev libbullet-dev libassimp-dev liburdfdom-dev libsdformat-dev libeigen3-dev libgtest-dev \
+  libode-dev libbullet-dev libdart-dev libdart-collision-ode-dev libassimp-dev liburdfdom-dev libsdformat-dev libeigen3-dev libgtest-dev \
   libmujoco-dev \
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri \
   librviz-dev python3-interactive-markers \

@@ -11,6 +11,8 @@
 // entry in engines/registry.cpp.
 #pragma once
 
+#include <cstdarg>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -31,6 +33,17 @@ class EngineFault : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// For an engine library's error handler (a printf format and its arguments): inside an engine
+// call, throws EngineFault with `library`'s words; outside one, prints them to stderr, and the
+// library ends the process when its handler returns, as it would without one.
+inline void faultFromErrorHandler(const char* library, bool inside_call, int number,
+                                  const char* format, va_list args) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, args);
+  if (inside_call) throw EngineFault(std::string(library) + ": " + text);
+  std::fprintf(stderr, "%s, error %d: %s\n", library, number, text);
+}
 
 // Friction at a contact whose bodies slide over each other, at the step's start, faster than
 // this (m/s) is Coulomb's: mu times the normal force, against the slip, whatever its direction.

@@ -69,6 +69,7 @@
 #include <limits>
 
 #include "engine.h"
+#include "ode_rays.h"
 #include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
@@ -226,11 +227,7 @@ void collectOdeMessage(int, const char* format, va_list args) {
 thread_local int trap_depth = 0;
 
 void throwOdeError(int number, const char* format, va_list args) {
-  char text[512];
-  std::vsnprintf(text, sizeof text, format, args);
-  if (trap_depth > 0) throw EngineFault(std::string("ODE internal error: ") + text);
-  // Outside an engine call: ODE ends the process when this returns, as it would without it.
-  std::fprintf(stderr, "ODE internal error %d: %s\n", number, text);
+  faultFromErrorHandler("ODE internal error", trap_depth > 0, number, format, args);
 }
 
 // Marks an engine call: an ODE internal error inside it throws EngineFault, and marks the
@@ -497,8 +494,9 @@ class OdeEngine : public Engine {
   }
 
   ~OdeEngine() override {
+    if (faulted_) rays_.release();  // left allocated with the rest (see the top of the file)
     if (!faulted_) {
-      if (ray_) dGeomDestroy(ray_);  // in no space
+      rays_.reset();
       dJointGroupDestroy(contact_group_);
       dSpaceDestroy(space_);
       dWorldDestroy(world_);
@@ -550,27 +548,11 @@ class OdeEngine : public Engine {
     }
   }
 
-  // One dGeomRay, in no space, collided with the world's space as Gazebo's ODE ray sensor does
-  // (dSpaceCollide2, then dCollide with the closest hit of each geom).
+  // Through ODE's own ray collision, against the world's space (ode_rays.h).
   void castRays(const std::vector<Ray>& rays, std::vector<double>* distances) override {
     OdeTrap trap(&faulted_);
-    distances->assign(rays.size(), std::numeric_limits<double>::infinity());
-    if (!ray_) {
-      ray_ = dCreateRay(nullptr, 1);
-      dGeomRaySetFirstContact(ray_, 0);  // every hit, back faces too
-      dGeomRaySetBackfaceCull(ray_, 0);
-      dGeomRaySetClosestHit(ray_, 1);
-    }
-    for (size_t i = 0; i < rays.size(); ++i) {
-      const Ray& ray = rays[i];
-      if (!(ray.length > 0)) continue;
-      dGeomRaySet(ray_, ray.from.x, ray.from.y, ray.from.z, ray.direction.x, ray.direction.y,
-                  ray.direction.z);
-      dGeomRaySetLength(ray_, ray.length);
-      ray_hit_ = std::numeric_limits<double>::infinity();
-      dSpaceCollide2(ray_, reinterpret_cast<dGeomID>(space_), this, &rayCallback);
-      (*distances)[i] = ray_hit_;
-    }
+    if (!rays_) rays_ = std::make_unique<OdeRays>();
+    rays_->cast(space_, rays, distances);
   }
 
   // A step the exact solver failed is taken again from where it started with the iterative one:
@@ -613,48 +595,6 @@ class OdeEngine : public Engine {
       return;
     }
     static_cast<OdeEngine*>(data)->addContacts(a, b);
-  }
-
-  // Whether a closed primitive holds the point, inside or on its surface. A ray that starts there
-  // does not meet that shape, as Bullet's ray test does not and a GPU laser does not see the
-  // inside of a shape's faces: a lidar on a box link (the book's mobot's) starts every ray on its
-  // box's face, where ODE's ray-box test would give the face it leaves by, at distance 0.
-  static bool holdsPoint(dGeomID geom, const dVector3 point) {
-    constexpr double kOnSurface = 1e-9;  // m: a start computed onto a face lands within this
-    switch (dGeomGetClass(geom)) {
-      case dBoxClass:
-        return dGeomBoxPointDepth(geom, point[0], point[1], point[2]) >= -kOnSurface;
-      case dSphereClass:
-        return dGeomSpherePointDepth(geom, point[0], point[1], point[2]) >= -kOnSurface;
-      case dCapsuleClass:
-        return dGeomCapsulePointDepth(geom, point[0], point[1], point[2]) >= -kOnSurface;
-      case dCylinderClass: {
-        dReal radius, length;
-        dGeomCylinderGetParams(geom, &radius, &length);
-        dVector3 local;  // the cylinder's axis is its z
-        dGeomGetPosRelPoint(geom, point[0], point[1], point[2], local);
-        return std::abs(local[2]) <= length / 2 + kOnSurface &&
-               std::hypot(local[0], local[1]) <= radius + kOnSurface;
-      }
-      default:
-        return false;
-    }
-  }
-
-  static void rayCallback(void* data, dGeomID a, dGeomID b) {
-    if (dGeomIsSpace(a) || dGeomIsSpace(b)) {
-      dSpaceCollide2(a, b, data, &rayCallback);
-      return;
-    }
-    const dGeomID ray = dGeomGetClass(a) == dRayClass ? a : b;
-    dVector3 start, direction;
-    dGeomRayGet(ray, start, direction);
-    if (holdsPoint(ray == a ? b : a, start)) return;
-    dContactGeom contact;
-    if (dCollide(a, b, 1, &contact, sizeof contact) > 0) {
-      double& hit = static_cast<OdeEngine*>(data)->ray_hit_;
-      hit = std::min(hit, static_cast<double>(contact.depth));
-    }
   }
 
   void addContacts(dGeomID a, dGeomID b) {
@@ -922,8 +862,7 @@ class OdeEngine : public Engine {
   std::deque<StepContact> contacts_;  // the step's; a deque: ODE keeps pointers to the feedback
   std::vector<std::pair<double, double>> friction_bounds_;  // per contact: along fdir1, fdir2
   std::vector<dContactGeom> mesh_candidates_;
-  dGeomID ray_ = nullptr;  // castRays' ray, made at its first call
-  double ray_hit_ = 0;     // the nearest hit of the ray being cast
+  std::unique_ptr<OdeRays> rays_;  // castRays', made at its first call
 };
 
 }  // namespace

@@ -8,12 +8,14 @@ namespace core {
 
 std::unique_ptr<Engine> makeOdeEngine();
 std::unique_ptr<Engine> makeBulletEngine();
+std::unique_ptr<Engine> makeDartEngine();
 std::unique_ptr<Engine> makeMujocoEngine();
 
 const std::vector<EngineEntry>& engineRegistry() {
   static const std::vector<EngineEntry> entries{
       {"ode", makeOdeEngine},
       {"bullet", makeBulletEngine},
+      {"dart", makeDartEngine},
       {"mujoco", makeMujocoEngine},
   };
   return entries;

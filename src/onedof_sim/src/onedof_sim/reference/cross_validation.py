@@ -331,7 +331,9 @@ def markdown(figures, differences, without_slop):
         '',
         'Before the table the engines differ in how they write the joint down: pybullet\'s loader '
         'builds a multibody in joint coordinates (Featherstone), our engines receive rigid bodies '
-        'and the 1-DOF joints between them (src/core/engine.h). All step at 1 ms. On the table '
+        'and the 1-DOF joints between them (src/core/engine.h); ode and bullet step those, dart '
+        'turns them back into joint coordinates (Featherstone, as pybullet: the two agree to '
+        'rounding). All step at 1 ms. On the table '
         'they differ by how deep they let a contact sink (the depths in the first table): '
         'pybullet leaves an overlap up to its contact slop (%g m, as ODE\'s contact surface '
         'layer) uncorrected, so the link settles about that deep. With the reference\'s contact '
