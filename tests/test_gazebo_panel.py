@@ -6,19 +6,13 @@ simulator or the simulator refuses; and the simulator's rviz view (gzclient) loa
 whose buttons, pressed with xdotool through their Alt mnemonics, pause and play the world and
 insert cafe_table_0 then cafe_table_1, at a typed position or where a click in the 3D view falls."""
 import math
-import re
-import subprocess
 
 import pytest
-import yaml
 
 from api_client import ROBOT, GazeboApi
 from conftest import ENGINES, GROUND, start_sim
 from gazebo_commands import output, run
-from onedof_sim.tutorial.rviz_view import start_xvfb
-from test_rviz_sensors import WORLD_RVIZ, project
-
-PANEL_UP = 'gazebo_ros_panels: the Gazebo panel is up'
+from onedof_sim.tutorial.gazebo_window import GazeboWindow
 
 
 def actions(ros, *args, env=None):
@@ -112,49 +106,21 @@ def test_without_a_simulator_the_panel_says_so(ros):
     assert result.returncode == 1 and 'is not served' in result.stdout, output(result)
 
 
-def xdotool(display, *args):
-    return subprocess.run(['xdotool'] + list(args), env={'DISPLAY': display},
-                          capture_output=True, text=True, timeout=60)
-
-
-def press(display, window, keys):
-    """Focuses rviz's window and types keys (xdotool's names) into it."""
-    focused = xdotool(display, 'windowfocus', '--sync', window)
-    assert focused.returncode == 0, focused.stderr
-    typed = xdotool(display, 'key', '--clearmodifiers', *keys)
-    assert typed.returncode == 0, typed.stderr
-
-
-def start_gzclient(ros):
-    """gzclient (rviz on the world view) on an Xvfb of its own, once its Gazebo panel has listed
-    the model path; (its process, the display, rviz's window id)."""
-    _, display = start_xvfb(ros)
-    gzclient = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
-                         env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-    ros.wait_until(lambda: PANEL_UP in ros.log_text(gzclient), 300, what='the Gazebo panel')
-    ros.wait_until(lambda: 'gazebo_ros_panels: Insert: ' in ros.log_text(gzclient), 300,
-                   what='the panel to list the model path')
-    window = ros.wait_until(
-        lambda: xdotool(display, 'search', '--onlyvisible', '--name', 'RViz').stdout.split(),
-        120, what="rviz's window")[0]
-    return gzclient, display, window
-
-
 def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_client):
     start_sim(ros, ENGINES[0])
     api = GazeboApi(rospy_client)
-    gzclient, display, window = start_gzclient(ros)
-    log = ros.log_text(gzclient)
+    window = GazeboWindow(ros)
+    log = window.log()
     assert 'PluginlibFactory' not in log and 'Failed to load' not in log, log
 
     # Pause (Alt+U), then Play (Alt+A) once the panel shows the world paused.
-    press(display, window, ['alt+u'])
+    window.press('alt+u')
     ros.wait_until(lambda: api.get_physics_properties().pause, 60, what='the world paused')
 
     # Alt+A is Play's only once the panel has seen the pause (it asks each second): pressed until
     # the world plays; pressed again after that it does nothing (the button says Pause).
     def played():
-        press(display, window, ['alt+a'])
+        window.press('alt+a')
         try:
             return ros.wait_until(lambda: not api.get_physics_properties().pause, 3,
                                   what='the world playing')
@@ -163,58 +129,30 @@ def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_clien
     ros.wait_until(played, 120, what='the world playing again')
 
     # Insert tab (Alt+I), its model list (Alt+D), "Cafe table" chosen by typing, Insert (Alt+N).
-    press(display, window, ['alt+i', 'alt+d', 'C', 'a', 'f', 'e'])
+    window.press('alt+i', 'alt+d', 'C', 'a', 'f', 'e')
     for expected in ('cafe_table_0', 'cafe_table_1'):
-        press(display, window, ['alt+n'])
+        window.press('alt+n')
         ros.wait_until(lambda: expected in model_names(api), 60, what=expected)
     assert model_names(api) == ['cafe_table_0', 'cafe_table_1']
     # The panel says what it did (its reply may come after the model shows in the world).
-    ros.wait_until(lambda: 'gazebo_ros_panels: inserted cafe_table_1' in ros.log_text(gzclient),
+    ros.wait_until(lambda: 'gazebo_ros_panels: inserted cafe_table_1' in window.log(),
                    60, what="the panel's report of the second insert")
-    assert gzclient.poll() is None, ros.log_text(gzclient)
-
-
-def render_window(display):
-    """(x, y, width, height) of rviz's 3D view on the screen: the one unnamed native window
-    under rviz's main window (Ogre's), as xwininfo lists it."""
-    tree = subprocess.run(['xwininfo', '-root', '-tree'], env={'DISPLAY': display},
-                          capture_output=True, text=True, timeout=60).stdout
-    views = [tuple(int(v) for v in match.groups()) for match in re.finditer(
-        r'\(has no name\): \(\)\s+(\d+)x(\d+)\+-?\d+\+-?\d+\s+\+(-?\d+)\+(-?\d+)', tree)]
-    views = [(x, y, w, h) for w, h, x, y in views if w > 100 and h > 100]
-    return views[0] if len(views) == 1 else None
-
-
-def pixel_of(point, window):
-    """The screen pixel where world.rviz's view draws a point of the world, in rviz's 3D view
-    at window (x, y, width, height)."""
-    with open(WORLD_RVIZ) as f:
-        view = yaml.safe_load(f)['Visualization Manager']['Views']['Current']
-    x, y, width, height = window
-    column, row = project(view, (x, y, x + width, y + height), point)
-    return round(column), round(row)
+    assert window.gzclient.poll() is None, window.log()
 
 
 def test_a_click_in_the_view_inserts_the_chosen_model_there(ros, rospy_client):
     start_sim(ros, ENGINES[0])
     api = GazeboApi(rospy_client)
-    gzclient, display, window = start_gzclient(ros)
-    view = ros.wait_until(lambda: render_window(display), 120, what="rviz's 3D view")
-    waiting = 'gazebo_ros_panels: click in the 3D view where Cafe table goes'
+    window = GazeboWindow(ros)
     targets = (('cafe_table_0', (1.0, 0.5, 0.0)), ('cafe_table_1', (-1.0, 1.0, 0.0)))
-    for count, (expected, target) in enumerate(targets, 1):
+    for expected, target in targets:
         # Insert tab, its list, "Cafe table" typed, Insert by clicking (Alt+C), then the click.
-        press(display, window, ['alt+i', 'alt+d', 'C', 'a', 'f', 'e', 'alt+c'])
-        ros.wait_until(lambda: ros.log_text(gzclient).count(waiting) == count, 60,
-                       what='the panel to wait for a click')
-        x, y = pixel_of(target, view)
-        clicked = xdotool(display, 'mousemove', '--sync', str(x), str(y), 'click', '1')
-        assert clicked.returncode == 0, clicked.stderr
+        window.insert_by_click('Cafe', 'Cafe table', target)
         ros.wait_until(lambda: expected in model_names(api), 60, what=expected)
         position = api.get_model_state(expected, '').pose.position
         assert math.hypot(position.x - target[0], position.y - target[1]) < 0.05, position
         assert abs(position.z) < 0.05, position
-    assert gzclient.poll() is None, ros.log_text(gzclient)
+    assert window.gzclient.poll() is None, window.log()
 
 
 def test_world_tab_lists_moves_and_sets_physics(ros, rospy_client, engine):

@@ -4,31 +4,22 @@ a handle at its pose, a static one none; feedback as rviz's Interact tool sends 
 while the mouse drags, MOUSE_UP where it is released) moves the model there with zero velocity;
 the handle follows a model moved by anyone else, and goes with a deleted model; a refused move
 is logged once and the node keeps serving; started before the simulator, the node serves and
-picks the simulator up when it comes."""
+picks the simulator up when it comes. And in the simulator's window (a real rviz under Xvfb), the
+mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project to, holding the model in the
+air while the world runs, and turns it by a quarter turn on its z ring; Delete in a handle's
+right-click menu deletes its model."""
 import math
 
 import pytest
 
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
+from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, GazeboWindow, HandlesSeen,
+                                               settled)
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
 SERVER = '/gazebo_model_handles'
 HANDLES = ['rosrun', 'gazebo_ros', 'model_handles']
-
-
-class HandlesSeen:
-    """The server's markers as an rviz client sees them: the latched full state it republishes
-    after each change ({name: InteractiveMarker})."""
-
-    def __init__(self, rospy):
-        from visualization_msgs.msg import InteractiveMarkerInit
-        self.markers = None
-        self.subscriber = rospy.Subscriber(SERVER + '/update_full', InteractiveMarkerInit,
-                                           self._received, queue_size=10)
-
-    def _received(self, init):
-        self.markers = {marker.name: marker for marker in init.markers}
 
 
 class Mouse:
@@ -97,7 +88,7 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     ros.wait_until(lambda: handle_at(seen, 'box', model_pose(api, 'box')), 120,
                    what="the box's handle at the box")
     assert api.get_world_properties().model_names == ['ground_plane', 'box']
-    assert 'ground_plane' not in seen.markers  # static: no handle, as Gazebo moves none
+    assert 'ground_plane' not in seen.markers  # a plane: no handle, as Gazebo selects none
     controls = sorted(control.name for control in seen.markers['box'].controls)
     assert controls == ['move_x', 'move_y', 'move_z', 'rotate_x', 'rotate_y', 'rotate_z']
     assert seen.markers['box'].header.frame_id == 'world'
@@ -187,3 +178,94 @@ def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rosp
     ros.wait_until(lambda: not rosnode.rosnode_ping(SERVER, max_count=1), 120,
                    what='the handles stopped with the view')
     ros.terminate(xvfb)
+
+
+def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_box('box', pose(1.0, 0.0, 0.1))
+    api.spawn_box('kept', pose(-1.0, 1.0, 0.1))
+    window = GazeboWindow(ros)
+    window.show_handles()
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.1)), 120,
+                   what="the box's handle")
+    assert seen.markers['box'].menu_entries[0].title == 'Delete'
+    window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
+    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), 1)
+    ros.wait_until(lambda: 'box' not in api.get_world_properties().model_names, 60,
+                   what='the box deleted')
+    assert api.get_world_properties().model_names == ['ground_plane', 'kept']
+    ros.wait_until(lambda: 'box' not in seen.markers, 60, what="the box's handle gone")
+    assert window.gzclient.poll() is None, window.log()
+    window.stop()
+
+
+# Metres from the centre of a turn where the mouse releases the ring.
+TURN_TO = 1.5
+
+
+def yaw_of(orientation):
+    return 2 * math.atan2(orientation.z, orientation.w)
+
+
+def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_path):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_box('box', pose(1.0, 0.0, 0.5))  # in the air: it falls unless held
+    window = GazeboWindow(ros)
+    window.show_handles()
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.5)), 120,
+                   what="the box's handle")
+    window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
+
+    # The x arrow's head pressed and moved by the pixels 0.3 m along x project to, and held.
+    window.press_and_move((1.0 + ARROW_GRAB, 0, 0.5), (1.3 + ARROW_GRAB, 0, 0.5))
+    ros.wait_until(lambda: abs(model_pose(api, 'box').position.x - 1.3) < 0.02, 60,
+                   what='the box following the mouse')
+    # Held while the world runs a second: it does not fall (a free box would reach the ground in
+    # a third of that; held without gravity, it does not sag between the handles' re-sends).
+    api.unpause_physics()
+    start = api.get_world_properties().sim_time
+    lowest = []
+
+    def ran_a_second():
+        lowest.append(model_pose(api, 'box').position.z)
+        return api.get_world_properties().sim_time > start + 1.0
+    ros.wait_until(ran_a_second, 120, interval=0.01, what='a second of sim time')
+    api.pause_physics()
+    assert min(lowest) > 0.499, min(lowest)
+    window.release()
+    ros.wait_until(lambda: not any(twist_of(api, 'box')), 60, what='the box let go at rest')
+    held = model_pose(api, 'box').position
+    assert abs(held.x - 1.3) < 0.02 and abs(held.y) < 0.02, held
+    ros.wait_until(lambda: handle_at(seen, 'box', model_pose(api, 'box')), 60,
+                   what='the handle at the released box')
+
+    # The z ring taken on the side facing the camera and turned a quarter turn about the box.
+    centre = model_pose(api, 'box').position
+    half = math.sqrt(0.5) * RING_GRAB
+    # The mouse leaves the ring for a point far out in the plane: where it lets go, the turn
+    # depends least on which pixel it is.
+    far = math.sqrt(0.5) * TURN_TO
+    window.press_and_move((centre.x - half, centre.y - half, centre.z),
+                          (centre.x + far, centre.y - far, centre.z))
+    def yaw():
+        return math.degrees(yaw_of(model_pose(api, 'box').orientation))
+    ros.wait_until(lambda: yaw() > 45, 120, interval=0.1, what='the box turning with the ring')
+    turned = settled(ros, yaw, 'the box to follow the ring to where the mouse stopped')
+    window.release()
+    print('the mouse moved the box %.4f m for 0.3 m, held it no lower than %.4f m (from 0.5 m), '
+          'turned it %.2f degrees for 90' % (held.x - 1.0, min(lowest), turned))
+    assert abs(turned - 90) < 2, turned
+    assert window.gzclient.poll() is None, window.log()
+    window.stop()
+
+
+def twist_of(api, name):
+    twist = api.get_model_state(name, '').twist
+    return (twist.linear.x, twist.linear.y, twist.linear.z,
+            twist.angular.x, twist.angular.y, twist.angular.z)

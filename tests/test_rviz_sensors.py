@@ -12,7 +12,6 @@ world.rviz's displays and no other. The book's way works too: the user's own rvi
 LaserScan display on /scan and fixed frame base_link (as the book's mobot_w_lidar.rviz has them)
 shows the same points.
 """
-import math
 import os
 import subprocess
 
@@ -22,6 +21,7 @@ import yaml
 from api_client import ROBOT, GazeboApi, pose
 from conftest import ENGINES, TUTORIAL_URDF, start_sim
 from gazebo_commands import start_serving
+from onedof_sim.tutorial.gazebo_window import orbit_pixel
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_camera import BOX, DISTANCE, KINECT, box_sdf, kinect_bot_urdf
 from test_diff_drive import drive_base_urdf
@@ -130,33 +130,11 @@ def render_panel(png):
     return (int(np.argmax(background)), PANEL_TOP, PANEL_RIGHT, PANEL_BOTTOM)
 
 
-def project(view, panel, point):
-    """The pixel (x, y) of the screenshot where rviz's orbit view (a config's Views: Current)
-    draws a point of the fixed frame: the camera at Distance from the Focal Point, at Yaw about
-    z and Pitch above the x-y plane, looking at it with z up; OGRE's vertical field of view,
-    45 degrees, over the render panel."""
-    focal = np.array([view['Focal Point'][axis] for axis in 'XYZ'], dtype=float)
-    yaw, pitch = view['Yaw'], view['Pitch']
-    eye = focal + view['Distance'] * np.array([math.cos(yaw) * math.cos(pitch),
-                                               math.sin(yaw) * math.cos(pitch), math.sin(pitch)])
-    forward = (focal - eye) / np.linalg.norm(focal - eye)
-    right = np.cross(forward, [0, 0, 1])
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    offset = np.array(point, dtype=float) - eye
-    depth = offset @ forward
-    x0, y0, x1, y1 = panel
-    half_height = math.tan(math.pi / 8) * depth
-    half_width = half_height * (x1 - x0) / (y1 - y0)
-    return (x0 + (x1 - x0) / 2 * (1 + (offset @ right) / half_width),
-            y0 + (y1 - y0) / 2 * (1 - (offset @ up) / half_height))
-
-
 def region_around(config_text, panel, points):
     """The screenshot region (x0, y0, x1, y1) around where points project in the view of an rviz
     config drawn in panel, MARGIN pixels wider on every side."""
     view = yaml.safe_load(config_text)['Visualization Manager']['Views']['Current']
-    pixels = [project(view, panel, point) for point in points]
+    pixels = [orbit_pixel(view, panel, point) for point in points]
     xs, ys = [x for x, _ in pixels], [y for _, y in pixels]
     return (int(min(xs)) - MARGIN, int(min(ys)) - MARGIN, int(max(xs)) + MARGIN + 1,
             int(max(ys)) + MARGIN + 1)

@@ -6,6 +6,8 @@
 #include <QTabWidget>
 #include <QVBoxLayout>
 #include <pluginlib/class_list_macros.hpp>
+#include <rviz/display.h>
+#include <rviz/display_group.h>
 #include <rviz/visualization_manager.h>
 #include <rviz/tool.h>
 #include <rviz/tool_manager.h>
@@ -22,6 +24,11 @@ namespace gazebo_ros_panels {
 namespace {
 
 const QString kInsertHereTool = "gazebo_ros_panels/InsertHere";  // plugin_description.xml
+const QString kInteractTool = "rviz/Interact";
+// The display of the model handles (gazebo_ros.model_handles) in gazebo_ros' world.rviz.
+const QString kHandlesDisplay = "Move models";
+const QString kHandlesClass = "rviz/InteractiveMarkers";
+const QString kHandlesTopic = "/gazebo_model_handles/update";
 
 // A tab's content in a scroll area: the panel fits whatever height rviz's dock leaves it.
 QScrollArea* scrollable(QWidget* content) {
@@ -53,11 +60,17 @@ void GazeboPanel::onInitialize() {
   tabs->addTab(scrollable(time_), "Ti&me");
   tabs->addTab(scrollable(insert_), "&Insert");
   tabs->addTab(scrollable(world_), "&World");
+  // Gazebo's T (translate mode); Alt+T here, as the panel's other buttons.
+  auto* move_models = new QPushButton("Move models (&T)");
+  move_models->setToolTip("Gazebo's translate and rotate modes: arrows and rings on each "
+                          "model, dragged with rviz's Interact tool; pressed again, hidden");
+  connect(move_models, &QPushButton::clicked, this, &GazeboPanel::toggleMoveModels);
   status_ = new QLabel;
   status_->setWordWrap(true);
   status_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(status_);
+  layout->addWidget(move_models);
   layout->addWidget(tabs, 1);
 
   connect(&refresh_timer_, &QTimer::timeout, this, &GazeboPanel::refresh);
@@ -84,13 +97,43 @@ void GazeboPanel::shareTheDisplaysPlace() {
   }
 }
 
-void GazeboPanel::chooseInsertPoint() {
+void GazeboPanel::useTool(const QString& class_id) {
   rviz::ToolManager* tools = vis_manager_->getToolManager();
-  rviz::Tool* insert_here = nullptr;
-  for (int i = 0; i < tools->numTools() && !insert_here; ++i)
-    if (tools->getTool(i)->getClassId() == kInsertHereTool) insert_here = tools->getTool(i);
-  if (!insert_here) insert_here = tools->addTool(kInsertHereTool);
-  if (insert_here) tools->setCurrentTool(insert_here);
+  rviz::Tool* tool = nullptr;
+  for (int i = 0; i < tools->numTools() && !tool; ++i)
+    if (tools->getTool(i)->getClassId() == class_id) tool = tools->getTool(i);
+  if (!tool) tool = tools->addTool(class_id);
+  if (tool) tools->setCurrentTool(tool);
+}
+
+void GazeboPanel::chooseInsertPoint() { useTool(kInsertHereTool); }
+
+rviz::Display* GazeboPanel::handlesDisplay(bool add) {
+  rviz::DisplayGroup* displays = vis_manager_->getRootDisplayGroup();
+  for (int i = 0; i < displays->numDisplays(); ++i) {
+    rviz::Display* display = displays->getDisplayAt(i);
+    if (display->getClassId() == kHandlesClass && display->getName() == kHandlesDisplay)
+      return display;
+  }
+  if (!add) return nullptr;
+  rviz::Display* display = vis_manager_->createDisplay(kHandlesClass, kHandlesDisplay, false);
+  if (display) display->subProp("Update Topic")->setValue(kHandlesTopic);
+  return display;
+}
+
+void GazeboPanel::toggleMoveModels() {
+  // The display's own state decides: it may have been ticked in rviz's Displays panel.
+  const rviz::Display* shown = handlesDisplay(false);
+  const bool on = !(shown && shown->isEnabled());
+  rviz::Display* display = handlesDisplay(on);
+  if (!display) return;
+  display->setEnabled(on);
+  if (!on) {
+    report("models shown without their handles");
+    return;
+  }
+  useTool(kInteractTool);
+  report("drag a model's arrows and rings in the 3D view");
 }
 
 void GazeboPanel::report(const QString& text) {

@@ -1,5 +1,6 @@
 // The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
-// gazebo_ros services (GazeboClient), with a line saying what the last action did or why not.
+// gazebo_ros services (GazeboClient), Gazebo's translate/rotate mode as a button that toggles it,
+// and a line saying what the last action did or why not.
 #pragma once
 
 #include <QLabel>
@@ -7,6 +8,10 @@
 #include <rviz/panel.h>
 
 #include <memory>
+
+namespace rviz {
+class Display;
+}
 
 namespace gazebo_ros_panels {
 
@@ -26,7 +31,12 @@ class GazeboPanel : public rviz::Panel {
   void report(const QString& text);
   void refresh();         // the clock's figures and the model states, several times a second
   void askForPhysics();   // the pause state and the physics, unless a call is under way
-  void chooseInsertPoint();  // rviz's Insert Here tool made current (added if it is not there)
+  void useTool(const QString& class_id);  // the rviz tool made current (added if not there)
+  void chooseInsertPoint();  // rviz's Insert Here tool made current
+  // Gazebo's translate and rotate modes, on and off: the model handles' display shown (added if
+  // the view has none) and rviz's Interact tool made current, or the handles hidden.
+  void toggleMoveModels();
+  rviz::Display* handlesDisplay(bool add);  // the model handles' display, nullptr if none
   // Tabbed with rviz's Displays panel in its dock, raised (as Gazebo's World and Insert tabs
   // share its left panel): the sensors' image panels docked below keep their room. A saved
   // window state (rviz's config) places it as saved.

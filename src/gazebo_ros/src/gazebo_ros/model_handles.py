@@ -1,19 +1,25 @@
 """Gazebo's translate and rotate modes in the simulator's rviz view: an interactive marker server
-(topics under /gazebo_model_handles, the node /gazebo_model_handles) with one handle per
-non-static model of /gazebo/model_states, at the model's pose: arrows along the world's x, y and z
-(translate) and rings about them (rotate), dragged with rviz's Interact tool. world.rviz's "Move
-models" display shows them; it starts unticked, as Gazebo starts in its select mode, so that the
-picture of the world is the world's until the user asks for the handles.
+(topics under /gazebo_model_handles, the node /gazebo_model_handles) with one handle per model of
+/gazebo/model_states but the ground plane, at the model's pose: arrows along the world's x, y and z
+(translate) and rings about them (rotate), dragged with rviz's Interact tool. Static models have
+handles too (Gazebo moves a static model, the cafe table a student places, with the mouse); the
+ground plane has none, as Gazebo selects no plane. world.rviz's "Move models" display shows them
+(the Gazebo panel's "Move models" button ticks it); it starts unticked, as Gazebo starts in its
+select mode, so that the picture of the world is the world's until the user asks for the handles.
 
 A handle follows its model while it is not dragged (at most FOLLOW_HZ times a wall second, and only
 when the model moved): the poses of /gazebo/model_states, or, while none has come for STALE_S (a
 paused world publishes none, as Gazebo's), those /gazebo/get_world_properties and
-/gazebo/get_model_state answer, so that a model inserted or moved in a paused world is handled. While a handle is dragged, the model is held where the mouse puts it: the
-dragged pose, with zero velocity, through /gazebo/set_model_state at most DRAG_HZ times a wall
-second, sent again at that rate while the mouse is down so the model does not fall meanwhile; the
-pose where the mouse is released is sent last, and the model is let go with zero velocity.
+/gazebo/get_model_state answer, so that a model inserted or moved in a paused world is handled.
+While a handle is dragged, the model is held where the mouse puts it, as Gazebo holds a dragged
+model: its links' gravity off (/gazebo/set_link_properties, those whose gravity_mode is on) and
+the dragged pose, with zero velocity, through /gazebo/set_model_state at most DRAG_HZ times a wall
+second, sent again at that rate while the mouse is down; the pose where the mouse is released is
+sent last, then the links' gravity is back on, and the model is let go with zero velocity.
 
-No simulator, or a refused move, is logged once per reason; the node keeps serving.
+A handle's right-click menu has Gazebo's Delete (/gazebo/delete_model).
+
+No simulator, or a refused move or delete, is logged once per reason; the node keeps serving.
 """
 import math
 import sys
@@ -25,9 +31,14 @@ NODE_NAME = 'gazebo_model_handles'
 MODEL_STATES = '/gazebo/model_states'
 SET_MODEL_STATE = '/gazebo/set_model_state'
 GET_MODEL_PROPERTIES = '/gazebo/get_model_properties'
+DELETE_MODEL = '/gazebo/delete_model'
+GET_LINK_PROPERTIES = '/gazebo/get_link_properties'
+SET_LINK_PROPERTIES = '/gazebo/set_link_properties'
 GET_WORLD_PROPERTIES = '/gazebo/get_world_properties'
 GET_MODEL_STATE = '/gazebo/get_model_state'
 FRAME = 'world'
+# The world's plane: Gazebo's ground_plane model, which Gazebo's mouse neither selects nor moves.
+GROUND_PLANE = 'ground_plane'
 FOLLOW_HZ = 10.0
 DRAG_HZ = 20.0
 # A handle is moved to its model once the model is this far (m, rad) from the handle.
@@ -82,32 +93,86 @@ class ServiceUnavailable(Exception):
     """A simulator's service that is not served, or failed to answer."""
 
 
+def said_once(log):
+    """log(text), each text once."""
+    said = set()
+
+    def say_once(text):
+        if text not in said:
+            said.add(text)
+            log(text)
+    return say_once
+
+
+class GravityHold:
+    """Turns the gravity of a model's links off while the mouse holds it, and back on. The
+    simulator's calls are get_model_properties(name), get_link_properties(link) and
+    set_link_properties(request) (gazebo_msgs' services), each raising ServiceUnavailable when it
+    cannot be made; say_once(text) says a problem."""
+
+    def __init__(self, get_model_properties, get_link_properties, set_link_properties, say_once):
+        self.get_model_properties = get_model_properties
+        self.get_link_properties = get_link_properties
+        self.set_link_properties = set_link_properties
+        self.say_once = say_once
+
+    def hold(self, name):
+        """Gravity off on model `name`'s links that have it; returns what let_go needs."""
+        held = []
+        try:
+            model = self.get_model_properties(name)
+            for body in model.body_names if model.success else ():
+                link = '%s::%s' % (name, body)
+                properties = self.get_link_properties(link)
+                if properties.success and properties.gravity_mode:
+                    if self._set_gravity(link, properties, False):
+                        held.append((link, properties))
+        except ServiceUnavailable as error:
+            self.say_once('cannot hold %s without gravity: %s' % (name, error))
+        return held
+
+    def let_go(self, held):
+        """Gravity back on where hold() turned it off."""
+        for link, properties in held:
+            try:
+                self._set_gravity(link, properties, True)
+            except ServiceUnavailable as error:
+                self.say_once('cannot give %s its gravity back: %s' % (link, error))
+
+    def _set_gravity(self, link, properties, on):
+        from gazebo_msgs.srv import SetLinkPropertiesRequest
+        result = self.set_link_properties(SetLinkPropertiesRequest(
+            link_name=link, com=properties.com, gravity_mode=on, mass=properties.mass,
+            ixx=properties.ixx, ixy=properties.ixy, ixz=properties.ixz, iyy=properties.iyy,
+            iyz=properties.iyz, izz=properties.izz))
+        if not result.success:
+            self.say_once('%s refused gravity %s on %s: %s' % (
+                SET_LINK_PROPERTIES, 'on' if on else 'off', link, result.status_message))
+        return result.success
+
+
 class ModelHandles:
     """The handles of the simulator's models on `server` (an InteractiveMarkerServer). The
-    simulator's calls are `get_properties(name)` (a GetModelProperties response),
-    `set_state(ModelState)` (a SetModelState response) and `ask_poses()` ({name: Pose}); each
-    raises ServiceUnavailable when it cannot be made. `log(text)` says a problem."""
+    simulator's calls are `set_state(ModelState)` (a SetModelState response) and `ask_poses()`
+    ({name: Pose}); each raises ServiceUnavailable when it cannot be made. `gravity` (a
+    GravityHold) holds a dragged model up. `menu` (an interactive_markers MenuHandler, or None)
+    is each handle's right-click menu. `say_once(text)` says a problem (said_once)."""
 
-    def __init__(self, server, get_properties, set_state, ask_poses, log):
+    def __init__(self, server, set_state, ask_poses, gravity, say_once, menu=None):
         self.server = server
-        self.get_properties = get_properties
         self.set_state = set_state
         self.ask_poses = ask_poses
-        self.log = log
-        self.logged = set()
+        self.gravity = gravity
+        self.say_once = say_once
+        self.menu = menu
         self.lock = threading.Lock()
         self.latest = None        # the latest model_states, serialised
         self.latest_at = -math.inf  # and the wall time it came
-        self.is_static = {}       # name -> bool, asked once per model
         self.shown = {}           # name -> the Pose its handle was last put at (None: released)
         self.dragged = {}         # name -> the Pose the mouse holds it at
         self.to_send = {}         # name -> a dragged or released Pose not yet sent
         self.last_sent = {}       # name -> wall time of the last move sent
-
-    def say_once(self, text):
-        if text not in self.logged:
-            self.logged.add(text)
-            self.log(text)
+        self.held = {}            # name -> its links held without gravity (send_moves' own)
 
     def on_model_states(self, raw):
         """Keeps the latest /gazebo/model_states undecoded (a rospy.AnyMsg): the simulator may
@@ -144,19 +209,6 @@ class ModelHandles:
                 self.shown[name] = None  # put at its model's pose once the release is sent
                 self.last_sent.pop(name, None)  # the release is sent at once
 
-    def _static(self, name):
-        """Whether model `name` is static; None while the simulator does not answer."""
-        if name not in self.is_static:
-            try:
-                properties = self.get_properties(name)
-            except ServiceUnavailable as error:  # said once, asked again on the next look
-                self.say_once('cannot ask %s about %s: %s' % (GET_MODEL_PROPERTIES, name, error))
-                return None
-            if not properties.success:
-                return None  # a model deleted meanwhile
-            self.is_static[name] = properties.is_static
-        return self.is_static[name]
-
     def follow(self, now):
         """Adds, moves and erases handles after the simulator's current poses."""
         poses = self.current_poses(now)
@@ -167,16 +219,16 @@ class ModelHandles:
             with self.lock:
                 for table in (self.shown, self.dragged, self.to_send, self.last_sent):
                     table.pop(name, None)
-        for name in [name for name in self.is_static if name not in poses]:
-            del self.is_static[name]
         for name, pose in poses.items():
-            if self._static(name) is not False:
+            if name == GROUND_PLANE:
                 continue
             with self.lock:
                 if name in self.dragged or name in self.to_send:
                     continue
                 if name not in self.shown:
                     self.server.insert(handle_marker(name, pose), self.on_feedback)
+                    if self.menu:
+                        self.menu.apply(self.server, name)
                 elif (self.shown[name] is None or
                       pose_distance(pose, self.shown[name]) > FOLLOW_TOLERANCE):
                     self.server.setPose(name, pose)
@@ -190,6 +242,10 @@ class ModelHandles:
         """Sends each dragged or released pose whose model was last moved at least 1 / DRAG_HZ
         ago; a model still held is sent its pose again at that rate."""
         from gazebo_msgs.msg import ModelState
+        with self.lock:
+            to_hold = [name for name in self.dragged if name not in self.held]
+        for name in to_hold:
+            self.held[name] = self.gravity.hold(name)
         with self.lock:
             for name, pose in self.dragged.items():
                 self.to_send.setdefault(name, pose)
@@ -208,6 +264,31 @@ class ModelHandles:
             if not result.success:
                 self.say_once('%s refused to move %s: %s'
                               % (SET_MODEL_STATE, name, result.status_message))
+        with self.lock:
+            released = [name for name in self.held
+                        if name not in self.dragged and name not in self.to_send]
+        for name in released:
+            self.gravity.let_go(self.held.pop(name))
+
+
+def model_menu(delete, say_once):
+    """A handle's right-click menu (an interactive_markers MenuHandler): Delete, through
+    delete(name) (a DeleteModel call that raises ServiceUnavailable when it cannot be made)."""
+    from interactive_markers.menu_handler import MenuHandler
+    menu = MenuHandler()
+
+    def on_delete(feedback):
+        try:
+            result = delete(feedback.marker_name)
+        except ServiceUnavailable as error:
+            say_once('cannot delete %s through %s: %s' % (feedback.marker_name, DELETE_MODEL,
+                                                           error))
+            return
+        if not result.success:
+            say_once('%s refused to delete %s: %s' % (DELETE_MODEL, feedback.marker_name,
+                                                      result.status_message))
+    menu.insert('Delete', callback=on_delete)
+    return menu
 
 
 def proxy_call(rospy, service, service_class):
@@ -256,17 +337,22 @@ def keep_wall_time(rospy):
 
 def main(argv):
     import rospy
-    from gazebo_msgs.srv import (GetModelProperties, GetModelState, GetWorldProperties,
+    from gazebo_msgs.srv import (DeleteModel, GetLinkProperties, GetModelProperties,
+                                 GetModelState, GetWorldProperties, SetLinkProperties,
                                  SetModelState)
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
     rospy.init_node(NODE_NAME, argv=argv)
     keep_wall_time(rospy)
     server = InteractiveMarkerServer(SERVER_TOPIC)
-    handles = ModelHandles(server, proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
-                           proxy_call(rospy, SET_MODEL_STATE, SetModelState),
+    say_once = said_once(lambda text: rospy.logwarn('model handles: %s', text))
+    gravity = GravityHold(proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
+                          proxy_call(rospy, GET_LINK_PROPERTIES, GetLinkProperties),
+                          proxy_call(rospy, SET_LINK_PROPERTIES, SetLinkProperties), say_once)
+    handles = ModelHandles(server, proxy_call(rospy, SET_MODEL_STATE, SetModelState),
                            asked_poses(proxy_call(rospy, GET_WORLD_PROPERTIES, GetWorldProperties),
                                        proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
-                           lambda text: rospy.logwarn('model handles: %s', text))
+                           gravity, say_once,
+                           model_menu(proxy_call(rospy, DELETE_MODEL, DeleteModel), say_once))
     rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).

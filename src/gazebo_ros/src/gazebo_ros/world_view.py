@@ -12,7 +12,7 @@ world without sensors shows exactly world.rviz.
 
 Beside rviz the view runs the model handles (gazebo_ros.model_handles, the node
 /gazebo_model_handles): Gazebo's translate and rotate modes as interactive markers on every
-non-static model, world.rviz's "Move models" display; it stops with rviz.
+model but the ground plane, world.rviz's "Move models" display; it stops with rviz.
 
 Scans and point clouds are drawn where TF puts their frames relative to `world`, as in any rviz:
 robot_state_publisher places a robot's links (a URDF rooted at a link named `world` is placed

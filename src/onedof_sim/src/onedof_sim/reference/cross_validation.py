@@ -41,7 +41,7 @@ SWING_SECONDS = 10.0
 ENERGY_START = 1.0       # rad
 ENERGY_SECONDS = 10.0
 HOLDING_ANGLES = (1.0, 2.0)
-TABLE_PHASE = next(index for index, phase in enumerate(PHASES) if phase.before is not None)
+TABLE_PHASE = next(index for index, phase in enumerate(PHASES) if phase.table is not None)
 # The last part of a phase over which its settled angle is averaged.
 SETTLED_WINDOW = 0.5
 # The aims for the RMS difference of an engine's q(t) from the reference's, per part of
@@ -202,7 +202,7 @@ def closed_form_figures(engine, phase_seconds=PHASE_SECONDS, scenario=None):
                               holding_effort(engine, q), -physics.gravity_torque(q)))
     scenario = scenario or engine.scenario(phase_seconds)
     for index, phase in enumerate(PHASES):
-        if phase.before is None and phase.command:
+        if phase.table is None and phase.command:
             figures.append(Figure(name, 'settled angle, command %g' % phase.command, 'rad',
                                   settled(scenario, index, phase_seconds),
                                   physics.settled_angle(phase.command)))

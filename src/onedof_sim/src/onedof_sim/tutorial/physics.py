@@ -15,7 +15,6 @@ import xml.etree.ElementTree as ElementTree
 
 import rospkg
 
-from onedof_sim.tutorial.phases import SPAWN_TABLE, TABLE_X
 
 ROBOT_URDF = os.path.join(rospkg.RosPack().get_path('minimal_robot_description'),
                           'minimal_robot_description.urdf')
@@ -168,8 +167,8 @@ def tip_rim(q):
 def pd_prediction(phase, settled):
     """(predicted angle, predicted holding torque) of the rospy PD controller: where
     Kp (c - q) + m g d sin q = 0; on the table, at rest (rate 0), Kp times the remaining error."""
-    if phase.before is SPAWN_TABLE:
-        return table_contact_angle(TABLE_X), KP * (phase.command - settled)
+    if phase.table:
+        return table_contact_angle(phase.table[0]), KP * (phase.command - settled)
     predicted = settled_angle(phase.command)
     return predicted, -gravity_torque(predicted)
 
@@ -180,8 +179,8 @@ def pid_prediction(gains):
     torque; on the table the integral winds up to its clamp, so the torque is p times the
     remaining error plus i_clamp_max."""
     def predict(phase, settled):
-        if phase.before is SPAWN_TABLE:
-            return (table_contact_angle(TABLE_X),
+        if phase.table:
+            return (table_contact_angle(phase.table[0]),
                     gains['p'] * (phase.command - settled) + gains['i_clamp_max'])
         return phase.command, -gravity_torque(phase.command)
     return predict

@@ -1,6 +1,10 @@
 """The main job: plays the tutorial headless on a private ROS graph and writes what a student would
 look at. The steps are the tutorial's: launch the simulator with the robot, run the controller,
 command 1.0 then 2.0, bring the arm upright (0), insert the cafe table at x = 0.85, command 2.5.
+With gui_table the simulator's window (gzclient) is open throughout, and the table goes in as the
+tutorial's student puts it: inserted through the window's Insert tab by a click on the ground,
+then dragged to x = 0.85 by its handle's arrow with the mouse (gazebo_window), a screenshot of
+the window after each step.
 Each phase lasts a fixed span of sim time; the recorder keeps every sample for the plots, the CSV
 and the per-phase figures.
 
@@ -34,12 +38,13 @@ import time
 
 from onedof_harness.private_ros import PrivateRos
 from onedof_harness.rospy_shutdown import shut_down_rospy
-from onedof_sim.tutorial.phases import CONTROL_PERIOD, PHASES
+from onedof_sim.tutorial.gazebo_window import WINDOW_SHOTS, GazeboWindow, place_table_by_mouse
+from onedof_sim.tutorial.phases import CONTROL_PERIOD, PHASES, with_table_at
 from onedof_sim.tutorial.physics import pid_prediction
 from onedof_sim.tutorial.recorders import JointStatesRecorder, Recorder
 from onedof_sim.tutorial.runs import (IN_SIM_COMMAND, IN_SIM_PHASE_DURATION, IN_SIM_SAMPLE_PERIOD,
                                       FreeRun, InSimRun, LockstepRun, book_pid_gains, play_phases,
-                                      say)
+                                      run_before, say)
 from onedof_sim.tutorial.rviz_view import RvizView
 from onedof_sim.tutorial.summary import summary_markdown
 
@@ -55,7 +60,7 @@ LOCKSTEP_TIMEOUT = 30
 # stays beside its outputs, and nothing else of a folder the user named.
 SCREENSHOT = 'rviz_final.png'
 WHOLE_RUN_OUTPUTS = ('tutorial.png', 'samples.csv', SCREENSHOT, 'summary.md', 'summary.json',
-                     'in_sim_samples.csv')
+                     'in_sim_samples.csv') + WINDOW_SHOTS
 PHASE_OUTPUTS = ('phase%d_%s.png', 'phase%d_%s_pd_vs_pid.png')
 
 
@@ -131,8 +136,10 @@ def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, 
     os.makedirs(os.path.dirname(result_path), exist_ok=True)
     # A process of our Python started as play_tutorial is: the same imports (onedof_sim's
     # generated messages with it), its own rospy node, its log lines on our output.
+    table = next((phase.table for phase in phases if phase.table), (0.0, 0.0, 0.0))
     subprocess.run([sys.executable, '-m', 'onedof_sim.tutorial.player', result_path,
-                    physics_engine, repr(phase_duration), str(len(phases))], check=False)
+                    physics_engine, repr(phase_duration), str(len(phases))] +
+                   [repr(v) for v in table], check=False)
     try:
         with open(result_path) as f:
             result = json.load(f)
@@ -156,13 +163,14 @@ def play_in_sim_beside(output, physics_engine, phase_duration, phases, pd_rows, 
 
 
 def in_sim_main(argv):
-    """`python -m onedof_sim.tutorial.player RESULT_JSON PHYSICS DURATION PHASES`: play_in_sim
-    of the first PHASES phases, its logs beside RESULT_JSON, its rows and series (or the error)
-    into it."""
-    result_path, physics_engine, phase_duration, phase_count = argv
+    """`python -m onedof_sim.tutorial.player RESULT_JSON PHYSICS DURATION PHASES TABLE_X TABLE_Y
+    TABLE_Z`: play_in_sim of the first PHASES phases, the table at (TABLE_X, TABLE_Y, TABLE_Z),
+    its logs beside RESULT_JSON, its rows and series (or the error) into it."""
+    result_path, physics_engine, phase_duration, phase_count = argv[:4]
+    phases = with_table_at(PHASES[:int(phase_count)], *(float(v) for v in argv[4:]))
     try:
         rows, series, whole = play_in_sim(os.path.dirname(result_path), physics_engine,
-                                          float(phase_duration), PHASES[:int(phase_count)])
+                                          float(phase_duration), phases)
         result = dict(rows=rows, series=series, whole=whole)
     except (RuntimeError, TimeoutError) as error:
         result = dict(error=str(error))
@@ -172,14 +180,17 @@ def in_sim_main(argv):
 
 def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=False,
          real_time_factor=1.0, phases=PHASES, in_sim_phase_duration=IN_SIM_PHASE_DURATION,
-         figures=True):
-    """Plays the tutorial's `phases` (a leading part of PHASES: each starts where the one before
-    left the arm), in lock-step unless free_run (then paced at real_time_factor), then (unless
-    in_sim_phase_duration is 0) the same phases through the in-simulator PID; returns the
-    rospy controller's per-phase summary rows; without figures it draws no plot (for a caller
-    that reads the summary alone). Starts by clearing what an earlier run wrote into `output`
-    (clear_outputs). Raises with the reason on failure; raises MissingOutputs after writing
-    every other output when the rviz screenshot could not be taken."""
+         figures=True, gui_table=False):
+    """Plays the tutorial's `phases` (a leading part of PHASES, or of with_table_at(PHASES, ...):
+    each starts where the one before left the arm), in lock-step unless free_run (then paced at
+    real_time_factor), then (unless in_sim_phase_duration is 0) the same phases through the
+    in-simulator PID; returns the rospy controller's per-phase summary rows; without figures it
+    draws no plot (for a caller that reads the summary alone). With gui_table the table goes in
+    through the simulator's window (see the module's doc; its screenshots replace the rviz
+    screenshot), and the phases after it play with the table where the mouse left it. Starts by
+    clearing what an earlier run wrote into `output` (clear_outputs). Raises with the reason on
+    failure; raises MissingOutputs after writing every other output when the rviz screenshot
+    could not be taken."""
     from onedof_sim.tools import plot
     os.makedirs(output, exist_ok=True)
     clear_outputs(output)
@@ -212,8 +223,12 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         # rviz (software rendering) starts while the simulator is paused and is up before the
         # phases run, so its start-up never takes the CPU from the controller.
         # rviz may die (see rviz_view): the view restarts it, and the job goes on without it.
-        rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_'), say) if screenshot else None
-        if rviz:
+        rviz = window = None
+        if gui_table:
+            window = GazeboWindow(ros, say)
+            window.screenshot(os.path.join(output, WINDOW_SHOTS[0]))
+        elif screenshot:
+            rviz = RvizView(ros, tempfile.mkdtemp(prefix='tutorial_rviz_'), say)
             rviz.wait_until_up()
         from std_msgs.msg import Float64
         pos_cmd = rospy.Publisher('/pos_cmd', Float64, queue_size=1, latch=True)
@@ -227,9 +242,18 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         ros.wait_until(lambda: recorder.connected() and pos_cmd.get_num_connections() > 0, 60,
                    what='the controller to publish joint_states and subscribe pos_cmd')
         run.start()
+        played = list(phases)  # the phases as played: the table where the mouse left it
+
+        def place_table(ros, phase):
+            if window and phase.table:
+                _, placed = place_table_by_mouse(window, rospy, phase.table[0], output)
+                played[played.index(phase)] = phase = phase._replace(table=placed)
+                return phase
+            return run_before(ros, phase)
         rows, pd_series, spans = play_phases(
             ros, run, recorder, phases, phase_duration, 'pos_cmd',
-            sample_period=None if free_run else CONTROL_PERIOD)
+            sample_period=None if free_run else CONTROL_PERIOD, before=place_table)
+        phases = tuple(played)
         drawn = zip(phases, pd_series, spans) if figures else ()
         for number, (phase, series, (start, end)) in enumerate(drawn, 1):
             plot.write_figure(
@@ -245,6 +269,10 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
             plot.write_figure(whole, os.path.join(output, 'tutorial.png'),
                               title='The whole tutorial (%s)' % physics_engine,
                               xlabel='sim time (s)', until=end - t0)
+        if window:
+            say('the window at the final pose')
+            window.screenshot(os.path.join(output, WINDOW_SHOTS[-1]))
+            window.stop()
         if rviz:
             say('rviz screenshot of the final pose (the table from the collision markers)')
             why = rviz.screenshot(os.path.join(output, SCREENSHOT), refresh=run.refresh)
@@ -262,7 +290,9 @@ def play(output, physics_engine, phase_duration=5.0, screenshot=True, free_run=F
         f.write(summary)
     with open(os.path.join(output, 'summary.json'), 'w') as f:
         json.dump({'physics': physics_engine, 'lockstep': not free_run, 'phases': rows,
-                   'in_sim_phases': in_sim_rows}, f, indent=1)
+                   'in_sim_phases': in_sim_rows,
+                   'table': next((list(phase.table) for phase in phases if phase.table), None)},
+                  f, indent=1)
     print(summary)
     say('done in %.1f s of wall time; outputs in %s' % (time.monotonic() - wall_start, output))
     if missing:

@@ -10,7 +10,7 @@ import yaml
 
 from onedof_sim.simulator_extras import STEP_SERVICE, step_service
 from onedof_sim.tools import package_path
-from onedof_sim.tutorial.phases import CONTROL_PERIOD, CONTROLLER_NODE
+from onedof_sim.tutorial.phases import CONTROL_PERIOD, CONTROLLER_NODE, spawn_table
 from onedof_sim.tutorial.physics import pd_prediction
 from onedof_sim.tutorial.recorders import Rosout, controller_state_samples
 from onedof_sim.tutorial.summary import phase_summary
@@ -121,24 +121,29 @@ class FreeRun:
 
 
 def run_before(ros, phase):
-    """What the student does before the phase's command (the table's spawn), if anything."""
-    if phase.before:
-        say(' '.join(phase.before))
-        result = ros.run(phase.before)
+    """What the student does before the phase's command: the table's spawn, if the phase has
+    one; returns the phase as played."""
+    if phase.table:
+        command = spawn_table(*phase.table)
+        say(' '.join(command))
+        result = ros.run(command)
         if result.returncode != 0:
-            raise RuntimeError('%s failed:\n%s%s' % (' '.join(phase.before),
-                                                    result.stdout, result.stderr))
+            raise RuntimeError('%s failed:\n%s%s' % (' '.join(command), result.stdout,
+                                                    result.stderr))
+    return phase
 
 
 def play_phases(ros, run, recorder, phases, phase_duration, command_topic, sample_period,
-                predict=pd_prediction):
+                predict=pd_prediction, before=run_before):
     """Plays the phases with `run` (LockstepRun, FreeRun or InSimRun), as the student types them;
     returns their summary rows, each phase's series since its command, and each one's (start,
-    end) in sim time.
+    end) in sim time. before(ros, phase) is what the student does before each command
+    (run_before: the table spawned from the command line); it returns the phase as played,
+    which the phase's summary is of.
     With a sample_period, each phase must have recorded one sample per period."""
     rows, series, spans = [], [], []
     for phase in phases:
-        run_before(ros, phase)
+        phase = before(ros, phase)
         say('rostopic pub %s std_msgs/Float64 %.1f   (%.0f s of sim time)'
             % (command_topic, phase.command, phase_duration))
         phase_wall = time.monotonic()

@@ -1,7 +1,6 @@
 """The summary of a run: each phase's figures from its recorded samples (settled angle, overshoot,
 settling time, holding torque) beside their predictions, and the table of them in summary.md."""
 from onedof_sim.tutorial import physics
-from onedof_sim.tutorial.phases import SPAWN_TABLE
 
 
 def phase_summary(phase, recorder, start, end, expected_samples=None,
@@ -23,7 +22,7 @@ def phase_summary(phase, recorder, start, end, expected_samples=None,
                                                   [u for _, u in torques])
     predicted, metrics['predicted_torque'] = predict(phase, metrics['settled'])
     metrics['met_table'] = ('tip rim at x = %.3f m, z = %.3f m' % physics.tip_rim(
-        metrics['settled'])) if phase.before is SPAWN_TABLE else ''
+        metrics['settled'])) if phase.table else ''
     metrics.update(name=phase.name, command=phase.command, predicted=predicted,
                    samples=len(positions))
     return metrics

@@ -1,0 +1,303 @@
+"""The simulator's window driven as a student drives Gazebo's: gzclient (rviz on gazebo_ros'
+world.rviz with the Gazebo panel and the model handles) on an Xvfb of its own, its keys and mouse
+through xdotool, the pixels to click computed from the view's camera (world.rviz's orbit view over
+rviz's 3D view, as xwininfo places it on the screen), and screenshots of the screen once its
+picture holds still.
+
+A model is inserted as in Gazebo's Insert tab: the model chosen in the panel's list by typing its
+name, "Insert by clicking", and a click on the ground where it goes. It is moved as in Gazebo's
+translate mode: the panel's "Move models" (the handles shown, rviz's Interact tool current), then
+the mouse pressed on the middle of the arrow's head of its handle, moved by the pixels the
+distance projects to, and released; a handle's ring turns it the same way.
+"""
+import math
+import os
+import re
+import shutil
+import subprocess
+import time
+
+import yaml
+
+from onedof_sim.tools import package_path
+from onedof_sim.tutorial.rviz_view import differing_pixels, is_blank, start_xvfb
+
+PANEL_UP = 'gazebo_ros_panels: the Gazebo panel is up'
+CATALOG_LISTED = 'gazebo_ros_panels: Insert: '
+HANDLES_UPDATE = '/gazebo_model_handles/update'
+# interactive_markers' default controls of a handle of scale 1 (the model handles'): a MOVE_AXIS
+# arrow runs from 0.5 to 0.9 m along its axis, its head the outer part, clear of the rotate rings
+# (radius 0.5 to 0.65 m); ARROW_GRAB is where the mouse takes it. RING_GRAB: the middle of a ring.
+ARROW_GRAB = 0.8
+RING_GRAB = 0.575
+# Mouse positions a drag passes through on its way, as a hand's drag does (rviz moves the model
+# at each).
+DRAG_MOVES = 10
+# Pixels two frames of a still picture may differ by (the text cursor, the panel's clocks).
+STEADY_PIXELS = 400
+
+
+def xdotool(display, *args):
+    """Runs xdotool on display; its CompletedProcess."""
+    return subprocess.run(['xdotool'] + [str(arg) for arg in args], env={'DISPLAY': display},
+                          capture_output=True, text=True, timeout=60)
+
+
+def world_view():
+    """world.rviz's orbit view (its Views: Current): what gzclient shows at start."""
+    with open(os.path.join(package_path('gazebo_ros'), 'rviz', 'world.rviz')) as f:
+        return yaml.safe_load(f)['Visualization Manager']['Views']['Current']
+
+
+def orbit_pixel(view, panel, point):
+    """The pixel (x, y) of the screen where rviz's orbit view (a config's Views: Current) draws a
+    point of the fixed frame in panel (x0, y0, x1, y1): the camera at Distance from the Focal
+    Point, at Yaw about z and Pitch above the x-y plane, looking at it with z up; OGRE's vertical
+    field of view, 45 degrees, over the render panel."""
+    focal = [view['Focal Point'][axis] for axis in 'XYZ']
+    yaw, pitch, distance = view['Yaw'], view['Pitch'], view['Distance']
+    eye = [f + distance * d for f, d in zip(focal, (math.cos(yaw) * math.cos(pitch),
+                                                  math.sin(yaw) * math.cos(pitch),
+                                                  math.sin(pitch)))]
+    forward = unit([f - e for f, e in zip(focal, eye)])
+    right = unit(cross(forward, (0, 0, 1)))
+    up = cross(right, forward)
+    offset = [p - e for p, e in zip(point, eye)]
+    depth = dot(offset, forward)
+    x0, y0, x1, y1 = panel
+    half_height = math.tan(math.pi / 8) * depth
+    half_width = half_height * (x1 - x0) / (y1 - y0)
+    return (x0 + (x1 - x0) / 2 * (1 + dot(offset, right) / half_width),
+            y0 + (y1 - y0) / 2 * (1 - dot(offset, up) / half_height))
+
+
+def dot(a, b):
+    return sum(p * q for p, q in zip(a, b))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def unit(v):
+    norm = math.sqrt(dot(v, v))
+    return [c / norm for c in v]
+
+
+def render_view(display):
+    """(x, y, width, height) of rviz's 3D view on the screen: the one unnamed native window under
+    rviz's main window (Ogre's), as xwininfo lists it; None until there is exactly one."""
+    tree = subprocess.run(['xwininfo', '-root', '-tree'], env={'DISPLAY': display},
+                          capture_output=True, text=True, timeout=60).stdout
+    views = [tuple(int(v) for v in match.groups()) for match in re.finditer(
+        r'\(has no name\): \(\)\s+(\d+)x(\d+)\+-?\d+\+-?\d+\s+\+(-?\d+)\+(-?\d+)', tree)]
+    views = [(x, y, w, h) for w, h, x, y in views if w > 100 and h > 100]
+    return views[0] if len(views) == 1 else None
+
+
+class GazeboWindow:
+    """gzclient on an Xvfb of `ros`'s graph (a PrivateRos), up once its Gazebo panel has listed
+    the model path and its 3D view is on the screen. `say` prints what the student does."""
+
+    def __init__(self, ros, say=print, timeout=300):
+        self.ros = ros
+        self.say = say
+        self.xvfb, self.display = start_xvfb(ros)
+        say('rosrun gazebo_ros gzclient   (the simulator\'s window, on Xvfb %s)' % self.display)
+        self.gzclient = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                                  env={'DISPLAY': self.display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+        ros.wait_until(lambda: PANEL_UP in self.log(), timeout, what='the Gazebo panel')
+        ros.wait_until(lambda: CATALOG_LISTED in self.log(), timeout,
+                       what='the Gazebo panel to list the model path')
+        self.window = ros.wait_until(
+            lambda: self.xdotool('search', '--onlyvisible', '--name', 'RViz').stdout.split(),
+            timeout, what="rviz's window")[0]
+        x, y, width, height = ros.wait_until(lambda: render_view(self.display), timeout,
+                                             what="rviz's 3D view")
+        self.panel = (x, y, x + width, y + height)
+        self.view = world_view()
+
+    def log(self):
+        return self.ros.log_text(self.gzclient)
+
+    def xdotool(self, *args):
+        return xdotool(self.display, *args)
+
+    def _must(self, *args):
+        done = self.xdotool(*args)
+        if done.returncode != 0:
+            raise RuntimeError('xdotool %s: %s' % (' '.join(map(str, args)), done.stderr.strip()))
+
+    def press(self, *keys):
+        """Focuses rviz's window and types keys (xdotool's names) into it."""
+        self._must('windowfocus', '--sync', self.window)
+        self._must('key', '--clearmodifiers', *keys)
+
+    def pixel(self, point):
+        """The screen pixel where the view draws a point of the world."""
+        column, row = orbit_pixel(self.view, self.panel, point)
+        return round(column), round(row)
+
+    def insert_by_click(self, typed, shown_name, point, timeout=120):
+        """Chooses the model whose name starts with `typed` in the Insert tab's list (shown there
+        as shown_name), presses "Insert by clicking" and clicks where the view shows `point` on
+        the ground."""
+        waiting = 'gazebo_ros_panels: click in the 3D view where %s goes' % shown_name
+        before = self.log().count(waiting)
+        self.say('Insert tab: %s, Insert by clicking, a click on the ground at (%g, %g)'
+                 % (shown_name, point[0], point[1]))
+        self.press('alt+i', 'alt+d', *typed, 'alt+c')
+        self.ros.wait_until(lambda: self.log().count(waiting) > before, timeout,
+                            what='the Gazebo panel to wait for a click')
+        x, y = self.pixel(point)
+        self._must('mousemove', '--sync', x, y, 'click', '1')
+
+    def show_handles(self, timeout=120):
+        """The panel's "Move models" (Alt+T): the handles shown (rviz subscribes to them), and
+        Interact the current tool."""
+        self.say('Move models (Gazebo\'s translate mode)')
+        self.press('alt+t')
+        self.ros.wait_until(self._handles_shown, timeout, what='rviz to show the model handles')
+
+    def hide_handles(self, timeout=120):
+        """"Move models" again: the handles hidden (Gazebo's select mode)."""
+        self.say('Move models off (Gazebo\'s select mode)')
+        self.press('alt+t')
+        self.ros.wait_until(lambda: not self._handles_shown(), timeout,
+                            what='rviz to hide the model handles')
+
+    def _handles_shown(self):
+        _, _, (_, subscribers, _) = self.ros.master().getSystemState('/gazebo_window')
+        return any(topic == HANDLES_UPDATE and nodes for topic, nodes in subscribers)
+
+    def drag(self, grab, to):
+        """Presses the mouse where the view shows world point `grab`, moves it in DRAG_MOVES
+        steps to where it shows `to`, and releases it there."""
+        self.press_and_move(grab, to)
+        self.release()
+
+    def press_and_move(self, grab, to):
+        """The mouse pressed where the view shows `grab` and moved in DRAG_MOVES steps to where
+        it shows `to`, held there (release() lets it go)."""
+        start, end = self.pixel(grab), self.pixel(to)
+        self._must('mousemove', '--sync', *start)
+        self._must('mousedown', '1')
+        for i in range(1, DRAG_MOVES + 1):
+            self._must('mousemove', '--sync',
+                       *(round(s + (e - s) * i / DRAG_MOVES) for s, e in zip(start, end)))
+
+    def choose_from_menu(self, point, entry, timeout=60):
+        """Right-clicks where the view shows `point` (a handle's control) and chooses the
+        entry-th (from 1) entry of the menu that opens there, with the keyboard."""
+        shown = self._shown_windows()
+        self._must('mousemove', '--sync', *self.pixel(point))
+        self._must('click', '3')
+        self.ros.wait_until(lambda: self._shown_windows() - shown, timeout,
+                            what='the right-click menu')
+        self._must('key', *(['Down'] * entry), 'Return')
+
+    def _shown_windows(self):
+        return set(self.xdotool('search', '--onlyvisible', '--classname', 'rviz').stdout.split())
+
+    def release(self):
+        self._must('mouseup', '1')
+
+    def screenshot(self, path, timeout=120):
+        """Grabs the screen until two frames in a row agree but for STEADY_PIXELS and are not
+        blank, and writes the last at path."""
+        frames = [path + '.previous.png', path + '.frame.png']
+        for stale in frames:
+            if os.path.exists(stale):
+                os.remove(stale)
+
+        def steady():
+            if os.path.exists(frames[1]):
+                os.replace(frames[1], frames[0])
+            grabbed = subprocess.run(['import', '-display', self.display, '-window', 'root',
+                                      frames[1]], capture_output=True, timeout=60)
+            return (grabbed.returncode == 0 and not is_blank(frames[1]) and
+                    os.path.exists(frames[0]) and
+                    differing_pixels(frames[0], frames[1]) < STEADY_PIXELS)
+        self.ros.wait_until(steady, timeout, interval=0.5, what='a steady picture of the window')
+        shutil.move(frames[1], path)
+        os.remove(frames[0])
+
+    def stop(self):
+        """Ends rviz before its display (see rviz_view: rviz whose X server goes first aborts)."""
+        self.ros.terminate(self.gzclient)
+        self.ros.terminate(self.xvfb)
+
+
+# The tutorial's table through the window: where the student's click puts it (on the ground,
+# clear of the arm, in the view), then dragged along x to where the tutorial wants it.
+TABLE_SHOWN_NAME = 'Cafe table'
+TABLE_INSERTED_AT = (1.3, 0.0)
+# The window's screenshots, in the order the student sees them.
+WINDOW_SHOTS = ('window_1_open.png', 'window_2_table_inserted.png', 'window_3_move_models.png',
+                'window_4_table_dragged.png', 'window_5_table_2.5.png')
+
+
+class HandlesSeen:
+    """The model handles as rviz receives them: the server's latched full state, republished
+    after each change ({name: InteractiveMarker}; None until the first)."""
+
+    def __init__(self, rospy):
+        from visualization_msgs.msg import InteractiveMarkerInit
+        self.markers = None
+        self.subscriber = rospy.Subscriber(HANDLES_UPDATE + '_full',
+                                           InteractiveMarkerInit, self._received, queue_size=10)
+
+    def _received(self, init):
+        self.markers = {marker.name: marker for marker in init.markers}
+
+
+def place_table_by_mouse(window, rospy, x, output, timeout=120):
+    """Inserts the cafe table through the window's Insert tab at TABLE_INSERTED_AT and drags it
+    by its handle's x arrow to `x`, the handles shown for the drag only, a screenshot in `output`
+    after each step (WINDOW_SHOTS 2 to 4); returns the table's name and where the mouse left
+    it (x, y, z)."""
+    from gazebo_msgs.srv import GetModelState, GetWorldProperties
+    world = rospy.ServiceProxy('/gazebo/get_world_properties', GetWorldProperties)
+    model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
+    before = set(world().model_names)
+    window.insert_by_click('Cafe', TABLE_SHOWN_NAME, TABLE_INSERTED_AT + (0.0,))
+    name = window.ros.wait_until(
+        lambda: next((n for n in world().model_names if n not in before and
+                      n.startswith('cafe_table')), None), timeout, what='the cafe table inserted')
+    start = model_state(name, '').pose.position
+    window.say('%s inserted at (%.3f, %.3f)' % (name, start.x, start.y))
+    window.screenshot(os.path.join(output, WINDOW_SHOTS[1]))
+
+    seen = HandlesSeen(rospy)
+    window.show_handles()
+    window.ros.wait_until(lambda: name in (seen.markers or {}), timeout, what="the table's handle")
+    window.screenshot(os.path.join(output, WINDOW_SHOTS[2]))  # drawn before the mouse goes
+
+    window.say('the x arrow of %s dragged by the pixels %.3f m project to'
+               % (name, x - start.x))
+    window.press_and_move((start.x + ARROW_GRAB, start.y, start.z),
+                          (x + ARROW_GRAB, start.y, start.z))
+    window.ros.wait_until(lambda: abs(model_state(name, '').pose.position.x - x) < 0.05,
+                          timeout, what='the table to follow the mouse')
+    window.release()
+    # Released where the mouse stopped: the model stays where the last move put it.
+    settled(window.ros, lambda: model_state(name, '').pose.position.x, 'the table released')
+    seen.subscriber.unregister()
+    end = model_state(name, '').pose.position
+    window.say('%s dragged to (%.4f, %.4f, %.4f)' % (name, end.x, end.y, end.z))
+    window.hide_handles()
+    window.screenshot(os.path.join(output, WINDOW_SHOTS[3]))
+    return name, (end.x, end.y, end.z)
+
+
+def settled(ros, read, what, span=1.0, timeout=120):
+    """read()'s value (a number) once it has read the same for `span` wall seconds: a model
+    moved by the mouse has followed it to where it stopped."""
+    reads = []
+
+    def same_for_a_span():
+        reads.append((time.monotonic(), read()))
+        earlier = [value for at, value in reads if at <= reads[-1][0] - span]
+        return bool(earlier) and abs(earlier[-1] - reads[-1][1]) < 1e-9
+    ros.wait_until(same_for_a_span, timeout, interval=0.1, what=what)
+    return reads[-1][1]
