@@ -15,13 +15,17 @@ While a handle is dragged, the model is held where the mouse puts it, as Gazebo 
 model: its links' gravity off (/gazebo/set_link_properties, those whose gravity_mode is on) and
 the dragged pose, with zero velocity, through /gazebo/set_model_state at most DRAG_HZ times a wall
 second, sent again at that rate while the mouse is down; the pose where the mouse is released is
-sent last, then the links' gravity is back on, and the model is let go with zero velocity.
+sent last, then the links' gravity is back on, and the model is let go with zero velocity. A drag
+is rviz's MOUSE_DOWN to MOUSE_UP; feedback outside one moves nothing. While a handle is dragged,
+the server does not send rviz its pose (rviz has it). A node ended (SIGINT, SIGTERM) while a model
+is held gives it its gravity back first.
 
 A handle's right-click menu has Gazebo's Delete (/gazebo/delete_model).
 
 No simulator, or a refused move or delete, is logged once per reason; the node keeps serving.
 """
 import math
+import signal
 import sys
 import threading
 import time
@@ -172,6 +176,7 @@ class ModelHandles:
         self.dragged = {}         # name -> the Pose the mouse holds it at
         self.to_send = {}         # name -> a dragged or released Pose not yet sent
         self.last_sent = {}       # name -> wall time of the last move sent
+        self.moved_at = {}        # name -> wall time the simulator last answered a move
         self.held = {}            # name -> its links held without gravity (send_moves' own)
 
     def on_model_states(self, raw):
@@ -182,48 +187,58 @@ class ModelHandles:
             self.latest_at = time.monotonic()
 
     def current_poses(self, now):
-        """{name: Pose} of the simulator's models, or None when it cannot say."""
+        """({name: Pose} of the simulator's models, the wall time they are from), or (None,
+        None) when it cannot say."""
         from gazebo_msgs.msg import ModelStates
         with self.lock:
             latest, latest_at = self.latest, self.latest_at
         if now - latest_at < STALE_S:
             states = ModelStates().deserialize(latest)
-            return dict(zip(states.name, states.pose))
+            return dict(zip(states.name, states.pose)), latest_at
         try:
-            return self.ask_poses()
+            return self.ask_poses(), now
         except ServiceUnavailable as error:
             self.say_once('no model poses: %s' % error)
-            return None
+            return None, None
 
     def on_feedback(self, feedback):
+        """A drag is rviz's MOUSE_DOWN, POSE_UPDATEs and MOUSE_UP on a handle. A POSE_UPDATE or
+        MOUSE_UP outside a drag moves nothing: rviz sends that pair, with the pose it shows,
+        when the control under a still mouse changes after a release (a focus change)."""
         with self.lock:
             name = feedback.marker_name
             if name not in self.shown:
                 return
-            if feedback.event_type in (feedback.MOUSE_DOWN, feedback.POSE_UPDATE):
+            if feedback.event_type == feedback.MOUSE_DOWN or (
+                    feedback.event_type == feedback.POSE_UPDATE and name in self.dragged):
                 self.dragged[name] = feedback.pose
                 self.to_send[name] = feedback.pose
-            elif feedback.event_type == feedback.MOUSE_UP:
-                self.dragged.pop(name, None)
+            elif feedback.event_type == feedback.MOUSE_UP and name in self.dragged:
+                del self.dragged[name]
                 self.to_send[name] = feedback.pose
                 self.shown[name] = None  # put at its model's pose once the release is sent
                 self.last_sent.pop(name, None)  # the release is sent at once
+            elif feedback.event_type == feedback.POSE_UPDATE:
+                self.shown[name] = None  # the server took its pose: back to its model's
 
     def follow(self, now):
         """Adds, moves and erases handles after the simulator's current poses."""
-        poses = self.current_poses(now)
+        poses, as_of = self.current_poses(now)
         if poses is None:
             return
         for name in [name for name in self.shown if name not in poses]:
             self.server.erase(name)
             with self.lock:
-                for table in (self.shown, self.dragged, self.to_send, self.last_sent):
+                for table in (self.shown, self.dragged, self.to_send, self.last_sent,
+                              self.moved_at):
                     table.pop(name, None)
         for name, pose in poses.items():
             if name == GROUND_PLANE:
                 continue
             with self.lock:
-                if name in self.dragged or name in self.to_send:
+                # A model moved by the mouse after these poses were taken is not where they say.
+                if (name in self.dragged or name in self.to_send or
+                        as_of < self.moved_at.get(name, -math.inf)):
                     continue
                 if name not in self.shown:
                     self.server.insert(handle_marker(name, pose), self.on_feedback)
@@ -235,8 +250,22 @@ class ModelHandles:
                 else:
                     continue
                 self.shown[name] = pose
-        # Also publishes the pose the server took from a drag's feedback (nothing when none).
+        self.withhold_dragged_poses()
         self.server.applyChanges()
+
+    def withhold_dragged_poses(self):
+        """Drops the server's pending pose of each dragged handle: the server takes a drag's
+        feedback as its handle's pose, and rviz keeps a pose the server sends during a drag until
+        the release, then shows the handle there, behind the mouse when the pose was late (the
+        next press then takes the model back there). Released, a handle is put at its model's
+        pose."""
+        with self.lock:
+            dragged = list(self.dragged)
+        with self.server.mutex:
+            for name in dragged:
+                update = self.server.pending_updates.get(name)
+                if update is not None and update.update_type == update.POSE_UPDATE:
+                    del self.server.pending_updates[name]
 
     def send_moves(self, now):
         """Sends each dragged or released pose whose model was last moved at least 1 / DRAG_HZ
@@ -261,6 +290,8 @@ class ModelHandles:
             except ServiceUnavailable as error:
                 self.say_once('cannot move %s through %s: %s' % (name, SET_MODEL_STATE, error))
                 continue
+            with self.lock:
+                self.moved_at[name] = time.monotonic()
             if not result.success:
                 self.say_once('%s refused to move %s: %s'
                               % (SET_MODEL_STATE, name, result.status_message))
@@ -269,6 +300,11 @@ class ModelHandles:
                         if name not in self.dragged and name not in self.to_send]
         for name in released:
             self.gravity.let_go(self.held.pop(name))
+
+    def let_all_go(self):
+        """Gives every model still held its gravity back (the node ends mid-drag)."""
+        while self.held:
+            self.gravity.let_go(self.held.popitem()[1])
 
 
 def model_menu(delete, say_once):
@@ -341,7 +377,12 @@ def main(argv):
                                  GetModelState, GetWorldProperties, SetLinkProperties,
                                  SetModelState)
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
-    rospy.init_node(NODE_NAME, argv=argv)
+    # Its own signal handling: the node ends its loop on SIGINT or SIGTERM and gives a model
+    # held mid-drag its gravity back before rospy shuts down (after which no service is called).
+    rospy.init_node(NODE_NAME, argv=argv, disable_signals=True)
+    stopping = threading.Event()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda *_: stopping.set())
     keep_wall_time(rospy)
     server = InteractiveMarkerServer(SERVER_TOPIC)
     say_once = said_once(lambda text: rospy.logwarn('model handles: %s', text))
@@ -357,13 +398,15 @@ def main(argv):
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).
     next_follow = time.monotonic()
-    while not rospy.is_shutdown():
+    while not stopping.is_set() and not rospy.is_shutdown():
         now = time.monotonic()
         handles.send_moves(now)
         if now >= next_follow:
             handles.follow(now)
             next_follow = now + 1.0 / FOLLOW_HZ
         time.sleep(1.0 / DRAG_HZ)
+    handles.let_all_go()
+    rospy.signal_shutdown('stopped')
     return 0
 
 
