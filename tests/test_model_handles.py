@@ -1,12 +1,15 @@
 """The model handles of the simulator's rviz view (gazebo_ros.model_handles: Gazebo's translate and
 rotate modes as interactive markers), over real ROS against the real simulator: a free model gets
-a handle at its pose, a static one none; feedback as rviz's Interact tool sends it (POSE_UPDATE
-while the mouse drags, MOUSE_UP where it is released) moves the model there with zero velocity;
+a handle at its pose, the ground plane none; feedback as rviz's Interact tool sends it
+(POSE_UPDATE while the mouse drags, then MOUSE_UP with the pose the server last sent rviz) moves
+the model where the drag last reported, and lets it go there with zero velocity;
 the handle follows a model moved by anyone else, and goes with a deleted model; a refused move
-is logged once and the node keeps serving; started before the simulator, the node serves and
+is logged once and the node keeps serving; a model held when the node stops gets its gravity
+back; started before the simulator, the node serves and
 picks the simulator up when it comes. And in the simulator's window (a real rviz under Xvfb), the
 mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project to, holding the model in the
-air while the world runs, and turns it by a quarter turn on its z ring; Delete in a handle's
+air while the world runs, drags it on and lets it go at once where rviz took the last move, and
+turns it by a quarter turn on its z ring; Delete in a handle's
 right-click menu deletes its model."""
 import math
 
@@ -14,8 +17,8 @@ import pytest
 
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
-from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, GazeboWindow, HandlesSeen,
-                                               settled)
+from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, DragSeen, GazeboWindow,
+                                               HandlesSeen, same_pose)
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
 SERVER = '/gazebo_model_handles'
@@ -39,14 +42,22 @@ class Mouse:
         message.header.frame_id = 'world'
         self.publisher.publish(message)
 
+    def press_until(self, ros, name, at, condition, what):
+        """Presses the mouse on the handle, at its pose `at` (rviz's MOUSE_DOWN), until condition
+        holds (the server takes a client's feedback only 1 s after the marker appeared or
+        another client's feedback came)."""
+        self.repeat_until(ros, name, self.feedback.MOUSE_DOWN, at, condition, what)
+
     def drag_until(self, ros, name, target, condition, what):
-        """Drags the handle to target until condition holds: rviz sends a POSE_UPDATE at each
-        move of the mouse (the server takes a client's feedback only 1 s after the marker
-        appeared or another client's feedback came)."""
-        def dragged():
-            self.send(name, self.feedback.POSE_UPDATE, target)
+        """Drags the pressed handle to target until condition holds: rviz sends a POSE_UPDATE
+        at each move of the mouse."""
+        self.repeat_until(ros, name, self.feedback.POSE_UPDATE, target, condition, what)
+
+    def repeat_until(self, ros, name, event, target, condition, what):
+        def sent():
+            self.send(name, event, target)
             return condition()
-        ros.wait_until(dragged, 60, interval=0.1, what=what)
+        ros.wait_until(sent, 60, interval=0.1, what=what)
 
     def release(self, name, target):
         self.send(name, self.feedback.MOUSE_UP, target)
@@ -59,14 +70,8 @@ def yawed(x, y, z, yaw):
 
 
 def close(a, b, tolerance=1e-3):
-    """Whether two geometry_msgs/Pose agree within tolerance (m, and per quaternion component,
-    either sign)."""
-    position = math.dist((a.position.x, a.position.y, a.position.z),
-                         (b.position.x, b.position.y, b.position.z))
-    qa = (a.orientation.x, a.orientation.y, a.orientation.z, a.orientation.w)
-    qb = (b.orientation.x, b.orientation.y, b.orientation.z, b.orientation.w)
-    turn = min(max(abs(p - q) for p, q in zip(qa, qb)), max(abs(p + q) for p, q in zip(qa, qb)))
-    return position < tolerance and turn < tolerance
+    """Whether two geometry_msgs/Pose agree within tolerance (m, and per quaternion component)."""
+    return same_pose(a, b, tolerance)
 
 
 def model_pose(api, name):
@@ -93,18 +98,37 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     assert controls == ['move_x', 'move_y', 'move_z', 'rotate_x', 'rotate_y', 'rotate_z']
     assert seen.markers['box'].header.frame_id == 'world'
 
-    # The mouse drags the box up and about z, the box follows; released, the box stays there.
+    # Pressed, the box is held without gravity; the mouse drags it up and about z, the box
+    # follows; released, the box stays there, at rest.
     mouse = Mouse(ros, rospy_client)
+    mouse.press_until(ros, 'box', model_pose(api, 'box'), lambda: not gravity_on(api, 'box'),
+                      'the box held without gravity')
     held = yawed(1.0, 0.5, 0.6, 0.3)
     mouse.drag_until(ros, 'box', held, lambda: close(model_pose(api, 'box'), held),
                      'the box held')
     released = yawed(1.2, 0.5, 0.6, math.pi / 2)
+    mouse.drag_until(ros, 'box', released, lambda: close(model_pose(api, 'box'), released),
+                     'the box dragged on')
     mouse.release('box', released)
-    ros.wait_until(lambda: close(model_pose(api, 'box'), released), 60, what='the box released')
-    twist = api.get_model_state('box', '').twist
-    assert (twist.linear.x, twist.linear.y, twist.linear.z,
-            twist.angular.x, twist.angular.y, twist.angular.z) == (0, 0, 0, 0, 0, 0)
+    ros.wait_until(lambda: gravity_on(api, 'box'), 60, what='the box let go')
+    assert close(model_pose(api, 'box'), released), model_pose(api, 'box')
+    assert not any(twist_of(api, 'box'))
     ros.wait_until(lambda: handle_at(seen, 'box', released), 60, what='the handle released')
+    # After a release, rviz sends a POSE_UPDATE and a MOUSE_UP with the pose it shows when the
+    # control under the still mouse changes: no drag, so the box and its handle stay. (A press
+    # and release of another box after them, seen done, shows they were heard and acted on.)
+    api.spawn_box('other', pose(-1.0, -1.0, 0.5))
+    ros.wait_until(lambda: handle_at(seen, 'other', pose(-1.0, -1.0, 0.5)), 60,
+                   what="the other box's handle")
+    mouse.send('box', mouse.feedback.POSE_UPDATE, held)
+    mouse.send('box', mouse.feedback.MOUSE_UP, held)
+    mouse.press_until(ros, 'other', pose(-1.0, -1.0, 0.5), lambda: not gravity_on(api, 'other'),
+                      'the other box held')
+    mouse.release('other', pose(-1.0, -1.0, 0.5))
+    ros.wait_until(lambda: gravity_on(api, 'other'), 60, what='the other box let go')
+    assert close(model_pose(api, 'box'), released), model_pose(api, 'box')
+    ros.wait_until(lambda: handle_at(seen, 'box', released), 60, what='the handle kept')
+    api.delete_model('other')
 
     # Moved by another client, the box takes its handle along.
     moved = api.set_model_state(model_state('box', yawed(-1.0, 2.0, 0.1, 0)))
@@ -130,6 +154,13 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     assert handles.poll() is None, ros.log_text(handles)
 
 
+def gravity_on(api, name):
+    """Whether the box model `name`'s link feels gravity."""
+    properties = api.get_link_properties(name + '::body')
+    assert properties.success, properties.status_message
+    return properties.gravity_mode
+
+
 def model_state(name, target):
     from gazebo_msgs.msg import ModelState
     return ModelState(model_name=name, pose=target, reference_frame='')
@@ -148,17 +179,40 @@ def test_a_refused_move_is_logged_once_and_the_handles_keep_serving(ros, rospy_c
 
     # A pose the simulator refuses (not finite), dragged and held: said once, the box where it was.
     mouse = Mouse(ros, rospy_client)
+    mouse.press_until(ros, 'box', pose(0, 0, 0.1), lambda: not gravity_on(api, 'box'),
+                      'the box held')
     nowhere = pose(math.nan, 0, 0.1)
     refusal = '/gazebo/set_model_state refused to move box: '
     mouse.drag_until(ros, 'box', nowhere, lambda: refusal in ros.log_text(handles),
                      'the refusal logged')
     assert close(model_pose(api, 'box'), pose(0, 0, 0.1))
-    # Released at a pose it takes, the box moves there: the node kept serving.
+    # Dragged on to a pose it takes and released, the box moves there: the node kept serving.
+    mouse.drag_until(ros, 'box', pose(0.3, 0, 0.1),
+                     lambda: close(model_pose(api, 'box'), pose(0.3, 0, 0.1)), 'the box dragged')
     mouse.release('box', pose(0.3, 0, 0.1))
     ros.wait_until(lambda: close(model_pose(api, 'box'), pose(0.3, 0, 0.1)), 60,
                    what='the box moved')
     assert ros.log_text(handles).count(refusal) == 1, ros.log_text(handles)
     assert handles.poll() is None, ros.log_text(handles)
+
+
+def test_a_model_held_when_the_handles_stop_gets_its_gravity_back(ros, rospy_client):
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_box('box', pose(0, 0, 0.5))
+    handles = ros.start(HANDLES, name='model_handles')
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(0, 0, 0.5)), 120, what="the box's handle")
+    mouse = Mouse(ros, rospy_client)
+    mouse.press_until(ros, 'box', pose(0, 0, 0.5), lambda: not gravity_on(api, 'box'),
+                      'the box held without gravity')
+    # The view closes mid-drag (it stops the handles as PrivateRos does, SIGINT first).
+    ros.terminate(handles)
+    assert handles.returncode == 0, ros.log_text(handles)
+    assert gravity_on(api, 'box')
+    api.unpause_physics()
+    ros.wait_until(lambda: model_pose(api, 'box').position.z < 0.2, 120, what='the box falling')
 
 
 def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rospy_client):
@@ -223,9 +277,12 @@ def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
 
     # The x arrow's head pressed and moved by the pixels 0.3 m along x project to, and held.
-    window.press_and_move((1.0 + ARROW_GRAB, 0, 0.5), (1.3 + ARROW_GRAB, 0, 0.5))
-    ros.wait_until(lambda: abs(model_pose(api, 'box').position.x - 1.3) < 0.02, 60,
+    drag = DragSeen(ros, rospy_client, 'box')
+    window.press_and_move(drag, (1.0 + ARROW_GRAB, 0, 0.5), (1.3 + ARROW_GRAB, 0, 0.5))
+    ros.wait_until(lambda: close(model_pose(api, 'box'), drag.pose, 1e-6), 60,
                    what='the box following the mouse')
+    held = model_pose(api, 'box').position
+    assert abs(held.x - 1.3) < 0.02 and abs(held.y) < 0.02, held
     # Held while the world runs a second: it does not fall (a free box would reach the ground in
     # a third of that; held without gravity, it does not sag between the handles' re-sends).
     api.unpause_physics()
@@ -238,10 +295,15 @@ def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_
     ros.wait_until(ran_a_second, 120, interval=0.01, what='a second of sim time')
     api.pause_physics()
     assert min(lowest) > 0.499, min(lowest)
-    window.release()
-    ros.wait_until(lambda: not any(twist_of(api, 'box')), 60, what='the box let go at rest')
-    held = model_pose(api, 'box').position
-    assert abs(held.x - 1.3) < 0.02 and abs(held.y) < 0.02, held
+    # Flicked on by another 0.3 m and let go at once: the box stays where the mouse let go, not
+    # where the server last told rviz the handle was (the held pose, here).
+    window.flick((1.6 + ARROW_GRAB, 0, 0.5))
+    window.release(drag, lambda name: model_pose(api, name))
+    ros.wait_until(lambda: gravity_on(api, 'box'), 60, what='the box let go')
+    assert not any(twist_of(api, 'box'))
+    released = model_pose(api, 'box').position
+    assert abs(released.x - 1.6) < 0.02 and abs(released.y) < 0.02, released
+    assert close(model_pose(api, 'box'), drag.pose, 1e-6)
     ros.wait_until(lambda: handle_at(seen, 'box', model_pose(api, 'box')), 60,
                    what='the handle at the released box')
 
@@ -251,15 +313,17 @@ def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_
     # The mouse leaves the ring for a point far out in the plane: where it lets go, the turn
     # depends least on which pixel it is.
     far = math.sqrt(0.5) * TURN_TO
-    window.press_and_move((centre.x - half, centre.y - half, centre.z),
+    window.press_and_move(drag, (centre.x - half, centre.y - half, centre.z),
                           (centre.x + far, centre.y - far, centre.z))
-    def yaw():
-        return math.degrees(yaw_of(model_pose(api, 'box').orientation))
-    ros.wait_until(lambda: yaw() > 45, 120, interval=0.1, what='the box turning with the ring')
-    turned = settled(ros, yaw, 'the box to follow the ring to where the mouse stopped')
-    window.release()
-    print('the mouse moved the box %.4f m for 0.3 m, held it no lower than %.4f m (from 0.5 m), '
-          'turned it %.2f degrees for 90' % (held.x - 1.0, min(lowest), turned))
+    ros.wait_until(lambda: not gravity_on(api, 'box'), 60, what='the box held by its ring')
+    turned = math.degrees(yaw_of(window.release(drag, lambda name: model_pose(api, name))
+                                 .orientation))
+    ros.wait_until(lambda: gravity_on(api, 'box'), 60, what='the box let go')
+    assert close(model_pose(api, 'box'), drag.pose, 1e-6)
+    drag.stop()
+    print('the mouse moved the box %.4f m for 0.3 m and %.4f m for 0.6 m, held it no lower than '
+          '%.4f m (from 0.5 m), turned it %.2f degrees for 90'
+          % (held.x - 1.0, released.x - 1.0, min(lowest), turned))
     assert abs(turned - 90) < 2, turned
     assert window.gzclient.poll() is None, window.log()
     window.stop()

@@ -15,7 +15,6 @@ import os
 import re
 import shutil
 import subprocess
-import time
 
 import yaml
 
@@ -25,6 +24,7 @@ from onedof_sim.tutorial.rviz_view import differing_pixels, is_blank, start_xvfb
 PANEL_UP = 'gazebo_ros_panels: the Gazebo panel is up'
 CATALOG_LISTED = 'gazebo_ros_panels: Insert: '
 HANDLES_UPDATE = '/gazebo_model_handles/update'
+HANDLES_FEEDBACK = '/gazebo_model_handles/feedback'
 # interactive_markers' default controls of a handle of scale 1 (the model handles'): a MOVE_AXIS
 # arrow runs from 0.5 to 0.9 m along its axis, its head the outer part, clear of the rotate rings
 # (radius 0.5 to 0.65 m); ARROW_GRAB is where the mouse takes it. RING_GRAB: the middle of a ring.
@@ -33,6 +33,8 @@ RING_GRAB = 0.575
 # Mouse positions a drag passes through on its way, as a hand's drag does (rviz moves the model
 # at each).
 DRAG_MOVES = 10
+# A handle's pose changed by at least this (m, quaternion component) is one rviz moved.
+MOVED = 1e-9
 # Pixels two frames of a still picture may differ by (the text cursor, the panel's clocks).
 STEADY_PIXELS = 400
 
@@ -170,21 +172,57 @@ class GazeboWindow:
         _, _, (_, subscribers, _) = self.ros.master().getSystemState('/gazebo_window')
         return any(topic == HANDLES_UPDATE and nodes for topic, nodes in subscribers)
 
-    def drag(self, grab, to):
-        """Presses the mouse where the view shows world point `grab`, moves it in DRAG_MOVES
-        steps to where it shows `to`, and releases it there."""
-        self.press_and_move(grab, to)
-        self.release()
-
-    def press_and_move(self, grab, to):
-        """The mouse pressed where the view shows `grab` and moved in DRAG_MOVES steps to where
-        it shows `to`, held there (release() lets it go)."""
-        start, end = self.pixel(grab), self.pixel(to)
-        self._must('mousemove', '--sync', *start)
+    def grab(self, drag, point, timeout=120):
+        """The mouse pressed where the view shows world point `point`, on a control of drag's
+        handle (a DragSeen), once rviz reports the press there."""
+        presses = drag.presses
+        self._must('mousemove', '--sync', *self.pixel(point))
         self._must('mousedown', '1')
+        self.ros.wait_until(lambda: drag.presses > presses, timeout,
+                            what="rviz to report the mouse pressed on %s's handle" % drag.name)
+
+    def move(self, drag, start, end, timeout=120):
+        """The pressed mouse moved in DRAG_MOVES steps from where the view shows `start` to where
+        it shows `end`, as a hand's drag passes through the pixels between; after each step, the
+        next waits for rviz to report the handle's pose there (drag: a DragSeen on the handle's
+        model), so that every step is one rviz has taken however slow it is."""
+        first, last = self.pixel(start), self.pixel(end)
+        at = first
         for i in range(1, DRAG_MOVES + 1):
-            self._must('mousemove', '--sync',
-                       *(round(s + (e - s) * i / DRAG_MOVES) for s, e in zip(start, end)))
+            step = tuple(round(s + (e - s) * i / DRAG_MOVES) for s, e in zip(first, last))
+            if step == at:
+                continue
+            # A pose rviz reports twice (it may) is no report of this step: the pose must change.
+            reported = drag.pose
+            self._must('mousemove', '--sync', *step)
+            self.ros.wait_until(lambda: not same_pose(drag.pose, reported, MOVED), timeout,
+                                what="rviz to report %s's handle dragged to pixel %s"
+                                     % (drag.name, step))
+            at = step
+
+    def flick(self, point):
+        """The pressed mouse moved straight to where the view shows `point`, in one motion and
+        with no wait for rviz, as a quick hand lets go of a drag."""
+        self._must('mousemove', '--sync', *self.pixel(point))
+
+    def press_and_move(self, drag, grab, to):
+        """The mouse pressed where the view shows `grab` and moved to where it shows `to`,
+        held there (release() lets it go)."""
+        self.grab(drag, grab)
+        self.move(drag, grab, to)
+
+    def release(self, drag, pose_of, timeout=120):
+        """Releases the mouse, waits for rviz to report the release of drag's handle and for its
+        model to be where the drag last reported (pose_of(name): the model's
+        geometry_msgs/Pose), as the model handles release it; returns that pose."""
+        released = drag.releases
+        self._must('mouseup', '1')
+        self.ros.wait_until(lambda: drag.releases > released, timeout,
+                            what="rviz to report %s's handle released" % drag.name)
+        last = drag.pose
+        self.ros.wait_until(lambda: same_pose(pose_of(drag.name), last), timeout,
+                            what='%s released where the drag left it' % drag.name)
+        return last
 
     def choose_from_menu(self, point, entry, timeout=60):
         """Right-clicks where the view shows `point` (a handle's control) and chooses the
@@ -198,9 +236,6 @@ class GazeboWindow:
 
     def _shown_windows(self):
         return set(self.xdotool('search', '--onlyvisible', '--classname', 'rviz').stdout.split())
-
-    def release(self):
-        self._must('mouseup', '1')
 
     def screenshot(self, path, timeout=120):
         """Grabs the screen until two frames in a row agree but for STEADY_PIXELS and are not
@@ -251,6 +286,47 @@ class HandlesSeen:
         self.markers = {marker.name: marker for marker in init.markers}
 
 
+class DragSeen:
+    """rviz's feedback on model `name`'s handle as the model handles hear it: the pose the drag
+    last reported (MOUSE_DOWN or POSE_UPDATE; None before), and how many MOUSE_DOWNs and
+    MOUSE_UPs came. Up once it hears rviz (the handles shown)."""
+
+    def __init__(self, ros, rospy, name, timeout=120):
+        from visualization_msgs.msg import InteractiveMarkerFeedback
+        self.name = name
+        self.pose = None
+        self.presses = 0
+        self.releases = 0
+        self.subscriber = rospy.Subscriber(HANDLES_FEEDBACK, InteractiveMarkerFeedback,
+                                           self._received, queue_size=100)
+        ros.wait_until(lambda: self.subscriber.get_num_connections() > 0, timeout,
+                       what="rviz's feedback on the handles")
+
+    def _received(self, feedback):
+        if feedback.marker_name != self.name:
+            return
+        if feedback.event_type in (feedback.MOUSE_DOWN, feedback.POSE_UPDATE):
+            self.pose = feedback.pose
+        if feedback.event_type == feedback.MOUSE_DOWN:
+            self.presses += 1
+        elif feedback.event_type == feedback.MOUSE_UP:
+            self.releases += 1
+
+    def stop(self):
+        self.subscriber.unregister()
+
+
+def same_pose(a, b, tolerance=1e-6):
+    """Whether two geometry_msgs/Pose agree within tolerance (m, and per quaternion component,
+    either sign)."""
+    position = math.dist((a.position.x, a.position.y, a.position.z),
+                         (b.position.x, b.position.y, b.position.z))
+    qa = (a.orientation.x, a.orientation.y, a.orientation.z, a.orientation.w)
+    qb = (b.orientation.x, b.orientation.y, b.orientation.z, b.orientation.w)
+    turn = min(max(abs(p - q) for p, q in zip(qa, qb)), max(abs(p + q) for p, q in zip(qa, qb)))
+    return position < tolerance and turn < tolerance
+
+
 def place_table_by_mouse(window, rospy, x, output, timeout=120):
     """Inserts the cafe table through the window's Insert tab at TABLE_INSERTED_AT and drags it
     by its handle's x arrow to `x`, the handles shown for the drag only, a screenshot in `output`
@@ -275,29 +351,14 @@ def place_table_by_mouse(window, rospy, x, output, timeout=120):
 
     window.say('the x arrow of %s dragged by the pixels %.3f m project to'
                % (name, x - start.x))
-    window.press_and_move((start.x + ARROW_GRAB, start.y, start.z),
+    drag = DragSeen(window.ros, rospy, name)
+    window.press_and_move(drag, (start.x + ARROW_GRAB, start.y, start.z),
                           (x + ARROW_GRAB, start.y, start.z))
-    window.ros.wait_until(lambda: abs(model_state(name, '').pose.position.x - x) < 0.05,
-                          timeout, what='the table to follow the mouse')
-    window.release()
-    # Released where the mouse stopped: the model stays where the last move put it.
-    settled(window.ros, lambda: model_state(name, '').pose.position.x, 'the table released')
+    window.release(drag, lambda model: model_state(model, '').pose)
+    drag.stop()
     seen.subscriber.unregister()
     end = model_state(name, '').pose.position
     window.say('%s dragged to (%.4f, %.4f, %.4f)' % (name, end.x, end.y, end.z))
     window.hide_handles()
     window.screenshot(os.path.join(output, WINDOW_SHOTS[3]))
     return name, (end.x, end.y, end.z)
-
-
-def settled(ros, read, what, span=1.0, timeout=120):
-    """read()'s value (a number) once it has read the same for `span` wall seconds: a model
-    moved by the mouse has followed it to where it stopped."""
-    reads = []
-
-    def same_for_a_span():
-        reads.append((time.monotonic(), read()))
-        earlier = [value for at, value in reads if at <= reads[-1][0] - span]
-        return bool(earlier) and abs(earlier[-1] - reads[-1][1]) < 1e-9
-    ros.wait_until(same_for_a_span, timeout, interval=0.1, what=what)
-    return reads[-1][1]
