@@ -256,6 +256,47 @@ def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
     window.stop()
 
 
+# The push of the Apply Force/Torque test: N along x for s of sim time, on the 1 kg box.
+FORCE = 2.0
+PUSH_SECONDS = 0.5
+
+
+def test_the_right_click_menu_applies_a_force_for_a_duration(ros, rospy_client, tmp_path):
+    from gazebo_ros.wrench_dialog import FIELDS, TITLE
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.set_gravity(0, 0, 0)
+    api.spawn_box('box', pose(1.0, 0.0, 0.5))  # in the air, weightless: free
+    window = GazeboWindow(ros)
+    window.show_handles()
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.5)), 120,
+                   what="the box's handle")
+    assert [entry.title for entry in seen.markers['box'].menu_entries] == [
+        'Delete', 'Apply Force/Torque']
+    window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
+    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.5), 2)
+    typed = {'fx': FORCE, 'duration': PUSH_SECONDS}
+    window.fill_in(TITLE % 'box', [repr(typed.get(name, 0.0)) for _, name in FIELDS])
+    ros.wait_until(lambda: 'wrench dialog: /gazebo/apply_body_wrench on box::body' in
+                   window.log(), 120, what='the wrench applied')
+    # The world runs past the push; the box then moves at F t / m.
+    start = api.get_world_properties().sim_time
+    api.unpause_physics()
+    ros.wait_until(lambda: api.get_world_properties().sim_time > start + PUSH_SECONDS + 0.2,
+                   120, what='the push over')
+    api.pause_physics()
+    velocity = api.get_model_state('box', '').twist.linear
+    expected = FORCE * PUSH_SECONDS / 1.0
+    print('pushed by %g N for %g s, the 1 kg box moves at %.5f m/s (F t / m = %g)'
+          % (FORCE, PUSH_SECONDS, velocity.x, expected))
+    assert abs(velocity.x - expected) < 0.02 * expected, velocity
+    assert abs(velocity.y) < 1e-6 and abs(velocity.z) < 1e-6, velocity
+    assert window.gzclient.poll() is None, window.log()
+    window.stop()
+
+
 # Metres from the centre of a turn where the mouse releases the ring.
 TURN_TO = 1.5
 

@@ -20,12 +20,14 @@ is rviz's MOUSE_DOWN to MOUSE_UP; feedback outside one moves nothing. While a ha
 the server does not send rviz its pose (rviz has it). A node ended (SIGINT, SIGTERM) while a model
 is held gives it its gravity back first.
 
-A handle's right-click menu has Gazebo's Delete (/gazebo/delete_model).
+A handle's right-click menu has Gazebo's Delete (/gazebo/delete_model) and Apply Force/Torque (a
+dialog, gazebo_ros.wrench_dialog, through /gazebo/apply_body_wrench).
 
 No simulator, or a refused move or delete, is logged once per reason; the node keeps serving.
 """
 import math
 import signal
+import subprocess
 import sys
 import threading
 import time
@@ -49,6 +51,8 @@ DRAG_HZ = 20.0
 FOLLOW_TOLERANCE = 1e-3
 # Wall seconds without model_states after which the poses are asked for instead.
 STALE_S = 0.5
+# Bounds a dialog's orderly exit after the node's; only a hung dialog waits this long.
+DIALOG_STOP_SECONDS = 10.0
 
 
 def axis_controls():
@@ -307,9 +311,10 @@ class ModelHandles:
             self.gravity.let_go(self.held.popitem()[1])
 
 
-def model_menu(delete, say_once):
+def model_menu(delete, open_wrench_dialog, say_once):
     """A handle's right-click menu (an interactive_markers MenuHandler): Delete, through
-    delete(name) (a DeleteModel call that raises ServiceUnavailable when it cannot be made)."""
+    delete(name) (a DeleteModel call that raises ServiceUnavailable when it cannot be made), and
+    Apply Force/Torque, through open_wrench_dialog(name)."""
     from interactive_markers.menu_handler import MenuHandler
     menu = MenuHandler()
 
@@ -324,7 +329,34 @@ def model_menu(delete, say_once):
             say_once('%s refused to delete %s: %s' % (DELETE_MODEL, feedback.marker_name,
                                                       result.status_message))
     menu.insert('Delete', callback=on_delete)
+    menu.insert('Apply Force/Torque', callback=lambda feedback: open_wrench_dialog(
+        feedback.marker_name))
     return menu
+
+
+class WrenchDialogs:
+    """Gazebo's Apply Force/Torque dialogs (gazebo_ros.wrench_dialog), one process per model
+    at most, on this node's display and graph; closed with the node."""
+
+    def __init__(self):
+        self.dialogs = {}  # model name -> its dialog's Popen
+
+    def open(self, name):
+        if name in self.dialogs and self.dialogs[name].poll() is None:
+            return
+        self.dialogs[name] = subprocess.Popen([sys.executable, '-m', 'gazebo_ros.wrench_dialog',
+                                               name])
+
+    def close_all(self):
+        for dialog in self.dialogs.values():
+            if dialog.poll() is None:
+                dialog.send_signal(signal.SIGINT)
+        for dialog in self.dialogs.values():
+            try:
+                dialog.wait(timeout=DIALOG_STOP_SECONDS)
+            except subprocess.TimeoutExpired:  # a hung dialog
+                dialog.kill()
+                dialog.wait()
 
 
 def proxy_call(rospy, service, service_class):
@@ -386,6 +418,7 @@ def main(argv):
     keep_wall_time(rospy)
     server = InteractiveMarkerServer(SERVER_TOPIC)
     say_once = said_once(lambda text: rospy.logwarn('model handles: %s', text))
+    dialogs = WrenchDialogs()
     gravity = GravityHold(proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
                           proxy_call(rospy, GET_LINK_PROPERTIES, GetLinkProperties),
                           proxy_call(rospy, SET_LINK_PROPERTIES, SetLinkProperties), say_once)
@@ -393,7 +426,8 @@ def main(argv):
                            asked_poses(proxy_call(rospy, GET_WORLD_PROPERTIES, GetWorldProperties),
                                        proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
                            gravity, say_once,
-                           model_menu(proxy_call(rospy, DELETE_MODEL, DeleteModel), say_once))
+                           model_menu(proxy_call(rospy, DELETE_MODEL, DeleteModel),
+                                      dialogs.open, say_once))
     rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).
@@ -406,6 +440,7 @@ def main(argv):
             next_follow = now + 1.0 / FOLLOW_HZ
         time.sleep(1.0 / DRAG_HZ)
     handles.let_all_go()
+    dialogs.close_all()
     rospy.signal_shutdown('stopped')
     return 0
 

@@ -234,6 +234,22 @@ class GazeboWindow:
                             what='the right-click menu')
         self._must('key', *(['Down'] * entry), 'Return')
 
+    def fill_in(self, title, values, timeout=120):
+        """Types `values` (strings) into the fields of the window titled `title` (a dialog the
+        view opened), from the field with the focus on, Tab between them, and presses Return
+        (the dialog's default button)."""
+        dialog = self.ros.wait_until(
+            lambda: self.xdotool('search', '--onlyvisible', '--name',
+                                 '^%s$' % re.escape(title)).stdout.split(),
+            timeout, what='the window %r' % title)[0]
+        self._must('windowfocus', '--sync', dialog)
+        for i, value in enumerate(values):
+            if i:
+                self._must('key', 'Tab')
+            self._must('key', 'ctrl+a')
+            self._must('type', value)
+        self._must('key', 'Return')
+
     def _shown_windows(self):
         return set(self.xdotool('search', '--onlyvisible', '--classname', 'rviz').stdout.split())
 
