@@ -1,16 +1,15 @@
 """The model handles of the simulator's rviz view (gazebo_ros.model_handles: Gazebo's translate and
 rotate modes as interactive markers), over real ROS against the real simulator: a free model gets
-a handle at its pose, the ground plane none; feedback as rviz's Interact tool sends it
-(POSE_UPDATE while the mouse drags, then MOUSE_UP with the pose the server last sent rviz) moves
-the model where the drag last reported, and lets it go there with zero velocity;
-the handle follows a model moved by anyone else, and goes with a deleted model; a refused move
-is logged once and the node keeps serving; a model held when the node stops gets its gravity
-back; started before the simulator, the node serves and
-picks the simulator up when it comes. And in the simulator's window (a real rviz under Xvfb), the
-mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project to, holding the model in the
-air while the world runs, drags it on and lets it go at once where rviz took the last move, and
-turns it by a quarter turn on its z ring; Delete in a handle's
-right-click menu deletes its model."""
+a handle at its pose, the ground plane none; feedback as rviz's Interact tool sends it (MOUSE_DOWN,
+POSE_UPDATEs while the mouse drags, MOUSE_UP where it is released) moves the model there and lets
+it go with zero velocity, and what rviz sends outside a drag moves nothing; the handle follows a
+model moved by anyone else, and goes with a deleted model; a refused move is logged once and the
+node keeps serving; a model held when the node stops gets its gravity back; started before the
+simulator, the node serves and picks the simulator up when it comes. And in the simulator's window
+(a real rviz under Xvfb), the mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project
+to, holding the model in the air while the world runs, flicks it on and lets it go at once where
+it lands, and turns it by a quarter turn on its z ring; in a handle's right-click menu, Delete
+deletes its model and Apply Force/Torque's dialog pushes it by F for t: it moves at F t / m."""
 import math
 
 import pytest

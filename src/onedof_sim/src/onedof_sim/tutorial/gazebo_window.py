@@ -8,7 +8,10 @@ A model is inserted as in Gazebo's Insert tab: the model chosen in the panel's l
 name, "Insert by clicking", and a click on the ground where it goes. It is moved as in Gazebo's
 translate mode: the panel's "Move models" (the handles shown, rviz's Interact tool current), then
 the mouse pressed on the middle of the arrow's head of its handle, moved by the pixels the
-distance projects to, and released; a handle's ring turns it the same way.
+distance projects to, and released; a handle's ring turns it the same way. The press, each step
+of the move and the release go on once rviz has reported the one before (its feedback to the
+model handles), and the drag is done when the model is where rviz last reported it: the
+driver waits for rviz, never for a time.
 """
 import math
 import os
