@@ -4,6 +4,8 @@ side in the same windows, a bare roscpp service (bench_bare_service) in a proces
 which is what a round trip costs on the machine as busy as it is then; with each of these running:
 - a 4096 x 4096 camera at 30 Hz, subscribed (rendered outside the world's lock);
 - a laser of 262,144 rays at 1 kHz, subscribed (cast in parts, the lock let go between them);
+- a model of 1000 links (the largest accepted) spawned and deleted over and over by another client
+  (read outside the world's lock);
 - 32 clients calling get_joint_properties at once, each over a fresh connection, each subscribed
   to the simulator's /clock (as every roscpp node is under /use_sim_time): 32,000 clock messages
   a second for roscpp's one network thread, which reads the polls too.
@@ -16,7 +18,7 @@ import time
 
 import pytest
 
-from api_client import GazeboApi, pose
+from api_client import GazeboApi, fixed_chain_sdf, pose
 from conftest import ENGINES, start_sim
 from onedof_harness.private_ros import wait_until
 from onedof_sim.tools import package_executable
@@ -198,13 +200,45 @@ class ClientsLoad:
         self.ros.terminate(*self.procs)
 
 
+class SpawnLoad:
+    """Another client spawning a 1000-link model and deleting it, over and over, from a thread of
+    its own; each spawn and delete must succeed."""
+
+    def __init__(self, rospy):
+        self.api = GazeboApi(rospy)
+        self.model = fixed_chain_sdf(1000, 'largest')
+        self.spawns = 0
+        self.failure = None
+        self.stopping = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self):
+        while not self.stopping.is_set():
+            spawned = self.api.spawn_sdf_model('largest', self.model, '', pose(), '')
+            deleted = self.api.delete_model('largest') if spawned.success else spawned
+            if not deleted.success:
+                self.failure = deleted.status_message
+                return
+            self.spawns += 1
+
+    def start(self):
+        self.thread.start()
+
+    def stop(self):
+        self.stopping.set()
+        self.thread.join(300)
+        assert not self.thread.is_alive(), 'a 1000-link spawn did not end within 300 s'
+        assert self.failure is None, self.failure
+        assert self.spawns > 0, 'no 1000-link spawn ended within the window'
+
+
 def figures(latencies):
     return '%d polls, 99th percentile %.1f ms, max %.1f ms' % (
         len(latencies), 1e3 * percentile(latencies, 0.99), 1e3 * latencies[-1])
 
 
 @pytest.mark.parametrize('engine', ENGINES)
-@pytest.mark.parametrize('load_name', ['camera_4096', 'laser_262k', 'clients_32'])
+@pytest.mark.parametrize('load_name', ['camera_4096', 'laser_262k', 'spawn_1000', 'clients_32'])
 def test_a_poll_is_answered_as_soon_with_heavy_work_beside_it(ros, rospy_client, engine,
                                                                load_name):
     start_sim(ros, engine)
@@ -215,6 +249,9 @@ def test_a_poll_is_answered_as_soon_with_heavy_work_beside_it(ros, rospy_client,
     elif load_name == 'laser_262k':
         spawned = api.spawn_urdf_model('big_laser', LASER_URDF, '', pose(z=1), '')
         load = SensorLoad(ros, api, '/big_scan')
+    elif load_name == 'spawn_1000':
+        spawned = api.spawn_robot()
+        load = SpawnLoad(rospy_client)
     else:
         spawned = api.spawn_robot()
         load = ClientsLoad(ros, '/gazebo/get_joint_properties')
