@@ -31,9 +31,9 @@ BOUND_S = 0.1
 # subscribers), so on a busy machine each of its threads, roscpp's network thread reading the
 # poll among them, waits for the process's turn at a core, while the bare service's idle process
 # is let in at once. At the 99th percentile, over the bare service: the camera 0.02-0.29 s, the
-# clients 0.00-0.07 s at load 20-30 and up to 0.21 s at load 37-40 (0.6-1.4 s with the clock
-# handed over every step whatever the thread's backlog); a render under the world's lock would be
-# a second and more.
+# clients at most 0 at load 30-38 and up to 0.21 s at load 35-55 (0.6-1.9 s with the clock handed
+# over every step whatever the thread's backlog); a render under the world's lock would be a
+# second and more.
 BUSY_PROCESS_BOUND_S = 0.35
 # And at the most: a poll is made after the one before it is answered, so a stall of a second (a
 # render under the world's lock, a backlog of clocks) is one late poll among hundreds, which only
