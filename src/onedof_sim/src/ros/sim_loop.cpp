@@ -28,7 +28,7 @@ constexpr uint32_t kClockQueue = 1000;
 // The clock messages roscpp's network thread may have still to write, to all subscribers
 // together: a lone subscriber may fall 100 steps behind before it misses one (gazebo_ros' /clock
 // queue drops beyond 10), while beside 33 subscribers a request waits behind at most 3 steps'
-// clocks (with 1000, on 2 cores at load 40-50, polls beside 32 clients waited up to 1.6 s).
+// clocks.
 constexpr size_t kClockBacklog = 100;
 // For a controller whose process is not on this machine (lock-step cannot see it rest): a
 // client's two clock readings after a call are microseconds apart; a millisecond leaves them room
@@ -156,8 +156,8 @@ SimLoop::SimLoop(const NodeOptions& options)
   // each message from its poll thread and drops the oldest beyond the queue: a loop behind its
   // pace catches up by up to kMaxPacingLag of steps at once, and a busy machine delays the poll
   // thread too, so the queue holds a second of clocks at the default 1 kHz, and a subscriber
-  // that keeps up hears every step's time, as long as the thread writes them
-  // (clock_backlog_).
+  // that keeps up hears every step's time, as long as the thread is less than kClockBacklog
+  // messages behind (clock_backlog_).
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueue, true);
   // Without the ROS network these stay empty publishers: no subscriber, nothing is published.
   if (!options.enable_ros_network) return;
