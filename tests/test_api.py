@@ -353,6 +353,20 @@ def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_c
     assert [b - a for a, b in zip(received, received[1:])] == [STEP_NS] * 199, received
 
 
+def test_a_free_running_world_stops_with_its_time_on_the_clock(ros, engine, rospy_client):
+    """Free-running, the world steps faster than roscpp's network thread writes clocks, and a
+    step's time past the thread's budget is held for a later step's clock: where the world stops,
+    its own time goes out, and what a subscriber heard only ever moved forward."""
+    start_sim(ros, engine, ['_max_update_rate:=0'])
+    api = GazeboApi(rospy_client)
+    stamps, _ = clock_listener(rospy_client)
+    wait_until(lambda: len(stamps) > 100, 60, what='100 /clock messages')
+    api.pause_physics()
+    stopped_ns = api.sim_time_ns()
+    wait_until(lambda: stamps[-1] == stopped_ns, 30, what='the clock at the stopped time')
+    assert stamps == sorted(set(stamps))
+
+
 def test_pub_clock_frequency_throttles_clock(ros, engine, rospy_client):
     ros.set_param('/gazebo/pub_clock_frequency', 50)
     start_sim(ros, engine)
