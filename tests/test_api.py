@@ -339,8 +339,10 @@ def test_pause_freezes_clock_and_joint_unpause_resumes(shared_sim, api, rospy_cl
 
 def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_client):
     # Its own simulator: what a node publishes from its start (a shared one has run before, and
-    # /clock is latched: a new subscriber gets the last time published).
-    start_sim(ros, engine, ['-u'])
+    # /clock is latched: a new subscriber gets the last time published). At 100 steps a wall
+    # second: the node holds a step's clock back only once roscpp's network thread is 100 clocks
+    # behind (sim_loop's budget), which at this rate is a second without a turn for that thread.
+    start_sim(ros, engine, ['-u', '_max_update_rate:=100'])
     api = GazeboApi(rospy_client)
     assert ros.master().getParam('/test', '/use_sim_time')[2] is True
     stamps, _ = clock_listener(rospy_client)
