@@ -13,6 +13,7 @@ import time
 
 import psutil
 
+from onedof_harness.private_ros import exit_status_text
 from test_tutorial import RIGHT_OF_LINK1_ABOVE_TABLE, count_pixels, robot_red
 
 # A short run: the first phase, and one sim second of it through the in-simulator PID.
@@ -77,6 +78,8 @@ def test_when_every_rviz_dies_the_job_writes_the_rest_and_says_the_screenshot_is
         killer.join()
 
     assert player.returncode != 0, stdout[-3000:]
+    assert player.returncode > 0, 'play_tutorial exited (%s):\n%s' % (
+        exit_status_text(player.returncode), stderr[-3000:])
     assert 'every other output is written, but rviz_final.png is missing: rviz failed on all 3 ' \
            'tries' in stderr, stderr[-3000:]
     for attempt in (1, 2, 3):
@@ -111,7 +114,8 @@ def test_an_rviz_that_dies_at_the_screenshot_is_restarted_and_shows_the_final_po
         reader.join()
     stdout = ''.join(lines)
 
-    assert player.returncode == 0, stdout[-3000:] + ''.join(stderr)[-3000:]
+    assert player.returncode == 0, 'play_tutorial exited (%s):\n%s\n--- its stderr ---\n%s' % (
+        exit_status_text(player.returncode), stdout[-3000:], ''.join(stderr)[-3000:])
     assert 'rviz try 1 of 3 failed: %s' % ABORTED in stdout
     assert 'rviz try 2' not in stdout
     # The restarted rviz was shown the final pose by one more control period of the world.

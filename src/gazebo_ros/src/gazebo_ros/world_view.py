@@ -14,6 +14,12 @@ Beside rviz the view runs the model handles (gazebo_ros.model_handles, the node
 /gazebo_model_handles): Gazebo's translate and rotate modes as interactive markers on every
 non-static model, world.rviz's "Move models" display; it stops with rviz.
 
+rviz renders in software where there is no GPU (Mesa's llvmpipe: Mesa 22.3 on LLVM 15 here),
+which now and then crashes it as it starts, most often inside LLVM compiling a shader (LLVM's
+issue 57850, Mesa's 7224). The view then starts rviz again on the same configuration, says so on
+its output, and does this a bounded number of times; rviz ended any other way (closed, Ctrl-C)
+ends the view with rviz's exit status.
+
 Scans and point clouds are drawn where TF puts their frames relative to `world`, as in any rviz:
 robot_state_publisher places a robot's links (a URDF rooted at a link named `world` is placed
 in the world; a mobile base's tree starts at the diff drive's `odom`, which with
@@ -33,6 +39,7 @@ import rosgraph.names
 import rospkg
 import yaml
 
+from onedof_harness.private_ros import exit_status_text
 from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, request_collision_markers
 
 SENSOR_DISPLAY_PREFIX = 'Sensor: '
@@ -43,6 +50,10 @@ DEPTH_SHOWN_M = 5.0
 POLL_SECONDS = 1.0
 # Bounds the model handles' orderly exit after rviz's; only a hung node waits this long.
 HANDLES_STOP_SECONDS = 10.0
+# How a crash ends rviz, as opposed to a close or a stop.
+CRASH_SIGNALS = (signal.SIGSEGV, signal.SIGBUS, signal.SIGILL, signal.SIGFPE, signal.SIGABRT)
+# rviz starts after crashes the view makes, in all.
+CRASH_RESTARTS = 3
 
 
 def sensor_display(topic, msg_type):
@@ -153,6 +164,8 @@ class WorldView:
         self._write(with_sensor_displays(base, self.topics))
         self.rviz = None
         self.handles = None
+        self.stopping = False  # asked to stop: rviz ending is then no crash to recover from
+        self.restarts = 0
 
     def command(self):
         return ['rosrun', 'rviz', 'rviz', '-d', self.config, '__name:=' + self.name] + self.ros_args
@@ -216,15 +229,36 @@ class WorldView:
         self.topics = topics
         return True
 
+    def crashed(self, status):
+        """Whether rviz ended with `status` by a crash the view recovers from."""
+        return (not self.stopping and status is not None and status < 0 and
+                -status in CRASH_SIGNALS and self.restarts < CRASH_RESTARTS)
+
+    def stop(self, signum):
+        """Passes a stop (SIGINT, SIGTERM) on to rviz and the model handles."""
+        self.stopping = True
+        for process in (self.rviz, self.handles):
+            if process and process.poll() is None:
+                process.send_signal(signum)
+
     def run(self):
-        """Runs rviz until it exits, updating its sensor displays; its exit status."""
+        """Runs rviz until it exits, updating its sensor displays and starting it again after a
+        crash; its exit status."""
         self.start()
         try:
             while True:
                 try:
-                    return self.rviz.wait(timeout=POLL_SECONDS)
+                    status = self.rviz.wait(timeout=POLL_SECONDS)
                 except subprocess.TimeoutExpired:
                     self.update()
+                    continue
+                if not self.crashed(status):
+                    return status
+                self.restarts += 1
+                print('gzclient: rviz crashed (%s); starting it again on the same configuration '
+                      '(restart %d of at most %d)' % (exit_status_text(status), self.restarts,
+                                                      CRASH_RESTARTS), flush=True)
+                self.rviz = subprocess.Popen(self.command())
         finally:
             self.stop_handles()
             shutil.rmtree(self.folder, ignore_errors=True)
@@ -232,14 +266,8 @@ class WorldView:
 
 def main(argv):
     view = WorldView([arg for arg in argv if ':=' in arg])
-
-    def forward(signum, frame):
-        for process in (view.rviz, view.handles):
-            if process and process.poll() is None:
-                process.send_signal(signum)
-
-    signal.signal(signal.SIGINT, forward)
-    signal.signal(signal.SIGTERM, forward)
+    signal.signal(signal.SIGINT, lambda signum, frame: view.stop(signum))
+    signal.signal(signal.SIGTERM, lambda signum, frame: view.stop(signum))
     return view.run()
 
 

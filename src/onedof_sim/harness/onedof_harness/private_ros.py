@@ -111,6 +111,16 @@ def log_tail(text, lines=LOG_TAIL_LINES):
     return '\n'.join(text.rstrip('\n').split('\n')[-lines:])
 
 
+def exit_status_text(status):
+    """'status -6, SIGABRT' for a process a signal ended, 'status 1' otherwise."""
+    if status is not None and status < 0:
+        try:
+            return 'status %d, %s' % (status, signal.Signals(-status).name)
+        except ValueError:
+            pass
+    return 'status %s' % status
+
+
 def bind_library():
     """The path of the preloaded bind library, from the workspace's library path (devel/lib)."""
     for directory in os.environ.get('LD_LIBRARY_PATH', '').split(os.pathsep):
@@ -308,9 +318,9 @@ class PrivateRos:
             if proc.may_exit or proc.stopped or proc.poll() is None:
                 continue
             raise ProcessExited(
-                '%s exited (status %s) while waiting for %s; the end of its log %s:\n%s'
-                % (proc.log_name, proc.returncode, what, self.log_path(proc.log_name),
-                   log_tail(self.log_text(proc))))
+                '%s exited (%s) while waiting for %s; the end of its log %s:\n%s'
+                % (proc.log_name, exit_status_text(proc.returncode), what,
+                   self.log_path(proc.log_name), log_tail(self.log_text(proc))))
 
     def wait_until(self, condition, timeout, interval=0.05, what='condition'):
         """wait_until() that also fails as soon as a process started here dies (check_running)."""

@@ -14,13 +14,12 @@ instead of raising, so that the job can write its other outputs first.
 import math
 import os
 import shutil
-import signal
 import subprocess
 import xmlrpc.client
 
 import yaml
 
-from onedof_harness.private_ros import log_tail
+from onedof_harness.private_ros import exit_status_text, log_tail
 from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, request_collision_markers
 from onedof_sim.tools import package_path
 
@@ -35,16 +34,6 @@ SHOWN_TOPICS = (MARKERS, '/tf')
 
 class RvizDied(RuntimeError):
     """The rviz process ended while the view was waiting for it."""
-
-
-def exit_status_text(status):
-    """'status -6, SIGABRT' for a process a signal ended, 'status 1' otherwise."""
-    if status is not None and status < 0:
-        try:
-            return 'status %d, %s' % (status, signal.Signals(-status).name)
-        except ValueError:
-            pass
-    return 'status %s' % status
 
 
 def xvfb_display(log_text):
