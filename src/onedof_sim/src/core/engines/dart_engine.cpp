@@ -233,11 +233,12 @@ constexpr int kFrictionPasses = 10;
 constexpr double kNormalImpulseTolerance = 1e-3;
 constexpr double kNormalImpulseFloor = 1e-9;
 
-// A contact held to Coulomb's law (contact_rules.h). Sliding faster than kSlidingSpeed, its one friction
-// row is along the slip, bounded by mu N (DART's first friction direction, taken from its first
-// shape's dynamics when it is built, set to the slip, and that shape's mu2 to 0 for its second
-// row); slower, DART's pyramid, its directions fixed in the contact plane. fixFrictionBounds then
-// bounds its friction rows by a normal impulse of its own instead of the one the solve finds.
+// A contact held to Coulomb's law (contact_rules.h). Sliding faster than kSlidingSpeed, its one
+// friction row is along the slip, bounded by mu N (DART's first friction direction, taken from its
+// first shape's dynamics when it is built, set to the slip, and that shape's mu2 to 0 for its
+// second row); slower, DART's pyramid, its directions fixed in the contact plane.
+// fixFrictionBounds then bounds its friction rows by a normal impulse of its own instead of the
+// one the solve finds.
 class CoulombContact : public dart::constraint::ContactConstraint {
  public:
   CoulombContact(dart::collision::Contact& contact, double dt, const ShapeRefs& shapes)

@@ -46,10 +46,10 @@
 // every contact with the normal forces the step ended with (dJointFeedback), and where it
 // fails takes the step again from its start with those bounds fixed (box friction), until it
 // holds: each retake's normal forces are closer (5 or 6 retakes a step while that base
-// accelerates, hardly any at a steady speed). A contact sliding faster than kSlidingSpeed (contact_rules.h) gets one
-// friction row, along its slip: Coulomb's cone. ODE's pyramid, its directions fixed in the
-// contact plane, brakes a dragged caster along one of them and holds it across the other, which
-// pins the base's tail: it cannot turn.
+// accelerates, hardly any at a steady speed). A contact sliding faster than kSlidingSpeed
+// (contact_rules.h) gets one friction row, along its slip: Coulomb's cone. ODE's pyramid, its
+// directions fixed in the contact plane, brakes a dragged caster along one of them and holds it
+// across the other, which pins the base's tail: it cannot turn.
 #include <ode/ode.h>
 
 #include <algorithm>
