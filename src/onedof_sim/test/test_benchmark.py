@@ -1,9 +1,10 @@
-"""Unit tests of the benchmarks' arithmetic and report (no ROS graph needed)."""
+"""Unit tests of the benchmarks' arithmetic, report and bare-loop start (no ROS graph needed)."""
 import math
 import xml.etree.ElementTree as ElementTree
 
 import pytest
 
+from onedof_sim.benchmark.graph import BareLoop, NotMeasured, engine_loop_command
 from onedof_sim.benchmark.report import (Row, chain_urdf, collapsed_stack_shares,
                                          cpu_model, markdown_cell, mean_rtf, missed_periods, one_line,
                                          percentile, perf_report_shares, period_jitter,
@@ -165,3 +166,12 @@ def test_bus_has_connection_reads_bus_info_rows():
     assert not connected_to(bus_info, '/benchmark', '/clock')
     assert not connected_to(bus_info, '/book_controller', '/rosout')
     assert not connected_to([], '/book_controller', '/clock')
+
+
+def test_a_bare_loop_whose_engine_refuses_the_model_is_not_measured_in_the_engines_words(
+        tmp_path):
+    # MuJoCo refuses a chain deeper than 95 links (mujoco_engine.cpp), as row 2's 200 links.
+    path = tmp_path / 'chain_96.urdf'
+    path.write_text(chain_urdf(96))
+    with pytest.raises(NotMeasured, match='mujoco: a chain of more than 95 links'):
+        BareLoop(engine_loop_command('mujoco'), [('chain', str(path), 'urdf', 0.0)])

@@ -8,7 +8,8 @@
 // joints between two bodies or a body and the environment.
 //
 // Adding an engine: one adapter file in engines/ implementing Engine and EngineModel, and one
-// entry in engines/registry.cpp.
+// entry in engines/registry.cpp. The contact rules every engine applies alike (a lying
+// cylinder's line, Coulomb's friction at a sliding contact) are engines/contact_rules.h's.
 #pragma once
 
 #include <cstdarg>
@@ -44,13 +45,6 @@ inline void faultFromErrorHandler(const char* library, bool inside_call, int num
   if (inside_call) throw EngineFault(std::string(library) + ": " + text);
   std::fprintf(stderr, "%s, error %d: %s\n", library, number, text);
 }
-
-// Friction at a contact whose bodies slide over each other, at the step's start, faster than
-// this (m/s) is Coulomb's: mu times the normal force, against the slip, whatever its direction.
-// Slower, each engine's friction pyramid holds the contact, its directions fixed in the contact
-// plane: a pyramid on a sliding contact brakes the slip along one of its directions only and
-// holds it across the other, so that a caster dragged at an angle to it pins its base sideways.
-constexpr double kSlidingSpeed = 0.01;
 
 struct ShapeSpec {
   // Box, Cylinder (along z), Sphere or Mesh; Plane (the plane z = 0 of its pose, unbounded) only

@@ -21,15 +21,14 @@
 //
 // Friction is isotropic: a contact uses the smaller mu of its two shapes and mu2 is ignored.
 //
-// A cylinder lying on the ground touches it along a line. Bullet's convex-plane collision finds
-// one deepest point a step, which for a line is one end of it, and its manifold keeps the points
-// of the last steps: a wheel's contact stays at one rim, so a two-wheeled base turns on a
-// narrower track than its wheels' and turns faster than they command. Two points on the line do
-// not cure it: the sequential-impulse solver gives the whole load of two points that the body
-// cannot tilt about to the one it resolves first (a base's wheels: each on its inner point, the
-// track 3.5 cm narrower). LyingCylinderPlane gives the line's resultant instead, one point at
-// its middle, at the line's depth there; the line's friction torque about the normal (ODE's
-// engine resolves it, ode_engine.cpp) is left out.
+// A cylinder lying on the ground touches it along a line, which each engine resolves by its middle
+// (contact_rules.h). Bullet's convex-plane collision finds one deepest point a step, which for a
+// line is one end of it, and its manifold keeps the points of the last steps: a wheel's contact
+// stays at one rim, so a two-wheeled base turns on a narrower track than its wheels' and turns
+// faster than they command. Two points on the line do not cure it: the sequential-impulse solver
+// gives the whole load of two points that the body cannot tilt about to the one it resolves first
+// (a base's wheels: each on its inner point, the track 3.5 cm narrower). CylinderPlane gives the
+// line's middle from the cylinder's pose, at the line's depth there.
 //
 // A cylinder standing on an end face touches the ground with a disc, of which Bullet's collision
 // likewise finds one rim point a step. Pushed at its rim, a body turns more the smaller its
@@ -56,6 +55,7 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include "contact_rules.h"
 #include "engine.h"
 #include "onedof_sim/pose_math.h"
 
@@ -68,9 +68,6 @@ namespace {
 // whatever the margin (it is taken from the inside), and a sphere's margin is its radius.
 constexpr double kMargin = 0.0005;
 
-// A cylinder lies on the ground when its axis is square to the ground's normal within this (the
-// sine of the angle between axis and ground), as in ode_engine.cpp.
-constexpr double kLyingTilt = 0.01;
 // A cylinder stands on an end face when its axis is along the ground's normal within kLyingTilt
 // (the sine of the angle between them); the face is flat, with no lowest rim point, within this.
 constexpr double kFlatTilt = 1e-9;
@@ -287,7 +284,7 @@ class CylinderPlane : public btCollisionAlgorithm {
     const btScalar across = axis.dot(normal);
     btManifoldArray manifolds;
     general_.getAllContactManifolds(manifolds);
-    const bool lying = std::fabs(across) <= kLyingTilt;
+    const bool lying = liesOn(fromBt(axis), fromBt(normal));
     const bool standing = 1 - across * across <= kLyingTilt * kLyingTilt;
     if ((!lying && !standing) || manifolds.size() == 0) {
       general_.processCollision(a, b, dispatch, result);
@@ -303,8 +300,8 @@ class CylinderPlane : public btCollisionAlgorithm {
         result->addContactPoint(normal, point - distance * normal, distance);
     };
     if (lying) {
-      const btVector3 down = -(normal - across * axis).normalized();  // to the line, from the axis
-      touch(cylinder_pose.getOrigin() + cylinder->getRadius() * down);
+      touch(toBt(lineMiddle(fromBt(cylinder_pose.getOrigin()), fromBt(axis), cylinder->getRadius(),
+                            fromBt(normal))));
     } else {
       // The middle of the face towards the plane, and the rim's lowest point where it tilts.
       const btScalar half_length = cylinder->getHalfExtentsWithMargin()[up];
@@ -360,7 +357,7 @@ class CylinderPlane : public btCollisionAlgorithm {
   bool swapped_;  // the plane is the first object
 };
 
-// The sequential-impulse solver with Coulomb's friction at sliding contacts (engine.h,
+// The sequential-impulse solver with Coulomb's friction at sliding contacts (contact_rules.h,
 // kSlidingSpeed). Each contact point's two friction directions are set before the solver makes
 // its constraints: at a point sliding faster than kSlidingSpeed at the step's start, the
 // diagonals of the slip and the direction across it, each bounded by mu / sqrt(2) times the
@@ -396,11 +393,10 @@ class CoulombFrictionSolver : public btSequentialImpulseConstraintSolver {
     btVector3 slip(0, 0, 0);
     if (a) slip += velocityAt(*a, point.getPositionWorldOnA());
     if (b) slip -= velocityAt(*b, point.getPositionWorldOnB());
-    slip -= normal * normal.dot(slip);
-    const btScalar speed = slip.length();
+    Vec3 in_plane;
     btVector3 first, second;
-    if (speed > kSlidingSpeed) {
-      const btVector3 along = slip / speed, across = normal.cross(along);
+    if (slides(fromBt(slip), fromBt(normal), &in_plane)) {
+      const btVector3 along = toBt(in_plane).normalized(), across = normal.cross(along);
       first = (along + across) * SIMDSQRT12;
       second = (along - across) * SIMDSQRT12;
       sliding_.insert(&point);

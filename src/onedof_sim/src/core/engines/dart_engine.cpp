@@ -71,6 +71,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "contact_rules.h"
 #include "engine.h"
 #include "ode_rays.h"
 #include "onedof_sim/pose_math.h"
@@ -232,11 +233,12 @@ constexpr int kFrictionPasses = 10;
 constexpr double kNormalImpulseTolerance = 1e-3;
 constexpr double kNormalImpulseFloor = 1e-9;
 
-// A contact held to Coulomb's law (engine.h). Sliding faster than kSlidingSpeed, its one friction
-// row is along the slip, bounded by mu N (DART's first friction direction, taken from its first
-// shape's dynamics when it is built, set to the slip, and that shape's mu2 to 0 for its second
-// row); slower, DART's pyramid, its directions fixed in the contact plane. fixFrictionBounds then
-// bounds its friction rows by a normal impulse of its own instead of the one the solve finds.
+// A contact held to Coulomb's law (contact_rules.h). Sliding faster than kSlidingSpeed, its one
+// friction row is along the slip, bounded by mu N (DART's first friction direction, taken from its
+// first shape's dynamics when it is built, set to the slip, and that shape's mu2 to 0 for its
+// second row); slower, DART's pyramid, its directions fixed in the contact plane.
+// fixFrictionBounds then bounds its friction rows by a normal impulse of its own instead of the
+// one the solve finds.
 class CoulombContact : public dart::constraint::ContactConstraint {
  public:
   CoulombContact(dart::collision::Contact& contact, double dt, const ShapeRefs& shapes)
@@ -279,15 +281,15 @@ class CoulombContact : public dart::constraint::ContactConstraint {
           body->getAngularVelocity().cross(contact.point - body->getWorldTransform().translation());
       slip += side == 0 ? velocity : -velocity;
     }
-    slip -= contact.normal.dot(slip) * contact.normal;
-    const bool sliding = slip.norm() > kSlidingSpeed;
+    Vec3 in_plane;
+    const bool sliding = slides(fromEigen(slip), fromEigen(contact.normal), &in_plane);
     for (int side = 0; side < 2; ++side) {
       auto* node = const_cast<dd::ShapeFrame*>(frames[side])->asShapeNode();
       dd::DynamicsAspect* dynamics = node->getDynamicsAspect();
       const auto info = shapes.find(frames[side]);
       const bool along_slip = sliding && side == 0;
       dynamics->setFirstFrictionDirectionFrame(along_slip ? dd::Frame::World() : nullptr);
-      dynamics->setFirstFrictionDirection(along_slip ? slip.normalized()
+      dynamics->setFirstFrictionDirection(along_slip ? toEigen(in_plane).normalized()
                                                      : Eigen::Vector3d::Zero().eval());
       dynamics->setSecondaryFrictionCoeff(along_slip || info == shapes.end() ? 0.0
                                                                             : info->second.mu2);
@@ -365,15 +367,10 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
 
  private:
   // A cylinder lying on a face touches it along a line, of which ODE's collision gives the two
-  // end points on the rims. Resolved as two points with friction, they hold the cylinder from
-  // turning about the normal (a caster wheel from swivelling: the book's base drove straight
-  // whatever its wheels turned), and the solver splits the line's load between them as it may.
-  // The line's first end becomes its middle, at the middle's depth, carrying the whole line's
-  // load and friction (the line's resultant, as the bullet engine resolves it); false for its
-  // second end, which leaves the solve. A cylinder is taken as lying when its axis is square to
-  // the normal within kLyingTilt (the sine of the angle between them).
+  // end points on the rims; each engine resolves it by its middle (contact_rules.h). The line's
+  // first end becomes its middle, carrying the whole line's load and friction; false for its
+  // second end, which leaves the solve.
   bool lineMiddle(dart::collision::Contact* contact) {
-    constexpr double kLyingTilt = 0.01;
     const dart::collision::Contact* ends[2] = {nullptr, nullptr};
     int count = 0;
     for (size_t i = 0; i < mCollisionResult.getNumContacts(); ++i) {
@@ -385,24 +382,25 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
       ++count;
     }
     if (count != 2) return true;
-    const Eigen::Vector3d segment = ends[1]->point - ends[0]->point;
-    const double length = segment.norm();
-    if (ends[0]->normal.dot(ends[1]->normal) < 1 - 1e-9 || length == 0) return true;
+    const TouchPoint points[2] = {touchPoint(*ends[0]), touchPoint(*ends[1])};
     for (const dart::collision::CollisionObject* object :
          {contact->collisionObject1, contact->collisionObject2}) {
       if (!object->getShape()->is<dd::CylinderShape>()) continue;
-      const Eigen::Vector3d axis = object->getTransform().linear().col(2);
-      if (std::fabs(axis.dot(contact->normal)) > kLyingTilt ||
-          std::fabs(segment.dot(axis)) < length * (1 - 1e-6))
-        continue;
+      const Vec3 axis = fromEigen(object->getTransform().linear().col(2).eval());
+      if (!areLineEnds(axis, points[0], points[1])) continue;
       if (contact == ends[1]) return false;
       if (middles_.insert(contact).second) {  // once a step: the group may be solved again
-        contact->point = (ends[0]->point + ends[1]->point) / 2;
-        contact->penetrationDepth = (ends[0]->penetrationDepth + ends[1]->penetrationDepth) / 2;
+        const TouchPoint middle = pointOnLine(points[0], points[1], 0.5);
+        contact->point = toEigen(middle.position);
+        contact->penetrationDepth = middle.depth;
       }
       return true;
     }
     return true;
+  }
+
+  static TouchPoint touchPoint(const dart::collision::Contact& contact) {
+    return {fromEigen(contact.point), fromEigen(contact.normal), contact.penetrationDepth};
   }
 
   // Whether the contact is among the max_contacts deepest of its pair of shapes (a dense mesh

@@ -24,7 +24,7 @@
 // - after collision: contacts between two shapes of one model are dropped (MuJoCo's contype
 //   bits cannot tell models apart); each contact takes the smaller friction of its two shapes
 //   (MuJoCo takes the larger); a cylinder lying on a plane gets its line's middle
-//   (lyingCylinder); a contact sliding faster than kSlidingSpeed (engine.h) leaves the solve
+//   (lyingCylinder); a contact sliding faster than kSlidingSpeed (contact_rules.h) leaves the solve
 //   without friction and takes Coulomb's, mu N against its slip, as an applied force
 //   (slidingFriction);
 // - after the velocity stage: a joint's friction and its velocity motor are MuJoCo's friction
@@ -55,6 +55,7 @@
 #include <map>
 #include <optional>
 
+#include "contact_rules.h"
 #include "engine.h"
 #include "mujoco_mjcf.h"
 #include "onedof_sim/pose_math.h"
@@ -63,9 +64,6 @@ namespace onedof_sim {
 namespace core {
 namespace {
 
-// A cylinder lies on a plane when its axis is square to the normal within this (the sine of the
-// angle between them), as in the other engines.
-constexpr double kLyingTilt = 0.01;
 // The impedance of the two ends of a lying cylinder's line (lyingCylinder): their compliance
 // 10^4 times the middle's.
 constexpr double kSupportImpedance = 0.01;
@@ -784,11 +782,12 @@ void MujocoEngine::filterContacts() {
     mjContact& c = d_->contact[i];
     if (c.dim == 1) continue;
     const Vec3 normal = {c.frame[0], c.frame[1], c.frame[2]};
-    Vec3 slip = pointVelocity(m_->geom_bodyid[c.geom2], c.pos) -
-                pointVelocity(m_->geom_bodyid[c.geom1], c.pos);
-    slip = slip - dot(slip, normal) * normal;
+    Vec3 slip;
+    if (!slides(pointVelocity(m_->geom_bodyid[c.geom2], c.pos) -
+                    pointVelocity(m_->geom_bodyid[c.geom1], c.pos),
+                normal, &slip))
+      continue;
     const double speed = norm(slip);
-    if (!(speed > kSlidingSpeed)) continue;
     // The coefficient along the slip of the friction ellipse (mu along the first tangent, mu2
     // along the second).
     const double along1 = dot(slip, {c.frame[3], c.frame[4], c.frame[5]}) / speed;
@@ -800,10 +799,8 @@ void MujocoEngine::filterContacts() {
 }
 
 // A cylinder lying on a plane touches it along a line, of which MuJoCo gives the two ends
-// (contacts `first` and the next). With friction at both, they resist the cylinder turning about
-// the normal (a wheel's scrub, mu N w / 4 for a line w long): a two-wheeled base dragging a
-// caster turns at a third of its wheels' rate. As in the other engines, the line's middle takes
-// its friction: a contact there, and the two ends kept as supports without friction and so soft
+// (contacts `first` and the next); each engine resolves it by its middle (contact_rules.h): a
+// contact there, and the two ends kept as supports without friction and so soft
 // (kSupportImpedance) that the middle carries nearly all the load, which bounds its friction.
 void MujocoEngine::lyingCylinder(int first) {
   mjContact& p = d_->contact[first];
@@ -816,14 +813,19 @@ void MujocoEngine::lyingCylinder(int first) {
     return;
   const mjtNum* mat = d_->geom_xmat + 9 * cylinder;
   const Vec3 axis = {mat[2], mat[5], mat[8]};
-  const Vec3 normal = {p.frame[0], p.frame[1], p.frame[2]};
-  const Vec3 segment = {q.pos[0] - p.pos[0], q.pos[1] - p.pos[1], q.pos[2] - p.pos[2]};
-  if (std::fabs(dot(axis, normal)) > kLyingTilt ||
-      std::fabs(dot(segment, axis)) < norm(segment) * (1 - 1e-6))
-    return;
+  // MuJoCo's dist is the depth's negative.
+  const auto touch = [](const mjContact& c) {
+    return TouchPoint{
+        {c.pos[0], c.pos[1], c.pos[2]}, {c.frame[0], c.frame[1], c.frame[2]}, -c.dist};
+  };
+  const TouchPoint ends[2] = {touch(p), touch(q)};
+  if (!areLineEnds(axis, ends[0], ends[1])) return;
+  const TouchPoint line_middle = pointOnLine(ends[0], ends[1], 0.5);
   mjContact middle = p;
-  for (int k = 0; k < 3; ++k) middle.pos[k] = (p.pos[k] + q.pos[k]) / 2;
-  middle.dist = (p.dist + q.dist) / 2;
+  middle.pos[0] = line_middle.position.x;
+  middle.pos[1] = line_middle.position.y;
+  middle.pos[2] = line_middle.position.z;
+  middle.dist = -line_middle.depth;
   for (mjContact* end : {&p, &q}) {
     end->dim = 1;
     end->solimp[0] = end->solimp[1] = kSupportImpedance;

@@ -28,22 +28,14 @@
 // in, with dWorldQuickStep (ODE's iterative solver, Gazebo's default), and only trouble that
 // solver reports too reaches the world.
 //
-// A cylinder lying on a flat face touches it along a line. dCollide gives that line's two end
-// points on the rims; resolved as two points with friction, they resist the cylinder turning about
-// the normal (a caster wheel swivelling) with up to mu N w / 2 (w the cylinder's length), and how
-// the rigid line's load splits between them is indeterminate: the solver loads either, and the
-// point that grips sets a wheel's track, and a base's turn rate with it. lineContact replaces them
-// by three: the points at a quarter and three quarters of the line steady the cylinder and have no
-// friction; the line's middle carries nearly all its load (kLineSupportCfm) and its friction,
-// bounded by the whole line's normal force (exactStep), with the first friction direction along the
-// cylinder's axis, so that the friction pyramid's sides are the wheel's lateral and rolling
-// directions whatever its heading. That is the line's resultant, as Bullet's engine resolves it: a
-// wheel's track is its middle's, and no friction torque about the normal holds a caster from
-// swivelling (a flat cylinder's evenly loaded line, mu N w / 4, holds the book's mobot's 8 cm
-// casters straight against its 5 N m wheel motors, and the mobot cannot turn; a real caster's
-// crowned tyre scrubs far less). A cylinder tilted within kLyingTilt with one rim clear of the face
-// gives that rim's point alone; rimContact adds the line's other end, so that the contact does not
-// jump between a rim and the line.
+// A cylinder lying on a flat face touches it along a line, of which dCollide gives the two end
+// points on the rims; each engine resolves it by its middle (contact_rules.h). lineContact
+// replaces the ends by three points: those at a quarter and three quarters of the line steady the
+// cylinder and have no friction; the line's middle carries nearly all its load (kLineSupportCfm)
+// and its friction, bounded by the whole line's normal force (exactStep), with the first friction
+// direction along the cylinder's axis, so that the friction pyramid's sides are the wheel's
+// lateral and rolling directions whatever its heading. A cylinder tilted within kLyingTilt with
+// one rim clear of the face gives that rim's point alone; rimContact adds the line's other end.
 //
 // Friction follows Coulomb's law, which dWorldStep alone does not: its Dantzig solver bounds
 // each friction force by mu times the normal force its contact had before any friction was
@@ -54,10 +46,10 @@
 // every contact with the normal forces the step ended with (dJointFeedback), and where it
 // fails takes the step again from its start with those bounds fixed (box friction), until it
 // holds: each retake's normal forces are closer (5 or 6 retakes a step while that base
-// accelerates, hardly any at a steady speed). A contact sliding faster than kSlidingSpeed (engine.h) gets one
-// friction row, along its slip: Coulomb's cone. ODE's pyramid, its directions fixed in the
-// contact plane, brakes a dragged caster along one of them and holds it across the other, which
-// pins the base's tail: it cannot turn.
+// accelerates, hardly any at a steady speed). A contact sliding faster than kSlidingSpeed
+// (contact_rules.h) gets one friction row, along its slip: Coulomb's cone. ODE's pyramid, its
+// directions fixed in the contact plane, brakes a dragged caster along one of them and holds it
+// across the other, which pins the base's tail: it cannot turn.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -68,6 +60,7 @@
 #include <exception>
 #include <limits>
 
+#include "contact_rules.h"
 #include "engine.h"
 #include "ode_rays.h"
 #include "onedof_sim/pose_math.h"
@@ -93,11 +86,6 @@ constexpr double kMinContactCfm = 1e-10;
 // cylinder that tips about its middle is held level to microradians.
 constexpr double kLineSupportCfm = 1e-6;
 
-// A cylinder lies on a face when its axis is square to the contact normal within this (the sine
-// of the angle between the axis and the face): 10 mrad, 0.7 mm of height over the book's 7 cm
-// wheel. Beyond it only one rim touches, and dCollide's points stand.
-constexpr double kLyingTilt = 0.01;
-
 // Coulomb's law at a contact, as exactStep holds the step to it: a friction force within this
 // fraction (and kFrictionForceFloor newtons) of mu times its normal force counts as at that
 // bound; a contact slides along a friction direction faster than kSlipFloor (m/s). At most
@@ -109,61 +97,59 @@ constexpr int kFrictionPasses = 10;
 
 double dot3(const dReal* a, const dReal* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
+TouchPoint toTouch(const dContactGeom& geom) {
+  return {toVec3(geom.pos), toVec3(geom.normal), geom.depth};
+}
+// `geom` at `point`'s position and depth.
+void placeGeom(const TouchPoint& point, dContactGeom* geom) {
+  geom->pos[0] = point.position.x, geom->pos[1] = point.position.y, geom->pos[2] = point.position.z;
+  geom->depth = point.depth;
+}
+
+// The axis of `cylinder` (its z), world.
+Vec3 cylinderAxis(dGeomID cylinder) {
+  const dReal* rotation = dGeomGetRotation(cylinder);
+  return {rotation[2], rotation[6], rotation[10]};
+}
+
 // The two contacts of `cylinder` (cylinder against a flat face) when they are the ends of a side
-// line, as dCollide gives them for a lying cylinder: the same normal, square to the axis, and the
-// segment between them along the axis. Replaces them by the line's quarter points, adds its
-// middle as points[2] (points has room for three), and sets `axis` (unit, in the contact plane)
-// for the first friction direction.
+// line (areLineEnds). Replaces them by the line's quarter points, adds its middle as points[2]
+// (points has room for three), and sets `axis` to the first friction direction: the cylinder's
+// axis in the contact plane.
 bool lineContact(dGeomID cylinder, dContactGeom* points, dVector3 axis) {
   if (dGeomGetClass(cylinder) != dCylinderClass) return false;
-  const dReal* rotation = dGeomGetRotation(cylinder);
-  const dVector3 z = {rotation[2], rotation[6], rotation[10]};  // the cylinder's axis
-  const dContactGeom& p = points[0];
-  const dContactGeom& q = points[1];
-  const dVector3 segment = {q.pos[0] - p.pos[0], q.pos[1] - p.pos[1], q.pos[2] - p.pos[2]};
-  const double length = std::sqrt(dot3(segment, segment));
-  if (dot3(p.normal, q.normal) < 1 - 1e-9 || std::fabs(dot3(z, p.normal)) > kLyingTilt ||
-      length == 0 || std::fabs(dot3(segment, z)) < length * (1 - 1e-6))
-    return false;
-  const dContactGeom ends[2] = {p, q};
+  const Vec3 z = cylinderAxis(cylinder);
+  const TouchPoint ends[2] = {toTouch(points[0]), toTouch(points[1])};
+  if (!areLineEnds(z, ends[0], ends[1])) return false;
+  const dContactGeom first_end = points[0];
   const double at[3] = {0.25, 0.75, 0.5};
   for (int i = 0; i < 3; ++i) {
-    dContactGeom& point = points[i];
-    point = ends[0];
-    for (int k = 0; k < 3; ++k) point.pos[k] = ends[0].pos[k] + at[i] * segment[k];
-    point.depth = ends[0].depth + at[i] * (ends[1].depth - ends[0].depth);
+    points[i] = first_end;
+    placeGeom(pointOnLine(ends[0], ends[1], at[i]), &points[i]);
   }
-  const double across = dot3(z, points[0].normal);
-  for (int k = 0; k < 3; ++k) axis[k] = z[k] - across * points[0].normal[k];
-  const double norm = std::sqrt(dot3(axis, axis));
-  for (int k = 0; k < 3; ++k) axis[k] /= norm;
+  const Vec3 in_plane = axisInPlane(z, ends[0].normal);
+  axis[0] = in_plane.x, axis[1] = in_plane.y, axis[2] = in_plane.z;
   return true;
 }
 
 // A cylinder lying within kLyingTilt with one rim a little higher than the other: dCollide gives
-// the lower rim's point alone. Adds, as points[1], the other end of the side line it lies on, at
-// that end's depth (negative when it is clear of the face), so that lineContact takes the two
-// as it takes a lying cylinder's: the contact no longer jumps from the line to a rim and back as
-// the cylinder rocks by microradians.
+// the lower rim's point alone. Adds, as points[1], the other end of the side line it lies on
+// (otherLineEnd), so that lineContact takes the two as it takes a lying cylinder's.
 bool rimContact(dGeomID cylinder, dContactGeom* points) {
   if (dGeomGetClass(cylinder) != dCylinderClass) return false;
   dReal radius, length;
   dGeomCylinderGetParams(cylinder, &radius, &length);
-  const dReal* rotation = dGeomGetRotation(cylinder);
-  const dReal* centre = dGeomGetPosition(cylinder);
-  const dVector3 z = {rotation[2], rotation[6], rotation[10]};
   const dContactGeom& p = points[0];
-  const dVector3 offset = {p.pos[0] - centre[0], p.pos[1] - centre[1], p.pos[2] - centre[2]};
-  const double along = dot3(offset, z);
-  if (std::fabs(dot3(z, p.normal)) > kLyingTilt || std::fabs(along) < length / 2 * (1 - 1e-6))
-    return false;
   // The normal points into the contact's first geom: out of the face towards the cylinder when
   // the cylinder is that geom.
-  const double into_cylinder = p.g1 == cylinder ? 1 : -1;
-  dContactGeom& q = points[1];
-  q = p;
-  for (int k = 0; k < 3; ++k) q.pos[k] = p.pos[k] - 2 * along * z[k];
-  q.depth = p.depth + 2 * along * into_cylinder * dot3(z, p.normal);
+  const Vec3 into_cylinder = (p.g1 == cylinder ? 1.0 : -1.0) * toVec3(p.normal);
+  TouchPoint other;
+  if (!otherLineEnd(toVec3(dGeomGetPosition(cylinder)), cylinderAxis(cylinder), length,
+                    into_cylinder, toTouch(p), &other))
+    return false;
+  points[1] = p;
+  placeGeom(other, &points[1]);
   return true;
 }
 
@@ -174,7 +160,6 @@ bool rimContact(dGeomID cylinder, dContactGeom* points) {
 // points are asked for and the max_contacts deepest kept.
 constexpr int kMeshContactCandidates = 250;
 
-Vec3 toVec3(const dReal* v) { return {v[0], v[1], v[2]}; }
 void toOde(const Quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
 
 void setGeomPose(dGeomID geom, const Pose& pose, bool as_offset) {
@@ -765,19 +750,17 @@ class OdeEngine : public Engine {
     return line;
   }
 
-  // Whether the bodies slide over each other at the contact at the step's start, faster than
-  // kSlidingSpeed, and along which unit direction (in the contact plane, body_a's way).
+  // Whether the bodies slide over each other at the contact at the step's start (slides), and
+  // along which unit direction (body_a's way).
   static bool slidingDirection(dBodyID body_a, dBodyID body_b, const dContactGeom& geom,
                                dVector3 direction) {
     dVector3 va = {0, 0, 0}, vb = {0, 0, 0};
     if (body_a) dBodyGetPointVel(body_a, geom.pos[0], geom.pos[1], geom.pos[2], va);
     if (body_b) dBodyGetPointVel(body_b, geom.pos[0], geom.pos[1], geom.pos[2], vb);
-    for (int k = 0; k < 3; ++k) direction[k] = va[k] - vb[k];
-    const double along_normal = dot3(direction, geom.normal);
-    for (int k = 0; k < 3; ++k) direction[k] -= along_normal * geom.normal[k];
-    const double speed = std::sqrt(dot3(direction, direction));
-    if (!(speed > kSlidingSpeed)) return false;
-    for (int k = 0; k < 3; ++k) direction[k] /= speed;
+    Vec3 slip;
+    if (!slides(toVec3(va) - toVec3(vb), toVec3(geom.normal), &slip)) return false;
+    const double speed = std::sqrt(dot(slip, slip));
+    direction[0] = slip.x / speed, direction[1] = slip.y / speed, direction[2] = slip.z / speed;
     return true;
   }
 

@@ -98,15 +98,20 @@ class BareLoop:
         for name, path, fmt, x in models:
             args += ['--' + fmt, name, path, str(x)]
         self.chatter = tempfile.TemporaryFile(mode='w+')
+        # A session of its own, as each node PrivateRos starts: where the kernel groups processes
+        # by session for scheduling (sched_autogroup), a loop sharing the benchmark's session
+        # would share its CPU with everything else started there while the node it is compared
+        # with has a group to itself.
         self.proc = subprocess.Popen(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=self.chatter, text=True)
+                                     stderr=self.chatter, text=True, start_new_session=True)
         said = []
         for line in self.proc.stdout:
             if line.strip() == 'ready':
                 return
             said.append(line)
+        message = self.said(said)  # before close, which closes the chatter's file
         self.close()
-        raise NotMeasured('%s did not start: %s' % (' '.join(command), self.said(said)))
+        raise NotMeasured('%s did not start: %s' % (' '.join(command), message))
 
     def said(self, stdout_lines):
         self.chatter.seek(0)

@@ -13,6 +13,9 @@ from onedof_sim.benchmark.graph import (CLOCK_FREQUENCY, PROFILE_S, STEP, BareLo
 # The engine whose physics library pybullet wraps: its node is also set against bare pybullet.
 PYBULLET_COUNTERPART = 'bullet'
 THROTTLED_CLOCK_HZ = 100.0
+# The node's steps per second as a share of its engine's bare loop's, on every engine: what the
+# node adds to a step (its mutex, /clock, the plugins' hooks) stays a fifth of it at most.
+NODE_SHARE_AIM = 0.8
 SETTLE_S = 0.25  # wall seconds after an unpause before a window opens
 
 
@@ -62,14 +65,15 @@ def measure_with_memory(bench, engine):
             windows['throttled'].append(node_window(THROTTLED_CLOCK_HZ))
         bench.ros.set_param(CLOCK_FREQUENCY, 0.0)
         rates = {key: bm.rate(*zip(*key_windows)) for key, key_windows in windows.items()}
-        met = rates['node'] / rates['bare'] >= 0.5
+        met = rates['node'] / rates['bare'] >= NODE_SHARE_AIM
         bench.add('1', 'steps/s of the %s, tutorial robot + cafe table, as fast as possible, '
                   '/clock every step; /clock subscribers: %s' % (
                       node_label(engine), ', '.join(clock_subscribers) or 'none'),
                   '%.0f' % rates['node'], 'bare loop on the same models, %s (World::step: '
                   'effort jobs, collisions, contacts, the engine\'s step; no mutex, /clock or '
                   'pacing)' % ' '.join(engine_loop_command(engine)[2:]),
-                  '%.0f' % rates['bare'], rates['node'] / rates['bare'], '>= 0.5', met)
+                  '%.0f' % rates['bare'], rates['node'] / rates['bare'],
+                  '>= %g' % NODE_SHARE_AIM, met)
         bench.add('1', 'the same %s with /gazebo/pub_clock_frequency %g (what /clock every '
                   'step costs)' % (node_label(engine), THROTTLED_CLOCK_HZ),
                   '%.0f' % rates['throttled'], 'the same bare loop', '%.0f' % rates['bare'],
