@@ -10,9 +10,9 @@ simulator, the node serves and picks the simulator up when it comes. And in the 
 to, holding the model in the air while the world runs, flicks it on and lets it go at once where
 it lands, and turns it by a quarter turn on its z ring; in a handle's right-click menu, Move To
 puts the view's focal point on its model (the view's distance, yaw and pitch kept), Follow keeps
-it there as the model moves (paused and running) until another model is followed or Stop
-Following, Delete deletes its model and Apply Force/Torque's dialog pushes it by F for t: it
-moves at F t / m."""
+it there as the model moves (paused and running) until another model is followed, Stop
+Following, or the model is deleted; Delete deletes its model and Apply Force/Torque's dialog
+pushes it by F for t: it moves at F t / m."""
 import math
 
 import pytest
@@ -336,6 +336,14 @@ def test_the_right_click_menu_moves_the_view_to_a_model_and_follows_it(ros, rosp
     ros.wait_until(lambda: handle_at(seen, 'other', pose(-1.5, 1.5, 0.1)), 60,
                    what="the other model's handle moved")
     assert view_on(window, config, (-1.0, 1.0, 0.1)), window.view
+
+    # A followed model deleted: the panel stops following it and says so.
+    choose('box', 'Follow')
+    wait_for_view_on(position_of(api, 'box'), 'the box followed again')
+    deleted = api.delete_model('box')
+    assert deleted.success, deleted.status_message
+    ros.wait_until(lambda: 'gazebo_ros_panels: not following box' in window.log(), 60,
+                   what='the panel to stop following the deleted box')
     assert window.gzclient.poll() is None, window.log()
     window.stop()
 
