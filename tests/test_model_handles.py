@@ -238,17 +238,25 @@ def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rosp
     ros.terminate(xvfb)
 
 
-def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+def window_on_boxes(ros, rospy_client, boxes):
+    """The simulator, paused, with a box at each of boxes' poses ({name: Pose}), and its window
+    with the handles shown: (api, window, seen: a HandlesSeen) once each box's handle is at it."""
     start_sim(ros, ENGINES[0])
     api = GazeboApi(rospy_client)
     api.pause_physics()
-    api.spawn_box('box', pose(1.0, 0.0, 0.1))
-    api.spawn_box('kept', pose(-1.0, 1.0, 0.1))
+    for name, at in boxes.items():
+        api.spawn_box(name, at)
     window = GazeboWindow(ros)
     window.show_handles()
     seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.1)), 120,
-                   what="the box's handle")
+    ros.wait_until(lambda: all(handle_at(seen, name, at) for name, at in boxes.items()), 120,
+                   what="the boxes' handles")
+    return api, window, seen
+
+
+def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
+                                                            'kept': pose(-1.0, 1.0, 0.1)})
     assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), MENU.index('Delete') + 1)
@@ -277,16 +285,8 @@ def view_on(window, path, point, tolerance=1e-3):
 
 def test_the_right_click_menu_moves_the_view_to_a_model_and_follows_it(ros, rospy_client,
                                                                        tmp_path):
-    start_sim(ros, ENGINES[0])
-    api = GazeboApi(rospy_client)
-    api.pause_physics()
-    api.spawn_box('box', pose(1.0, 0.0, 0.1))
-    api.spawn_box('other', pose(-1.0, 1.0, 0.1))
-    window = GazeboWindow(ros)
-    window.show_handles()
-    seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.1)) and
-                   handle_at(seen, 'other', pose(-1.0, 1.0, 0.1)), 120, what='the handles')
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
+                                                            'other': pose(-1.0, 1.0, 0.1)})
     assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
     config = str(tmp_path / 'view.rviz')
     start = window.read_view(config)
@@ -355,16 +355,8 @@ PUSH_SECONDS = 0.5
 
 def test_the_right_click_menu_applies_a_force_for_a_duration(ros, rospy_client, tmp_path):
     from gazebo_ros.wrench_dialog import FIELDS, TITLE
-    start_sim(ros, ENGINES[0])
-    api = GazeboApi(rospy_client)
-    api.pause_physics()
-    api.set_gravity(0, 0, 0)
-    api.spawn_box('box', pose(1.0, 0.0, 0.5))  # in the air, weightless: free
-    window = GazeboWindow(ros)
-    window.show_handles()
-    seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.5)), 120,
-                   what="the box's handle")
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
+    api.set_gravity(0, 0, 0)  # the box in the air, weightless: free
     assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.5), MENU.index('Apply Force/Torque') + 1)
@@ -397,15 +389,8 @@ def yaw_of(orientation):
 
 
 def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_path):
-    start_sim(ros, ENGINES[0])
-    api = GazeboApi(rospy_client)
-    api.pause_physics()
-    api.spawn_box('box', pose(1.0, 0.0, 0.5))  # in the air: it falls unless held
-    window = GazeboWindow(ros)
-    window.show_handles()
-    seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.5)), 120,
-                   what="the box's handle")
+    # The box in the air: it falls unless held.
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
 
     # The x arrow's head pressed and moved by the pixels 0.3 m along x project to, and held.
