@@ -8,8 +8,11 @@ node keeps serving; a model held when the node stops gets its gravity back; star
 simulator, the node serves and picks the simulator up when it comes. And in the simulator's window
 (a real rviz under Xvfb), the mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project
 to, holding the model in the air while the world runs, flicks it on and lets it go at once where
-it lands, and turns it by a quarter turn on its z ring; in a handle's right-click menu, Delete
-deletes its model and Apply Force/Torque's dialog pushes it by F for t: it moves at F t / m."""
+it lands, and turns it by a quarter turn on its z ring; in a handle's right-click menu, Move To
+puts the view's focal point on its model (the view's distance, yaw and pitch kept), Follow keeps
+it there as the model moves (paused and running) until another model is followed, Stop
+Following, or the model is deleted; Delete deletes its model and Apply Force/Torque's dialog
+pushes it by F for t: it moves at F t / m."""
 import math
 
 import pytest
@@ -21,6 +24,8 @@ from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, DragSeen, 
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
 SERVER = '/gazebo_model_handles'
+# A handle's right-click menu, in Gazebo's order.
+MENU = ['Move To', 'Follow', 'Stop Following', 'Apply Force/Torque', 'Delete']
 HANDLES = ['rosrun', 'gazebo_ros', 'model_handles']
 
 
@@ -233,24 +238,112 @@ def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rosp
     ros.terminate(xvfb)
 
 
-def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+def window_on_boxes(ros, rospy_client, boxes):
+    """The simulator, paused, with a box at each of boxes' poses ({name: Pose}), and its window
+    with the handles shown: (api, window, seen: a HandlesSeen) once each box's handle is at it."""
     start_sim(ros, ENGINES[0])
     api = GazeboApi(rospy_client)
     api.pause_physics()
-    api.spawn_box('box', pose(1.0, 0.0, 0.1))
-    api.spawn_box('kept', pose(-1.0, 1.0, 0.1))
+    for name, at in boxes.items():
+        api.spawn_box(name, at)
     window = GazeboWindow(ros)
     window.show_handles()
     seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.1)), 120,
-                   what="the box's handle")
-    assert seen.markers['box'].menu_entries[0].title == 'Delete'
+    ros.wait_until(lambda: all(handle_at(seen, name, at) for name, at in boxes.items()), 120,
+                   what="the boxes' handles")
+    return api, window, seen
+
+
+def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
+                                                            'kept': pose(-1.0, 1.0, 0.1)})
+    assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
-    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), 1)
+    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), MENU.index('Delete') + 1)
     ros.wait_until(lambda: 'box' not in api.get_world_properties().model_names, 60,
                    what='the box deleted')
     assert api.get_world_properties().model_names == ['ground_plane', 'kept']
     ros.wait_until(lambda: 'box' not in seen.markers, 60, what="the box's handle gone")
+    assert window.gzclient.poll() is None, window.log()
+    window.stop()
+
+
+def focal_point(view):
+    return tuple(view['Focal Point'][axis] for axis in 'XYZ')
+
+
+def position_of(api, name):
+    position = model_pose(api, name).position
+    return (position.x, position.y, position.z)
+
+
+def view_on(window, path, point, tolerance=1e-3):
+    """rviz's current view once its focal point is within tolerance of point, else None."""
+    view = window.read_view(path)
+    return view if math.dist(focal_point(view), point) < tolerance else None
+
+
+def test_the_right_click_menu_moves_the_view_to_a_model_and_follows_it(ros, rospy_client,
+                                                                       tmp_path):
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
+                                                            'other': pose(-1.0, 1.0, 0.1)})
+    assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
+    config = str(tmp_path / 'view.rviz')
+    start = window.read_view(config)
+    window.screenshot(str(tmp_path / 'handles.png'))  # the handles drawn before the mouse goes
+
+    def choose(name, entry):
+        """The entry of model name's menu, taken at its x arrow where the current view draws
+        it, once the window shows that view."""
+        at = position_of(api, name)
+        window.read_view(config)
+        window.screenshot(str(tmp_path / ('%s_%s.png' % (name, entry.replace(' ', '_')))))
+        window.choose_from_menu((at[0] + ARROW_GRAB, at[1], at[2]), MENU.index(entry) + 1)
+
+    def wait_for_view_on(point, what):
+        return ros.wait_until(lambda: view_on(window, config, point), 60, interval=0.5,
+                              what='the view on ' + what)
+
+    # Move To: the focal point on the box, the camera as far from it, from the same side.
+    choose('box', 'Move To')
+    moved = wait_for_view_on((1.0, 0.0, 0.1), 'the box')
+    for kept in ('Distance', 'Yaw', 'Pitch'):
+        assert abs(moved[kept] - start[kept]) < 1e-6, (kept, moved, start)
+
+    # Follow: the view goes with the box, moved in the paused world and falling in the running
+    # world, until it comes to rest.
+    choose('box', 'Follow')
+    ros.wait_until(lambda: 'gazebo_ros_panels: following box' in window.log(), 60,
+                   what='the panel following the box')
+    api.set_model_state(model_state('box', pose(0.5, 0.5, 0.6)))
+    wait_for_view_on((0.5, 0.5, 0.6), 'the moved box')
+    api.unpause_physics()
+    ros.wait_until(lambda: position_of(api, 'box')[2] < 0.2, 120, what='the box fallen')
+    ros.wait_until(lambda: view_on(window, config, position_of(api, 'box')), 120, interval=0.5,
+                   what='the view on the box at rest')
+    api.pause_physics()
+
+    # Follow on the other model: the view leaves the box for it.
+    choose('other', 'Follow')
+    wait_for_view_on((-1.0, 1.0, 0.1), 'the other model')
+
+    # Stop Following: the other model moved, the view stays where it was.
+    choose('other', 'Stop Following')
+    ros.wait_until(lambda: 'gazebo_ros_panels: not following other' in window.log(), 60,
+                   what='the panel to stop following')
+    moved = api.set_model_state(model_state('other', pose(-1.5, 1.5, 0.1)))
+    assert moved.success, moved.status_message
+    ros.wait_until(lambda: handle_at(seen, 'other', pose(-1.5, 1.5, 0.1)), 60,
+                   what="the other model's handle moved")
+    assert view_on(window, config, (-1.0, 1.0, 0.1)), window.view
+
+    # A followed model deleted: the panel stops following it and says so.
+    choose('box', 'Follow')
+    wait_for_view_on(position_of(api, 'box'), 'the box followed again')
+    deleted = api.delete_model('box')
+    assert deleted.success, deleted.status_message
+    ros.wait_until(lambda: 'gazebo_ros_panels: not following box' in window.log(), 60,
+                   what='the panel to stop following the deleted box')
     assert window.gzclient.poll() is None, window.log()
     window.stop()
 
@@ -262,20 +355,11 @@ PUSH_SECONDS = 0.5
 
 def test_the_right_click_menu_applies_a_force_for_a_duration(ros, rospy_client, tmp_path):
     from gazebo_ros.wrench_dialog import FIELDS, TITLE
-    start_sim(ros, ENGINES[0])
-    api = GazeboApi(rospy_client)
-    api.pause_physics()
-    api.set_gravity(0, 0, 0)
-    api.spawn_box('box', pose(1.0, 0.0, 0.5))  # in the air, weightless: free
-    window = GazeboWindow(ros)
-    window.show_handles()
-    seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.5)), 120,
-                   what="the box's handle")
-    assert [entry.title for entry in seen.markers['box'].menu_entries] == [
-        'Delete', 'Apply Force/Torque']
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
+    api.set_gravity(0, 0, 0)  # the box in the air, weightless: free
+    assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
-    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.5), 2)
+    window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.5), MENU.index('Apply Force/Torque') + 1)
     typed = {'fx': FORCE, 'duration': PUSH_SECONDS}
     window.fill_in(TITLE % 'box', [repr(typed.get(name, 0.0)) for _, name in FIELDS])
     ros.wait_until(lambda: 'wrench dialog: /gazebo/apply_body_wrench on box::body' in
@@ -305,15 +389,8 @@ def yaw_of(orientation):
 
 
 def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_path):
-    start_sim(ros, ENGINES[0])
-    api = GazeboApi(rospy_client)
-    api.pause_physics()
-    api.spawn_box('box', pose(1.0, 0.0, 0.5))  # in the air: it falls unless held
-    window = GazeboWindow(ros)
-    window.show_handles()
-    seen = HandlesSeen(rospy_client)
-    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 0.0, 0.5)), 120,
-                   what="the box's handle")
+    # The box in the air: it falls unless held.
+    api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
 
     # The x arrow's head pressed and moved by the pixels 0.3 m along x project to, and held.

@@ -1,6 +1,7 @@
 #include "gazebo_client.h"
 
 #include <gazebo_msgs/GetModelProperties.h>
+#include <gazebo_msgs/GetModelState.h>
 #include <gazebo_msgs/GetPhysicsProperties.h>
 #include <gazebo_msgs/GetWorldProperties.h>
 #include <gazebo_msgs/SetModelState.h>
@@ -9,6 +10,7 @@
 #include <onedof_sim/StepSimulation.h>
 #include <ros/package.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/String.h>
 #include <std_srvs/Empty.h>
 
 #include <chrono>
@@ -52,8 +54,10 @@ GazeboClient::GazeboClient(const std::string& gazebo_namespace)
       });
   states_sub_ = nh_.subscribe<gazebo_msgs::ModelStates>(
       namespace_ + "/model_states", 1, [this](const gazebo_msgs::ModelStates::ConstPtr& msg) {
+        const int64_t wall = steadyNowNs();
         std::lock_guard<std::mutex> lock(state_mutex_);
         states_ = *msg;
+        states_wall_ns_ = wall;
       });
   spinner_.start();
   worker_ = std::thread([this] { work(); });
@@ -106,6 +110,32 @@ ClockReading GazeboClient::clock() const {
 gazebo_msgs::ModelStates GazeboClient::modelStates() const {
   std::lock_guard<std::mutex> lock(state_mutex_);
   return states_;
+}
+
+bool GazeboClient::recentModelPose(const std::string& name, int64_t max_age_ns,
+                                   geometry_msgs::Pose* pose) const {
+  const int64_t now = steadyNowNs();
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  if (states_wall_ns_ == 0 || now - states_wall_ns_ >= max_age_ns) return false;
+  for (size_t i = 0; i < states_.name.size() && i < states_.pose.size(); ++i) {
+    if (states_.name[i] == name) {
+      *pose = states_.pose[i];
+      return true;
+    }
+  }
+  return false;
+}
+
+void GazeboClient::listenForViewRequests(
+    std::function<void(ViewRequest, const std::string&)> handler) {
+  auto listen = [this, handler](const char* topic, ViewRequest request) {
+    return nh_.subscribe<std_msgs::String>(
+        topic, 10, [handler, request](const std_msgs::String::ConstPtr& msg) {
+          handler(request, msg->data);
+        });
+  };
+  move_to_sub_ = listen(kMoveToTopic, ViewRequest::kMoveTo);
+  follow_sub_ = listen(kFollowTopic, ViewRequest::kFollow);
 }
 
 template <class Srv>
@@ -207,6 +237,21 @@ void GazeboClient::setModelPose(const std::string& model, const geometry_msgs::P
                                           : model + ": " + srv.response.status_message;
     }
     done(outcome);
+  });
+}
+
+void GazeboClient::modelPose(
+    const std::string& model,
+    std::function<void(const Outcome&, const geometry_msgs::Pose&)> done) {
+  post([this, model, done] {
+    Outcome outcome;
+    gazebo_msgs::GetModelState srv;
+    srv.request.model_name = model;
+    if (call("get_model_state", srv, &outcome, true)) {
+      outcome.ok = srv.response.success;
+      outcome.text = srv.response.success ? model : model + ": " + srv.response.status_message;
+    }
+    done(outcome, srv.response.pose);
   });
 }
 

@@ -1,6 +1,7 @@
 // The Gazebo panel's side of ROS: the simulator's services called one at a time on a worker
 // thread of its own (never on rviz's GUI thread), and /clock and /gazebo/model_states received on
-// a spinner of its own. Each call's outcome goes to its callback, on the worker thread; a missing
+// a spinner of its own, with the view requests of the model handles' right-click menu (Move To,
+// Follow). Each call's outcome goes to its callback, on the worker thread; a missing
 // simulator or a refusal is an outcome with the reason, never an exception. No Qt.
 #pragma once
 
@@ -43,6 +44,12 @@ struct ModelTree {
   std::vector<std::string> joints;
 };
 
+// The model handles' (gazebo_ros.model_handles) requests for rviz's view, each a model's name
+// (std_msgs/String): Move To, and Follow (an empty name stops following).
+const char* const kMoveToTopic = "/gazebo_window/move_to";
+const char* const kFollowTopic = "/gazebo_window/follow";
+enum class ViewRequest { kMoveTo, kFollow };
+
 struct ClockReading {
   bool seen = false;
   int64_t sim_ns = 0;
@@ -70,6 +77,10 @@ class GazeboClient {
   void insert(const CatalogModel& model, const geometry_msgs::Pose& pose, Done done);
   // Moves a model to a pose in the world frame, at rest (set_model_state).
   void setModelPose(const std::string& model, const geometry_msgs::Pose& pose, Done done);
+  // A model's pose in the world frame (get_model_state); a model the simulator does not have is
+  // an outcome that is not ok.
+  void modelPose(const std::string& model,
+                 std::function<void(const Outcome&, const geometry_msgs::Pose&)> done);
   void physics(std::function<void(const Outcome&, const PhysicsState&)> done);
   // Keeps what `state.ode` says; time step, update rate and gravity as given.
   void setPhysics(const PhysicsState& state, Done done);
@@ -80,6 +91,13 @@ class GazeboClient {
 
   ClockReading clock() const;
   gazebo_msgs::ModelStates modelStates() const;
+  // Model `name`'s pose in the latest /gazebo/model_states, when they came less than max_age_ns
+  // ago (steady wall time) and have it; false otherwise (a paused world publishes none).
+  bool recentModelPose(const std::string& name, int64_t max_age_ns,
+                       geometry_msgs::Pose* pose) const;
+  // From now on, each view request (kMoveToTopic, kFollowTopic) goes to `handler`, on the
+  // spinner's thread.
+  void listenForViewRequests(std::function<void(ViewRequest, const std::string&)> handler);
   bool busy() const;  // a call under way or queued
 
  private:
@@ -98,11 +116,12 @@ class GazeboClient {
   ros::NodeHandle nh_;
   ros::CallbackQueue queue_;
   ros::AsyncSpinner spinner_;
-  ros::Subscriber clock_sub_, states_sub_;
+  ros::Subscriber clock_sub_, states_sub_, move_to_sub_, follow_sub_;
 
   mutable std::mutex state_mutex_;
   ClockReading clock_;
   gazebo_msgs::ModelStates states_;
+  int64_t states_wall_ns_ = 0;  // steady wall time states_ came
 
   mutable std::mutex jobs_mutex_;
   std::condition_variable jobs_cv_;

@@ -18,6 +18,7 @@
 #include "gui_thread.h"
 #include "insert_tab.h"
 #include "time_tab.h"
+#include "view_focus.h"
 #include "world_tab.h"
 
 namespace gazebo_ros_panels {
@@ -72,6 +73,16 @@ void GazeboPanel::onInitialize() {
   layout->addWidget(status_);
   layout->addWidget(move_models);
   layout->addWidget(tabs, 1);
+
+  view_focus_ = new ViewFocus(vis_manager_, client_.get(), report, this);
+  client_->listenForViewRequests([this](ViewRequest request, const std::string& model) {
+    onGuiThread(this, [this, request, model] {
+      if (request == ViewRequest::kMoveTo)
+        view_focus_->moveTo(model);
+      else
+        view_focus_->follow(model);
+    });
+  });
 
   connect(&refresh_timer_, &QTimer::timeout, this, &GazeboPanel::refresh);
   connect(&physics_timer_, &QTimer::timeout, this, &GazeboPanel::askForPhysics);

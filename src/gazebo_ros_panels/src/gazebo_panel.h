@@ -1,6 +1,7 @@
 // The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
 // gazebo_ros services (GazeboClient), Gazebo's translate/rotate mode as a button that toggles it,
-// and a line saying what the last action did or why not.
+// a line saying what the last action did or why not, and the view's Move To and Follow asked for by
+// the model handles' right-click menu (ViewFocus).
 #pragma once
 
 #include <QLabel>
@@ -19,6 +20,7 @@ class GazeboClient;
 class TimeTab;
 class InsertTab;
 class WorldTab;
+class ViewFocus;
 
 class GazeboPanel : public rviz::Panel {
   Q_OBJECT
@@ -46,6 +48,7 @@ class GazeboPanel : public rviz::Panel {
   TimeTab* time_ = nullptr;
   InsertTab* insert_ = nullptr;
   WorldTab* world_ = nullptr;
+  ViewFocus* view_focus_ = nullptr;
   QLabel* status_ = nullptr;
   QTimer refresh_timer_;
   QTimer physics_timer_;

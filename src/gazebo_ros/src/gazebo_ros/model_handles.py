@@ -20,8 +20,10 @@ is rviz's MOUSE_DOWN to MOUSE_UP; feedback outside one moves nothing. While a ha
 the server does not send rviz its pose (rviz has it). A node ended (SIGINT, SIGTERM) while a model
 is held gives it its gravity back first.
 
-A handle's right-click menu has Gazebo's Delete (/gazebo/delete_model) and Apply Force/Torque (a
-dialog, gazebo_ros.wrench_dialog, through /gazebo/apply_body_wrench).
+A handle's right-click menu has Gazebo's Move To and Follow, for the Gazebo panel, which holds
+rviz's view (the model's name on MOVE_TO_TOPIC, or FOLLOW_TOPIC; Stop Following sends an empty
+name there), Apply Force/Torque (a dialog, gazebo_ros.wrench_dialog, through
+/gazebo/apply_body_wrench) and Delete (/gazebo/delete_model).
 
 No simulator, or a refused move or delete, is logged once per reason; the node keeps serving.
 """
@@ -43,6 +45,9 @@ SET_LINK_PROPERTIES = '/gazebo/set_link_properties'
 GET_WORLD_PROPERTIES = '/gazebo/get_world_properties'
 GET_MODEL_STATE = '/gazebo/get_model_state'
 FRAME = 'world'
+# The Gazebo panel's view requests (std_msgs/String, a model's name; gazebo_client.h).
+MOVE_TO_TOPIC = '/gazebo_window/move_to'
+FOLLOW_TOPIC = '/gazebo_window/follow'
 # The world's plane: Gazebo's ground_plane model, which Gazebo's mouse neither selects nor moves.
 GROUND_PLANE = 'ground_plane'
 FOLLOW_HZ = 10.0
@@ -311,10 +316,11 @@ class ModelHandles:
             self.gravity.let_go(self.held.popitem()[1])
 
 
-def model_menu(delete, open_wrench_dialog, say_once):
-    """A handle's right-click menu (an interactive_markers MenuHandler): Delete, through
-    delete(name) (a DeleteModel call that raises ServiceUnavailable when it cannot be made), and
-    Apply Force/Torque, through open_wrench_dialog(name)."""
+def model_menu(delete, open_wrench_dialog, view, say_once):
+    """A handle's right-click menu (an interactive_markers MenuHandler), in Gazebo's order: Move
+    To, Follow and Stop Following, through view (a ViewRequests), Apply Force/Torque, through
+    open_wrench_dialog(name), and Delete, through delete(name) (a DeleteModel call that raises
+    ServiceUnavailable when it cannot be made)."""
     from interactive_markers.menu_handler import MenuHandler
     menu = MenuHandler()
 
@@ -328,10 +334,40 @@ def model_menu(delete, open_wrench_dialog, say_once):
         if not result.success:
             say_once('%s refused to delete %s: %s' % (DELETE_MODEL, feedback.marker_name,
                                                       result.status_message))
-    menu.insert('Delete', callback=on_delete)
+    menu.insert('Move To', callback=lambda feedback: view.move_to(feedback.marker_name))
+    menu.insert('Follow', callback=lambda feedback: view.follow(feedback.marker_name))
+    menu.insert('Stop Following', callback=lambda feedback: view.stop_following())
     menu.insert('Apply Force/Torque', callback=lambda feedback: open_wrench_dialog(
         feedback.marker_name))
+    menu.insert('Delete', callback=on_delete)
     return menu
+
+
+class ViewRequests:
+    """Move To and Follow for the Gazebo panel (gazebo_ros_panels), which moves rviz's view: a
+    model's name on MOVE_TO_TOPIC or FOLLOW_TOPIC, an empty one on FOLLOW_TOPIC to stop
+    following. `publisher(topic)` makes a std_msgs/String publisher; with no panel listening, the
+    view stays and say_once says so."""
+
+    def __init__(self, publisher, say_once):
+        self.publishers = {topic: publisher(topic) for topic in (MOVE_TO_TOPIC, FOLLOW_TOPIC)}
+        self.say_once = say_once
+
+    def move_to(self, name):
+        self._send(MOVE_TO_TOPIC, name)
+
+    def follow(self, name):
+        self._send(FOLLOW_TOPIC, name)
+
+    def stop_following(self):
+        self._send(FOLLOW_TOPIC, '')
+
+    def _send(self, topic, name):
+        from std_msgs.msg import String
+        publisher = self.publishers[topic]
+        if publisher.get_num_connections() == 0:
+            self.say_once('no Gazebo panel listens on %s: the view stays' % topic)
+        publisher.publish(String(data=name))
 
 
 class WrenchDialogs:
@@ -409,6 +445,7 @@ def main(argv):
                                  GetModelState, GetWorldProperties, SetLinkProperties,
                                  SetModelState)
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
+    from std_msgs.msg import String
     # Its own signal handling: the node ends its loop on SIGINT or SIGTERM and gives a model
     # held mid-drag its gravity back before rospy shuts down (after which no service is called).
     rospy.init_node(NODE_NAME, argv=argv, disable_signals=True)
@@ -419,6 +456,7 @@ def main(argv):
     server = InteractiveMarkerServer(SERVER_TOPIC)
     say_once = said_once(lambda text: rospy.logwarn('model handles: %s', text))
     dialogs = WrenchDialogs()
+    view = ViewRequests(lambda topic: rospy.Publisher(topic, String, queue_size=10), say_once)
     gravity = GravityHold(proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
                           proxy_call(rospy, GET_LINK_PROPERTIES, GetLinkProperties),
                           proxy_call(rospy, SET_LINK_PROPERTIES, SetLinkProperties), say_once)
@@ -427,7 +465,7 @@ def main(argv):
                                        proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
                            gravity, say_once,
                            model_menu(proxy_call(rospy, DELETE_MODEL, DeleteModel),
-                                      dialogs.open, say_once))
+                                      dialogs.open, view, say_once))
     rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).

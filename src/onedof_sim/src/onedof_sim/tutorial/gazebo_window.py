@@ -253,6 +253,32 @@ class GazeboWindow:
             self._must('type', value)
         self._must('key', 'Return')
 
+    def read_view(self, path, timeout=120):
+        """rviz's current view (its saved config's Views: Current: Focal Point, Distance, Yaw,
+        Pitch, ...), saved to `path` through rviz's save_config; the pixels computed from here
+        on are that view's."""
+        import rospy
+        from gazebo_ros.world_view import SendFilePath
+
+        def save_config():
+            _, _, (_, _, services) = self.ros.master().getSystemState('/gazebo_window')
+            return next((name for name, _ in services if name.endswith('/save_config')), None)
+        proxy = rospy.ServiceProxy(self.ros.wait_until(save_config, timeout,
+                                                       what="rviz's save_config"), SendFilePath)
+
+        def saved():
+            try:
+                return proxy(SendFilePath._request_class(path)).success
+            except (rospy.ServiceException, OSError):
+                return False
+        try:
+            self.ros.wait_until(saved, timeout, what='rviz to save its config')
+        finally:
+            proxy.close()
+        with open(path) as f:
+            self.view = yaml.safe_load(f)['Visualization Manager']['Views']['Current']
+        return self.view
+
     def _shown_windows(self):
         return set(self.xdotool('search', '--onlyvisible', '--classname', 'rviz').stdout.split())
 
