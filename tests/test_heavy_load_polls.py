@@ -238,11 +238,10 @@ def figures(latencies):
 
 
 LOADS = ['camera_4096', 'laser_262k', pytest.param('clients_32', marks=pytest.mark.skip(
-    reason='known defect: 32 clients subscribe /clock (every node does under /use_sim_time), and '
-           'roscpp\'s one network thread writes their clocks and reads the polls; with the clock '
-           'held back past a backlog of 100 the poll is answered at the 99th percentile in '
-           '0.11-0.32 s against a bare roscpp service\'s 0.04-0.20 s at load 33-56, not within '
-           'this test\'s 0.25 s of it on every run'))]
+    reason='known defect: the 32 clients subscribe /clock (every node does under /use_sim_time), '
+           'and roscpp\'s one network thread writes each step\'s clock to each of them before it '
+           'reads the polls: at load 40-56 the poll waited 0.94-1.9 s at the 99th percentile '
+           'against a bare roscpp service\'s 0.03-0.04 s'))]
 
 
 @pytest.mark.parametrize('engine', ENGINES)
