@@ -5,14 +5,13 @@ rviz that crashes (as Mesa's software renderer now and then makes it) is started
 and draws the same; an rviz that is closed ends the view."""
 import signal
 
-import psutil
-
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_camera import box_sdf
 from test_rviz_sensors import WORLD_RVIZ, region_around, screenshot_with, subscribers
 from test_tutorial import count_pixels
+from test_tutorial_rviz_failure import rviz_processes
 
 HALF = 0.25  # the box's half side (box_sdf's 0.5 m)
 # Gazebo/Green lit by rviz's light: green, the other channels dark (the grey ground and the
@@ -48,15 +47,6 @@ def assert_green_box_shown(ros, display, png):
         png, region_around(config, panel, corners), green), 'green off the box'
 
 
-def rviz_of(view):
-    """The view's rviz processes."""
-    try:
-        return [proc for proc in psutil.Process(view.pid).children(recursive=True)
-                if proc.name() == 'rviz']
-    except psutil.NoSuchProcess:
-        return []
-
-
 def test_the_view_draws_a_green_box_in_green_where_it_stands(ros, rospy_client, tmp_path):
     start_sim(ros, ENGINES[0])
     xvfb, display = start_xvfb(ros)
@@ -73,13 +63,13 @@ def test_a_crashed_rviz_is_started_again_and_a_closed_one_ends_the_view(ros, ros
     xvfb, display = start_xvfb(ros)
     view = start_view(ros, display, may_exit=True)
     spawn_green_box(rospy_client)
-    crashed = ros.wait_until(lambda: rviz_of(view), 60, what="the view's rviz")[0]
+    crashed = ros.wait_until(lambda: rviz_processes(view), 60, what="the view's rviz")[0]
     crashed.send_signal(signal.SIGSEGV)
     said = 'gzclient: rviz crashed (status -11, SIGSEGV); starting it again on the same ' \
            'configuration (restart 1 of at most 3)'
     ros.wait_until(lambda: said in ros.log_text(view), 120, what='the view to say: ' + said)
     restarted = ros.wait_until(
-        lambda: [proc for proc in rviz_of(view) if proc.pid != crashed.pid], 120,
+        lambda: [proc for proc in rviz_processes(view) if proc.pid != crashed.pid], 120,
         what='a new rviz')[0]
     assert_green_box_shown(ros, display, tmp_path / 'view.png')
     assert view.poll() is None

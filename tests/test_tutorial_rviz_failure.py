@@ -31,9 +31,10 @@ def start_player(output):
                             env=env)
 
 
-def rviz_processes(player):
+def rviz_processes(parent):
+    """The rviz processes below `parent` (a Popen): the player's, or gzclient's view's."""
     try:
-        return [proc for proc in psutil.Process(player.pid).children(recursive=True)
+        return [proc for proc in psutil.Process(parent.pid).children(recursive=True)
                 if proc.name() == 'rviz']
     except psutil.NoSuchProcess:
         return []
