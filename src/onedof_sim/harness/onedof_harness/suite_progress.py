@@ -10,6 +10,12 @@ minutes each on a busy machine); pytest's closing summary line stays as it is. U
 the line comes from the controlling process, which hears every worker's results; the workers say
 nothing. The time left is the tests left at the pace of the latest RECENT_TESTS to end (of all
 so far until that many have): the long tests, handed out first, make early figures high.
+
+A test that fails or errors is named at once, on a line of its own,
+
+    failed: tests/test_api.py::test_spawn[bullet] (after 12 min 3 s; its report comes at the end)
+
+so that a person watching a long run knows what broke without waiting for pytest's summary.
 """
 import collections
 import os
@@ -97,8 +103,12 @@ class SuiteProgress:
             # xdist worker) has a single report instead.
             if report.when in ('teardown', '???'):
                 self.running.discard(report.nodeid)
-                self.counts[self.outcome.pop(report.nodeid, None) or 'passed'] += 1
+                outcome = self.outcome.pop(report.nodeid, None) or 'passed'
+                self.counts[outcome] += 1
                 self.ended.append(self.clock())
+                if outcome in ('failed', 'error'):
+                    self.write_own_line('%s: %s (after %s; its report comes at the end)' % (
+                        outcome, report.nodeid, duration_text(self.clock() - self.started)))
                 self.show_if_due()
 
     def show_while_no_test_ends(self):
@@ -112,10 +122,13 @@ class SuiteProgress:
         if now - self.shown < self.interval:
             return
         self.shown = now
+        self.write_own_line(self.line(now))
+
+    def write_own_line(self, text):
         # On a line of its own: pytest's dots fill lines without telling write_line.
         if getattr(getattr(self.terminal, '_tw', None), 'width_of_current_line', 0):
             self.terminal.write('\n')
-        self.terminal.write_line(self.line(now))
+        self.terminal.write_line(text)
 
     def line(self, now):
         done = sum(self.counts.values())

@@ -82,6 +82,18 @@ def test_each_line_says_how_far_the_forked_suite_on_workers_is_and_the_summary_s
     assert 'running' not in lines[-1]
     assert re.search(r'=+ 1 failed, 2 passed, 1 skipped, 1 error in [\d.]+s', result.stdout), \
         result.stdout
+    assert_failures_named_as_they_end(result.stdout)
+
+
+def assert_failures_named_as_they_end(stdout):
+    """The failed and the erring test each named once on a line of their own, before pytest's
+    summary; no other test named so."""
+    named = re.findall(r'^(failed|error): (\S+) \(after (?:\d+ min )?\d+ s; its report comes at '
+                       r'the end\)$', stdout, re.M)
+    assert sorted(named) == [('error', 'test_sample.py::test_errors'),
+                             ('failed', 'test_sample.py::test_fails')], stdout
+    summary = stdout.index('= FAILURES =')
+    assert all(stdout.index('%s: %s (' % pair) < summary for pair in named), stdout
 
 
 def test_without_workers_too(tmp_path):
@@ -90,6 +102,7 @@ def test_without_workers_too(tmp_path):
     assert len(lines) == 5, result.stdout
     assert lines[-1].startswith(
         'progress: 5/5 tests done (2 passed, 1 failed, 1 error, 1 skipped), ')
+    assert_failures_named_as_they_end(result.stdout)
 
 
 def test_a_line_comes_while_no_test_ends(tmp_path):
@@ -130,6 +143,7 @@ def test_a_line_at_most_every_interval_with_the_time_left_at_the_pace_so_far():
     hear(progress, report('t6', '???', 'failed'))
     assert written == ['progress: 3/10 tests done (3 passed), 1 min 1 s so far, '
                        'about 2 min 22 s left',
+                       'failed: t6 (after 5 min 0 s; its report comes at the end)',
                        'progress: 6/10 tests done (5 passed, 1 failed), 5 min 0 s so far, '
                        'about 3 min 20 s left']
 
