@@ -63,9 +63,11 @@ STEP := $(WS)/scripts/step $(SETUP_LOG)
 # fails and the suite goes on to its summary (onedof_harness/forked_timeout.py): pytest-timeout's
 # signal method would raise in the worker, outside the forked test, and end the whole session with
 # an internal error and no summary of the tests that ran. The summary names each skipped test
-# with its reason (-rs: the two-hosts test where network namespaces cannot be entered).
+# with its reason (-rs: the two-hosts test where network namespaces cannot be entered), and the 25
+# slowest tests with their times (where a long run's time went).
 PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -p onedof_harness.suite_progress \
   -p onedof_harness.forked_timeout -n 6 --forked --timeout=900 --timeout-method=thread -rs \
+  --durations=25 \
   $(PYTEST_ARGS) tests src
 # test-under-load: this many CPU spinners beside the suite, stopped after it (bounded anyway).
 LOAD_PROCESSES ?= 8
