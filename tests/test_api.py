@@ -348,8 +348,10 @@ def test_pause_freezes_clock_and_joint_unpause_resumes(shared_sim, api, rospy_cl
 
 def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_client):
     # Its own simulator: what a node publishes from its start (a shared one has run before, and
-    # /clock is latched: a new subscriber gets the last time published).
-    start_sim(ros, engine, ['-u'])
+    # /clock is latched: a new subscriber gets the last time published). At 100 steps a wall
+    # second: the node holds a step's clock back only once roscpp's network thread is 100 clocks
+    # behind (sim_loop's budget), which at this rate is a second without a turn for that thread.
+    start_sim(ros, engine, ['-u', '_max_update_rate:=100'])
     api = GazeboApi(rospy_client)
     assert ros.master().getParam('/test', '/use_sim_time')[2] is True
     stamps, _ = clock_listener(rospy_client)
@@ -360,6 +362,20 @@ def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_c
     assert stamps[0] == STEP_NS
     received = stamps[:200]
     assert [b - a for a, b in zip(received, received[1:])] == [STEP_NS] * 199, received
+
+
+def test_a_free_running_world_stops_with_its_time_on_the_clock(ros, engine, rospy_client):
+    """Free-running, the world steps faster than roscpp's network thread writes clocks, and a
+    step's time past the thread's budget is held for a later step's clock: where the world stops,
+    its own time goes out, and what a subscriber heard only ever moved forward."""
+    start_sim(ros, engine, ['_max_update_rate:=0'])
+    api = GazeboApi(rospy_client)
+    stamps, _ = clock_listener(rospy_client)
+    wait_until(lambda: len(stamps) > 100, 60, what='100 /clock messages')
+    api.pause_physics()
+    stopped_ns = api.sim_time_ns()
+    wait_until(lambda: stamps[-1] == stopped_ns, 30, what='the clock at the stopped time')
+    assert what_was_sent(stamps) == sorted(set(what_was_sent(stamps)))
 
 
 def test_pub_clock_frequency_throttles_clock(ros, engine, rospy_client):

@@ -25,6 +25,11 @@ namespace {
 constexpr std::chrono::milliseconds kMaxPacingLag(100);
 constexpr std::chrono::milliseconds kPacingSlice(50);
 constexpr uint32_t kClockQueue = 1000;
+// The clock messages roscpp's network thread may have still to write, to all subscribers
+// together: a lone subscriber may fall 100 steps behind before it misses one (gazebo_ros' /clock
+// queue drops beyond 10), while beside 33 subscribers a request waits behind at most 3 steps'
+// clocks.
+constexpr size_t kClockBacklog = 100;
 // For a controller whose process is not on this machine (lock-step cannot see it rest): a
 // client's two clock readings after a call are microseconds apart; a millisecond leaves them room
 // and bounds such a 1 kHz controller to real time.
@@ -139,7 +144,8 @@ SimLoop::SimLoop(const NodeOptions& options)
         wake_loop_.notify_all();
       }),
       states_publish_frequency_(options.states_publish_frequency),
-      ros_network_(options.enable_ros_network) {
+      ros_network_(options.enable_ros_network),
+      clock_backlog_(kClockBacklog) {
   const Status params = world_.setParams(options.physics);
   if (!params.ok()) throw std::invalid_argument(statusText(kSetPhysicsProperties, params));
   world_.setModelPath(options.model_path);
@@ -150,7 +156,8 @@ SimLoop::SimLoop(const NodeOptions& options)
   // each message from its poll thread and drops the oldest beyond the queue: a loop behind its
   // pace catches up by up to kMaxPacingLag of steps at once, and a busy machine delays the poll
   // thread too, so the queue holds a second of clocks at the default 1 kHz, and a subscriber
-  // that keeps up hears every step's time.
+  // that keeps up hears every step's time, as long as the thread is less than kClockBacklog
+  // messages behind (clock_backlog_).
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", kClockQueue, true);
   // Without the ROS network these stay empty publishers: no subscriber, nothing is published.
   if (!options.enable_ros_network) return;
@@ -522,6 +529,7 @@ void SimLoop::publishClock(int64_t time_ns) {
   rosgraph_msgs::Clock clock;
   clock.clock.fromNSec(uint64_t(time_ns));
   clock_pub_.publish(clock);
+  clock_backlog_.handedOver(clock_pub_.getNumSubscribers());
 }
 
 void SimLoop::publishHeldClock() {
@@ -537,7 +545,10 @@ void SimLoop::publish(const StepOutput& out) {
       (!out.hold_clock && isDue(out.time_ns, last_clock_ns_, clock_frequency_))) {
     // Latched, so roscpp wakes its poll thread for every message, subscribers or not: with
     // none, the latest time is only kept, and goes out where the loop stops (publishHeldClock).
-    if (out.publish_clock || clock_pub_.getNumSubscribers() > 0) {
+    // So it is while roscpp's network thread has its budget of clocks still to write: the time
+    // goes out with a later step's. A stop's clock always goes out (lock-step waits for it).
+    const uint32_t subscribers = clock_pub_.getNumSubscribers();
+    if (out.publish_clock || (subscribers > 0 && !clock_backlog_.full(subscribers))) {
       publishClock(out.time_ns);
     } else {
       held_clock_ns_ = out.time_ns;
@@ -563,6 +574,7 @@ void SimLoop::refreshParameters() {
     frequency = 0;
   }
   clock_frequency_ = frequency;
+  clock_backlog_.refresh(clock_pub_.getTopic(), typeid(rosgraph_msgs::Clock));
   if (!ros_network_) return;
   bool markers = false;  // unset, or not a bool: off
   private_nh_.getParamCached(kEnableCollisionMarkers, markers);

@@ -26,6 +26,7 @@
 #include <onedof_sim/world.h>
 
 #include "lockstep.h"
+#include "network_backlog.h"
 #include "node_options.h"
 #include "physics_config.h"
 #include "plugins/model_plugin.h"
@@ -175,8 +176,9 @@ class SimLoop {
   void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
   void publishClock(int64_t time_ns);
-  // The latest time not published for want of subscribers (-1: none), for the latched /clock
-  // once the loop stops.
+  // The latest time not published for want of subscribers, or while roscpp's network thread had
+  // its budget of clocks still to write (-1: none): replaced by the next clock published, or
+  // published once the loop stops.
   void publishHeldClock();
   // Re-reads the parameters the loop follows while running (kPubClockFrequency,
   // kEnableCollisionMarkers), at most ten times per wall second.
@@ -255,6 +257,9 @@ class SimLoop {
   int64_t last_states_ns_ = -1;
 
   ros::Publisher clock_pub_;
+  // The clocks roscpp's network thread has still to write to the other processes
+  // (network_backlog.h).
+  NetworkBacklog clock_backlog_;
   ros::Publisher model_states_pub_;
   ros::Publisher link_states_pub_;
   // Advertised while ~enable_collision_markers is true, as last read.

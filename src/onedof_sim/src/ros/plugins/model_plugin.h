@@ -30,15 +30,17 @@ using LockWorld = std::function<std::unique_lock<std::mutex>()>;
 using Publication = std::function<void()>;
 
 // What a sensor measures after a step that takes too long to hold the world's lock for at once.
-// The loop does it on its own thread before the next step, in two phases:
+// The loop does it before the next step, in two phases:
 // - withWorld, the world locked, called again until it answers true, each call ending its part
 //   once `until` has passed. Between calls the loop lets go of the lock for the requests that
 //   only read the world, and holds back those that change it until every work's withWorld is
 //   done: each part sees the world as the step left it, as the plugin that made the work does,
 //   so a measurement is what it would be in one piece (a scan's rays cast part by part).
 // - withoutWorld, unlocked, while requests of any kind are served: what needs no world (a render
-//   of the scene withWorld or the hook took), and the messages to publish. The plugin may be gone
-//   by then (its model deleted): what this phase uses, the work holds.
+//   of the scene withWorld or the hook took), and the messages to publish. A render is done on
+//   the sensor thread (sensors/sensor_thread.h), at a lower priority than the threads that answer
+//   requests, the loop waiting for it. The plugin may be gone by then (its model deleted): what
+//   this phase uses, the work holds.
 class SensorWork {
  public:
   using Clock = std::chrono::steady_clock;

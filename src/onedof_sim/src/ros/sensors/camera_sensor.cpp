@@ -13,6 +13,7 @@
 #include <ros/console.h>
 #include <tinyxml2.h>
 
+#include "sensor_thread.h"
 #include "sensor_xml.h"
 
 namespace onedof_sim::plugins {
@@ -41,13 +42,15 @@ bool readSize(const tinyxml2::XMLElement* image, const char* tag, int* value, st
   return true;
 }
 
-// The process's renderer, made on the first call (on the loop's thread); null when it cannot be
-// made, said once.
+// The process's renderer, made on the first call (on the sensor thread, where every frame is
+// rendered: sensor_thread.h); null when it cannot be made, said once. The loop reads `tried`
+// only while the sensor thread waits for work (noRenderer).
+bool renderer_tried = false;
+render::Renderer* renderer = nullptr;  // kept for the process's life
+
 render::Renderer* sharedRenderer() {
-  static bool tried = false;
-  static render::Renderer* renderer = nullptr;  // kept for the process's life
-  if (tried) return renderer;
-  tried = true;
+  if (renderer_tried) return renderer;
+  renderer_tried = true;
   std::string why;
   std::unique_ptr<render::Renderer> made = render::Renderer::create(&why);
   if (!made) {
@@ -59,6 +62,9 @@ render::Renderer* sharedRenderer() {
   renderer = made.release();
   return renderer;
 }
+
+// Whether the renderer was tried and cannot be made: no frame is to be had.
+bool noRenderer() { return renderer_tried && !renderer; }
 
 }  // namespace
 
@@ -333,7 +339,7 @@ void CameraView::addNoise() {
 }
 
 bool CameraView::capture(const World& world) {
-  if (!sharedRenderer()) return false;
+  if (noRenderer()) return false;
   Pose link_pose;
   Twist unused;
   const Status status = world.linkState(link_, "", &link_pose, &unused);
@@ -351,8 +357,9 @@ bool CameraView::capture(const World& world) {
 
 bool CameraView::renderCaptured() {
   render::Renderer* renderer = sharedRenderer();
+  if (!renderer) return false;  // said once, by sharedRenderer
   std::string why;
-  if (renderer && renderer->render(scene_, spec_, lens_ ? &rendered_ : &frame_, &why)) {
+  if (renderer->render(scene_, spec_, lens_ ? &rendered_ : &frame_, &why)) {
     if (lens_) lens_->apply(rendered_, &frame_);
     if (!noise_table_.empty()) addNoise();
     for (const std::string& problem : renderer->takeProblems())
@@ -372,10 +379,15 @@ class FrameWork : public SensorWork {
             std::function<void(const render::Frame*, PublicationQueue*)> publish)
       : view_(std::move(view)), render_(render), publish_(std::move(publish)) {}
 
+  // The render and the messages' making (the image's encoding) on the sensor thread; their
+  // publishing is left to the loop, at the process's priority: roscpp serializes a message
+  // holding a lock of its own that its other threads take too.
   std::vector<Publication> withoutWorld() override {
-    const bool rendered = render_ && view_->renderCaptured();
     PublicationQueue out;
-    publish_(rendered ? &view_->frame() : nullptr, &out);
+    onSensorThread([this, &out] {
+      const bool rendered = render_ && view_->renderCaptured();
+      publish_(rendered ? &view_->frame() : nullptr, &out);
+    });
     return out.take();
   }
 

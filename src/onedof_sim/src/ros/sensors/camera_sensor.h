@@ -69,9 +69,9 @@ bool readCameraConfigs(const std::string& sensor_xml, std::vector<CameraConfig>*
                        std::string* error);
 
 // One camera's view: renders its frame where its link is, through the renderer the process
-// shares (made on the loop's thread at the first frame, kept for the process's life, as every
-// frame is rendered on that thread). When the renderer cannot be made (no EGL), that is logged
-// once for all cameras and no camera renders.
+// shares (made on the sensor thread at the first frame, kept for the process's life, as every
+// frame is rendered on that thread: sensor_thread.h). When the renderer cannot be made (no EGL),
+// that is logged once for all cameras and no camera renders.
 class CameraView {
  public:
   // link: scoped "model::link"; pose: the sensor's on it; label: the camera in what is logged;
@@ -83,7 +83,8 @@ class CameraView {
   // no frame can be rendered (no renderer, or the link's pose is not to be had; logged once).
   bool capture(const World& world);
   // Renders what capture took into frame() (rgb, or rgb16 for a 16-bit format), through its
-  // lens, its image noise added, the world unlocked; false when it cannot (logged once).
+  // lens, its image noise added, the world unlocked, on the sensor thread; false when it cannot
+  // (logged once).
   bool renderCaptured();
 
   const render::Frame& frame() const { return frame_; }
