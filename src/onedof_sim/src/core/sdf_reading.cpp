@@ -82,10 +82,9 @@ Prunable absentFrom(const std::string& text) {
   return absent;
 }
 
-// A copy of a description and those below it, without those named in `without` that are optional
-// and hold no value.
-sdf::ElementPtr copyWithout(const sdf::ElementPtr& description,
-                            const std::set<std::string>& without) {
+// A description's own part, without the descriptions below it: its name, its kind (required,
+// copy_children, a reference to another), its text, its attributes and its value.
+sdf::ElementPtr copyOwnPart(const sdf::ElementPtr& description) {
   sdf::ElementPtr copy(new sdf::Element);
   copy->SetName(description->GetName());
   copy->SetRequired(description->GetRequired());
@@ -102,6 +101,14 @@ sdf::ElementPtr copyWithout(const sdf::ElementPtr& description,
     copy->AddValue(value->GetTypeName(), value->GetDefaultAsString(), value->GetRequired(),
                    value->GetMinValueAsString().value_or(""),
                    value->GetMaxValueAsString().value_or(""), value->GetDescription());
+  return copy;
+}
+
+// A copy of a description and those below it, without those named in `without` that are optional
+// and hold no value.
+sdf::ElementPtr copyWithout(const sdf::ElementPtr& description,
+                            const std::set<std::string>& without) {
+  sdf::ElementPtr copy = copyOwnPart(description);
   for (size_t i = 0; i < description->GetElementDescriptionCount(); ++i) {
     const sdf::ElementPtr child = description->GetElementDescription(i);
     const bool prunable = child->GetRequired() != "1" && !child->GetValue();
@@ -137,21 +144,12 @@ std::string documentText(const std::string& source, SdfSource kind) {
   return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
 }
 
-// A root <sdf> element for one document to fill: the schema's root with its attributes, its
-// element descriptions shared with the schema, not copied. Reading only copies a description into
+// A root <sdf> element for one document to fill: the schema's root's own part, its element
+// descriptions shared with the schema, not copied. Reading only copies a description into
 // each element it makes (sdf::Element::Clone), so the shared ones stay as they are; a copy of the
 // root's would cost a copy of the whole schema for each document.
 sdf::ElementPtr documentRoot(const sdf::ElementPtr& schema) {
-  sdf::ElementPtr root(new sdf::Element);
-  root->SetName(schema->GetName());
-  root->SetRequired(schema->GetRequired());
-  root->SetCopyChildren(schema->GetCopyChildren());
-  for (size_t i = 0; i < schema->GetAttributeCount(); ++i) {
-    const sdf::ParamPtr attribute = schema->GetAttribute(i);
-    root->AddAttribute(attribute->GetKey(), attribute->GetTypeName(),
-                       attribute->GetDefaultAsString(), attribute->GetRequired(),
-                       attribute->GetDescription());
-  }
+  sdf::ElementPtr root = copyOwnPart(schema);
   for (size_t i = 0; i < schema->GetElementDescriptionCount(); ++i)
     root->AddElementDescription(schema->GetElementDescription(i));
   return root;
