@@ -25,25 +25,31 @@ SIGINT_TIMEOUT_S = 30
 MEMORY_KEPT_MB = 50
 
 
-def boxes_world(folder):
-    """MODELS static unit boxes on a grid, each with a collision and a visual."""
+def boxes_world(folder, odometry=False):
+    """MODELS static unit boxes on a grid, each with a collision and a visual, and with odometry
+    each with a gazebo_ros_p3d plugin publishing its pose: a publisher advertised for each model
+    makes the models' spawns last seconds on a busy machine, where the boxes alone are spawned
+    within a fraction of one, once the file is read."""
     models = []
     for i in range(MODELS):
+        plugin = ('<plugin name="p3d" filename="libgazebo_ros_p3d.so"><bodyName>link</bodyName>'
+                  '<topicName>box_%d/odom</topicName><updateRate>1</updateRate></plugin>' % i
+                  if odometry else '')
         models.append('<model name="box_%d"><static>true</static><pose>%g %g 0.5 0 0 0</pose>'
                       '<link name="link"><collision name="c"><geometry><box><size>1 1 1</size>'
                       '</box></geometry></collision><visual name="v"><geometry><box>'
-                      '<size>1 1 1</size></box></geometry></visual></link></model>'
-                      % (i, 2.0 * (i % 32), 2.0 * (i // 32)))
-    path = os.path.join(str(folder), 'boxes.world')
+                      '<size>1 1 1</size></box></geometry></visual></link>%s</model>'
+                      % (i, 2.0 * (i % 32), 2.0 * (i // 32), plugin))
+    path = os.path.join(str(folder), 'boxes%s.world' % ('_odometry' if odometry else ''))
     with open(path, 'w') as f:
         f.write('<?xml version="1.0"?><sdf version="1.6"><world name="boxes">%s</world></sdf>'
                 % ''.join(models))
     return path
 
 
-def start_loading(ros, engine, folder, name):
-    return ros.start([simulator_executable(), '_physics:=' + engine, '-u', boxes_world(folder)],
-                     name=name)
+def start_loading(ros, engine, folder, name, odometry=False):
+    return ros.start([simulator_executable(), '_physics:=' + engine, '-u',
+                      boxes_world(folder, odometry)], name=name)
 
 
 @pytest.mark.parametrize('engine', ENGINES)
@@ -78,8 +84,8 @@ def test_sigint_ends_the_node_while_a_large_world_loads(ros, engine, tmp_path):
     assert interrupted_within_bound(ros, reading), \
         'still running %.0f s after SIGINT:\n%s' % (time.monotonic() - started,
                                                      ros.log_text(reading)[-2000:])
-    # While the models are spawned.
-    spawning = start_loading(ros, engine, tmp_path, 'spawning')
+    # While the models are spawned: models whose spawns last long enough to be interrupted.
+    spawning = start_loading(ros, engine, tmp_path, 'spawning', odometry=True)
     wait_until(lambda: spawning.poll() is not None or
                "spawned model 'box_" in ros.log_text(spawning), LOAD_TIMEOUT_S,
                what='the first model of the world to be spawned')

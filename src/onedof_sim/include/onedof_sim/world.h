@@ -18,6 +18,11 @@
 
 namespace onedof_sim {
 
+namespace core {
+struct ModelDescription;  // the core's own (src/core)
+}  // namespace core
+struct WorldFileModel;  // onedof_sim/world_file.h
+
 struct Vec3 {
   double x = 0, y = 0, z = 0;
 };
@@ -380,6 +385,9 @@ class World {
   // folders, as modelPath() gives them. Safe to call on any thread at any time.
   static PreparedModel prepare(const std::string& xml, ModelFormat format,
                                const std::vector<std::string>& model_path);
+  // A model of a world file, from what readWorldFile read of it: the same model, limits and
+  // refusals as prepare(model.sdf, ModelFormat::Sdf, model path), without reading its XML again.
+  static PreparedModel prepare(const WorldFileModel& model);
   // Adds a prepared model (it is consumed; on a refusal too). Refuses, in this order: checkSpawn's
   // refusals, the prepared model's, (ModelRejected) a model with more moving joints than this
   // world's solver steps in the step-cost budget (ODE's exact dWorldStep: see "Limits"),
@@ -536,6 +544,9 @@ class World {
 
  private:
   friend struct WorldTestAccess;  // the tests' way to the engine under a world
+  // What both prepares make of a model read and checked: its own pose checked, its bodies and
+  // joints planned.
+  static void plan(const core::ModelDescription& description, PreparedModel* prepared);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

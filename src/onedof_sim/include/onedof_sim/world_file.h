@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,11 +17,18 @@
 namespace onedof_sim {
 
 // A model the world places: one SDF <model> with its includes resolved, without its own <pose>
-// (spawn it at `pose`).
+// (spawn it at `pose`). The file is read once: World::prepare(const WorldFileModel&) makes the
+// model from what that reading gave.
 struct WorldFileModel {
   std::string name;  // the <model>'s name, or the <include>'s <name> over the included model's
-  std::string sdf;   // an SDF document of the one model, for World::prepare
+  // An SDF document of the one model: what its plugins and sensors read, and what
+  // World::prepare(sdf, ModelFormat::Sdf, model path) makes the same model of.
+  std::string sdf;
   Pose pose;         // the model frame in the world (an <include>'s <pose> over the model's)
+  // Ok, or why the model cannot be made (ModelRejected: a limit, a link or joint refused), as
+  // World::prepare would refuse sdf.
+  Status read;
+  std::shared_ptr<const core::ModelDescription> description;  // when read is Ok
 };
 
 // An element of the world the simulator does not act on, as the file gives it, in file order.

@@ -650,12 +650,21 @@ Status parseSdf(const std::string& xml, const std::vector<std::string>& model_pa
     return rejected("invalid SDF: no <model> at the top level, nor one <world> with one "
                     "<include> or <model>");
   ModelDescription desc;
-  desc.is_static = model->Static();
-  desc.pose = toPose(model->RawPose());
-  MeshReader meshes;
-  Status status = addSdfModel(*model, Pose(), "", model_path, &meshes, &desc);
+  const Status status = describeSdfModel(*model, model_path, &desc);
   if (!status.ok()) return status;
-  const auto canonical = model->CanonicalLinkAndRelativeName();
+  desc.pose = toPose(model->RawPose());
+  *out = std::move(desc);
+  return {};
+}
+
+Status describeSdfModel(const sdf::Model& model, const std::vector<std::string>& model_path,
+                        ModelDescription* out) {
+  ModelDescription desc;
+  desc.is_static = model.Static();
+  MeshReader meshes;
+  Status status = addSdfModel(model, Pose(), "", model_path, &meshes, &desc);
+  if (!status.ok()) return status;
+  const auto canonical = model.CanonicalLinkAndRelativeName();
   if (!canonical.first) return rejected("invalid SDF: the model has no link");
   desc.canonical_link = canonical.second;
   status = finish(&desc);

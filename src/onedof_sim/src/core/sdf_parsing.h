@@ -18,6 +18,8 @@ namespace core {
 // Held by every urdfdom and libsdformat parse: models are prepared on any thread.
 std::mutex& parserMutex();
 
+struct ModelDescription;
+
 // A libsdformat pose, its rotation normalised.
 Pose toPose(const ignition::math::Pose3d& pose);
 
@@ -74,6 +76,13 @@ struct SdfDocument {
 // kMaxIncludedModels). The caller holds parserMutex().
 void readSdfDocument(const std::string& source, SdfSource kind,
                      const std::vector<std::string>& model_path, SdfDocument* out);
+
+// A model libsdformat has read (parseSdf's document's, or a world file's) made into a description:
+// its links, joints and nested models, their meshes read, its canonical link, and the checks of
+// its tree (ModelRejected and why). Its own <pose> is left to the caller (out->pose is the
+// identity). The caller holds parserMutex().
+Status describeSdfModel(const sdf::Model& model, const std::vector<std::string>& model_path,
+                        ModelDescription* out);
 
 }  // namespace core
 }  // namespace onedof_sim

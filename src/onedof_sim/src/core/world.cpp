@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "onedof_sim/world_file.h"
 #include "world_impl.h"
 
 namespace onedof_sim {
@@ -273,18 +274,29 @@ PreparedModel World::prepare(const std::string& xml, ModelFormat format,
   ModelDescription desc;
   content.status = format == ModelFormat::Urdf ? parseUrdf(xml, model_path, &desc)
                                                : parseSdf(xml, model_path, &desc);
-  if (!content.status.ok()) return prepared;
+  if (content.status.ok()) plan(desc, &prepared);
+  return prepared;
+}
+
+PreparedModel World::prepare(const WorldFileModel& model) {
+  PreparedModel prepared;
+  prepared.content_->status = model.read;
+  if (model.read.ok()) plan(*model.description, &prepared);
+  return prepared;
+}
+
+void World::plan(const ModelDescription& desc, PreparedModel* prepared) {
+  PreparedModel::Content& content = *prepared->content_;
   if (!isFinite(desc.pose) || !withinPosition(desc.pose.position)) {
     std::ostringstream why;
     why << "the model's own <pose> is not finite or lies beyond " << kMaxPosition << " m";
     content.status = rejected(why.str());
-    return prepared;
+    return;
   }
   content.left_out = desc.left_out;
   content.record.is_static = desc.is_static;
   content.model_pose = desc.pose;
   content.status = planModel(desc, &content.record, &content.spec, &content.warnings);
-  return prepared;
 }
 
 Status World::spawn(const std::string& name, PreparedModel prepared, const Pose& pose,

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -148,7 +150,10 @@ size_t placedModels(const tinyxml2::XMLDocument& xml) {
   return count;
 }
 
-WorldFileStatus readModels(const sdf::World& world, WorldFile* out) {
+// Each model described from the file's own elements, as World::prepare would describe its
+// document: the limits checked on the document's XML first, then the model itself.
+WorldFileStatus readModels(const sdf::World& world, const std::vector<std::string>& model_path,
+                           WorldFile* out) {
   for (uint64_t i = 0; i < world.ModelCount(); ++i) {
     const sdf::Model& model = *world.ModelByIndex(i);
     ignition::math::Pose3d pose;
@@ -156,7 +161,15 @@ WorldFileStatus readModels(const sdf::World& world, WorldFile* out) {
     if (!errors.empty())
       return {WorldFileCode::InvalidSdf,
               "model '" + model.Name() + "': " + core::joinErrors(errors)};
-    out->models.push_back({model.Name(), modelDocument(model), core::toPose(pose)});
+    WorldFileModel placed{model.Name(), modelDocument(model), core::toPose(pose), {}, nullptr};
+    placed.read = core::precheckModelXml(placed.sdf, ModelFormat::Sdf);
+    if (placed.read.ok()) {
+      auto description = std::make_shared<core::ModelDescription>();
+      const std::lock_guard<std::mutex> one_parser(core::parserMutex());
+      placed.read = core::describeSdfModel(model, model_path, description.get());
+      if (placed.read.ok()) placed.description = std::move(description);
+    }
+    out->models.push_back(std::move(placed));
   }
   return {};
 }
@@ -275,7 +288,7 @@ WorldFileStatus readWorldFile(const std::string& path, const std::vector<std::st
   file.name = world.Name();
   WorldFileStatus status = readPhysics(world, base, &file);
   if (!status.ok()) return status;
-  status = readModels(world, &file);
+  status = readModels(world, model_path, &file);
   if (!status.ok()) return status;
   status = readState(world.Element(), &file);
   if (!status.ok()) return status;

@@ -399,8 +399,8 @@ bool GazeboApi::spawnModel(ModelFormat requested, gazebo_msgs::SpawnModel::Reque
 // advertise and subscribe) and join the loop if the model is still there; robot_namespace is
 // theirs where they name none. A spawn is whole or nothing: a plugin that throws as it starts
 // takes the model back out of the world.
-Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFormat format,
-                        const Pose& pose, const std::string& reference_frame,
+Status GazeboApi::spawn(const std::string& name, const Prepare& prepare, const std::string& xml,
+                        ModelFormat format, const Pose& pose, const std::string& reference_frame,
                         const std::string& robot_namespace, const std::string& via,
                         std::string* warnings) {
   std::vector<std::string> model_path;
@@ -411,7 +411,7 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
     return world.checkSpawn(name, pose, reference_frame);
   });
   if (spawned.ok()) {
-    PreparedModel prepared = World::prepare(xml, format, model_path);
+    PreparedModel prepared = prepare(model_path);
     spawned = prepared.status();
     implausible = prepared.warnings();
     left_out = prepared.leftOut();
@@ -463,6 +463,16 @@ Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFo
   return spawned;
 }
 
+Status GazeboApi::spawn(const std::string& name, const std::string& xml, ModelFormat format,
+                        const Pose& pose, const std::string& reference_frame,
+                        const std::string& robot_namespace, const std::string& via,
+                        std::string* warnings) {
+  const auto prepare = [&](const std::vector<std::string>& model_path) {
+    return World::prepare(xml, format, model_path);
+  };
+  return spawn(name, prepare, xml, format, pose, reference_frame, robot_namespace, via, warnings);
+}
+
 // The heap is trimmed once, after the last model: a trim walks every free chunk of the heap, which
 // the file's reading left in the millions.
 void GazeboApi::spawnWorldModels(const WorldFile& world) {
@@ -484,8 +494,11 @@ void GazeboApi::spawnWorldModels(const WorldFile& world) {
       return;
     }
     ++done;
-    const Status spawned = spawn(model.name, model.sdf, ModelFormat::Sdf, model.pose, "", "",
-                                 "world '" + world.name + "'");
+    const auto read_with_world = [&](const std::vector<std::string>&) {
+      return World::prepare(model);
+    };
+    const Status spawned = spawn(model.name, read_with_world, model.sdf, ModelFormat::Sdf,
+                                 model.pose, "", "", "world '" + world.name + "'");
     if (!spawned.ok())
       throw WorldModelRefused("world '" + world.name + "': model '" + model.name +
                               "' cannot be spawned: " + statusText(kSpawnModel, spawned));

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -108,6 +109,13 @@ class GazeboApi {
   // *warnings (optional) for the reply.
   Status spawn(const std::string& name, const std::string& xml, ModelFormat format,
                const Pose& pose, const std::string& reference_frame,
+               const std::string& robot_namespace, const std::string& via,
+               std::string* warnings = nullptr);
+  // The same, the model made by `prepare` (given the world's model path) where the one above
+  // reads xml; xml is what its plugins are read from.
+  using Prepare = std::function<PreparedModel(const std::vector<std::string>& model_path)>;
+  Status spawn(const std::string& name, const Prepare& prepare, const std::string& xml,
+               ModelFormat format, const Pose& pose, const std::string& reference_frame,
                const std::string& robot_namespace, const std::string& via,
                std::string* warnings = nullptr);
   void spawnWorldModels(const WorldFile& world);
