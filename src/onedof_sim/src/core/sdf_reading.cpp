@@ -120,7 +120,8 @@ sdf::ElementPtr copyWithout(const sdf::ElementPtr& description,
 
 // The relaxed schema without the descriptions of the kPrunable elements absent from a document.
 // Each such schema is built once (a few milliseconds) and kept, up to kKeptSchemas of them; past
-// that one is built for the document and freed with it.
+// that one is built for the document and freed with it. Called, as all reading, under
+// parserMutex (sdf_parsing.h): the kept schemas need no lock of their own.
 sdf::ElementPtr schemaFor(const std::string& text) {
   constexpr size_t kKeptSchemas = 16;
   static std::map<unsigned long, sdf::ElementPtr> kept;
