@@ -202,6 +202,8 @@ STEP_SERVICE = {'/gazebo/step_simulation': 'onedof_sim/StepSimulation'}
 # The world view's markers (~enable_collision_markers), one topic per item of Gazebo's View menu.
 MARKERS_TOPIC = {'/gazebo/' + view + '_markers': 'visualization_msgs/MarkerArray'
                  for view in ('visual', 'collision', 'joint', 'com', 'inertia', 'contact')}
+# The world view's service, served with its markers: one model back at its spawn pose.
+VIEW_SERVICE = {'/gazebo/reset_model': 'onedof_sim/ResetModel'}
 
 
 def simulator_names(rospy):
@@ -250,10 +252,14 @@ def test_by_default_the_simulator_advertises_exactly_gazebos_names(ros, rospy_cl
     rospy_client.set_param('/gazebo/enable_collision_markers', True)
     wait_until(lambda: publishers_of('/gazebo/collision_markers') == ['/gazebo'], 60,
                what='the simulator to publish its markers once asked')
+    wait_until(lambda: simulator_names(rospy_client)[2] == dict(GAZEBO_SERVICES, **VIEW_SERVICE),
+               60, what="the simulator to serve the view's reset_model with its markers")
     assert simulator_names(rospy_client)[0] == dict(GAZEBO_PUBLISHED, **MARKERS_TOPIC)
     rospy_client.set_param('/gazebo/enable_collision_markers', False)
     wait_until(lambda: publishers_of('/gazebo/collision_markers') == [], 60,
                what='the simulator to take its markers down')
+    wait_until(lambda: simulator_names(rospy_client)[2] == GAZEBO_SERVICES, 60,
+               what="the simulator to take the view's reset_model down")
 
 
 @pytest.mark.parametrize('arguments, step, markers', [
@@ -264,12 +270,13 @@ def test_by_default_the_simulator_advertises_exactly_gazebos_names(ros, rospy_cl
 def test_the_simulators_own_names_are_there_when_asked_for(ros, rospy_client, arguments, step,
                                                            markers):
     """Gazebo's names and the two asked for: the step service (lock-step implies it, unless
-    refused) and the collision markers."""
+    refused) and the world view's markers, with its reset_model."""
     launch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'gui:=false'] +
                            arguments, 'roslaunch', env=HEADLESS)
     published, subscribed, services = simulator_names(rospy_client)
     assert published == dict(GAZEBO_PUBLISHED, **(MARKERS_TOPIC if markers else {}))
     assert subscribed == GAZEBO_SUBSCRIBED
-    assert services == dict(GAZEBO_SERVICES, **(STEP_SERVICE if step else {}))
+    assert services == dict(GAZEBO_SERVICES, **(STEP_SERVICE if step else {}),
+                            **(VIEW_SERVICE if markers else {}))
     if step:
         assert 'with step_simulation' in ros.log_text(launch)
