@@ -227,15 +227,20 @@ class GazeboWindow:
                             what='%s released where the drag left it' % drag.name)
         return last
 
-    def choose_from_menu(self, point, entry, timeout=60):
+    def choose_from_menu(self, point, entry, sub_entry=None, timeout=60):
         """Right-clicks where the view shows `point` (a handle's control) and chooses the
-        entry-th (from 1) entry of the menu that opens there, with the keyboard."""
+        entry-th (from 1) entry of the menu that opens there, with the keyboard; with sub_entry,
+        the sub_entry-th entry of the entry's submenu."""
         shown = self._shown_windows()
         self._must('mousemove', '--sync', *self.pixel(point))
         self._must('click', '3')
         self.ros.wait_until(lambda: self._shown_windows() - shown, timeout,
                             what='the right-click menu')
-        self._must('key', *(['Down'] * entry), 'Return')
+        if sub_entry is None:
+            self._must('key', *(['Down'] * entry), 'Return')
+            return
+        # Right opens the submenu on its first entry.
+        self._must('key', *(['Down'] * entry), 'Right', *(['Down'] * (sub_entry - 1)), 'Return')
 
     def fill_in(self, title, values, timeout=120):
         """Types `values` (strings) into the fields of the window titled `title` (a dialog the
