@@ -8,6 +8,8 @@ and a model's right-click View > Wireframe or Transparent changes that model's a
 import math
 import signal
 
+import yaml
+
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
 from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, GazeboWindow, HandlesSeen,
@@ -140,6 +142,14 @@ def test_the_view_modes_make_the_world_or_one_model_wireframe_or_transparent(
                         'both boxes drawn')
     ratio = lambda seen, name: seen[name] / solid[name]
     figures = {'solid': solid}
+    # The display has a checkbox per model, as rviz's Marker display has one per namespace.
+    saved = str(tmp_path / 'saved.rviz')
+    window.read_view(saved)
+    with open(saved) as f:
+        displays = yaml.safe_load(f)['Visualization Manager']['Displays']
+    visuals = next(display for display in displays if display['Name'] == 'Visuals')
+    assert visuals['Class'] == 'gazebo_ros_panels/ModelVisuals'
+    assert visuals['Models'] == {'ground_plane': True, 'near': True, 'far': True}, visuals
 
     def view_menu(key, said):
         before = window.log().count(said)

@@ -41,6 +41,8 @@ ModelVisuals::ModelVisuals() {
       "Every model's triangles' edges only (Gazebo's View > Wireframe); one model alone from its "
       "right-click menu's View",
       this, SLOT(applyModesToAll()));
+  models_property_ = new rviz::Property("Models", QVariant(), "Each model's visuals, shown or not",
+                                        this);
 }
 
 ModelVisuals::~ModelVisuals() {
@@ -114,6 +116,13 @@ void ModelVisuals::show(const visualization_msgs::Marker& message) {
   }
   if (message.action != visualization_msgs::Marker::ADD || !rviz::checkMarkerMsg(message, this))
     return;
+  auto model = model_shown_.find(message.ns);
+  if (model == model_shown_.end()) {
+    model = model_shown_.emplace(message.ns, new rviz::BoolProperty(
+        QString::fromStdString(message.ns), true, "This model's visuals shown",
+        models_property_, SLOT(showChosenModels()), this)).first;
+  }
+  if (!model->second->getBool()) return;
   auto it = shown_.find(id);
   if (it != shown_.end() && it->second.marker->getMessage()->type != message.type) {
     shown_.erase(it);
@@ -166,6 +175,17 @@ void ModelVisuals::applyModes(const std::string& model, Shown* shown) {
     }
   }
   shown->looks = std::move(looks);  // of the passes the marker has now
+}
+
+void ModelVisuals::showChosenModels() {
+  for (auto it = shown_.begin(); it != shown_.end();) {
+    auto model = model_shown_.find(it->first.first);
+    if (model != model_shown_.end() && !model->second->getBool())
+      it = shown_.erase(it);
+    else
+      ++it;
+  }
+  if (context_) context_->queueRender();
 }
 
 void ModelVisuals::applyModesToAll() {

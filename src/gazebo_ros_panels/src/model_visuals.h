@@ -7,6 +7,10 @@
 // kWireframeModelsTopic (std_msgs/String, the names one a line: the model handles' right-click
 // View menu publishes them). The modes change the markers' own materials (their default scheme:
 // rviz's picking still sees a model whole), after each marker message rviz's marker applies.
+// Markers are added, changed and deleted (ADD, DELETE, DELETEALL) as rviz's display does; a
+// marker's lifetime and frame locking, which the simulator's markers do not use, are not
+// followed. Each model has a checkbox under "Models" (shown or not), as the Marker display has
+// one per namespace.
 #pragma once
 
 // marker_base.h holds Ogre::MaterialPtr in a set: the type complete first.
@@ -30,6 +34,7 @@ class Pass;
 
 namespace rviz {
 class BoolProperty;
+class Property;
 }
 
 namespace gazebo_ros_panels {
@@ -55,6 +60,7 @@ class ModelVisuals : public rviz::MarkerArrayDisplay {
 
  private Q_SLOTS:
   void applyModesToAll();
+  void showChosenModels();  // the markers of the models unticked under "Models" taken away
 
  private:
   // What a pass made transparent had before, to put back, and the alpha it was given.
@@ -76,6 +82,10 @@ class ModelVisuals : public rviz::MarkerArrayDisplay {
 
   rviz::BoolProperty* transparent_property_;
   rviz::BoolProperty* wireframe_property_;
+  rviz::Property* models_property_;
+  // Under models_property_, one per model seen, kept (as rviz's namespaces are) while the display
+  // lives.
+  std::map<std::string, rviz::BoolProperty*> model_shown_;
   ros::Subscriber markers_sub_, transparent_sub_, wireframe_sub_;
   std::map<rviz::MarkerID, Shown> shown_;
   std::set<std::string> transparent_models_, wireframe_models_;
