@@ -1040,6 +1040,43 @@ TEST_P(State, ResetPutsModelsBackAndDropsJobs) {
   EXPECT_EQ(world.stepCount(), 0u);
 }
 
+// 10, for one model: reset_model.
+TEST_P(State, ResetModelPutsThatModelAloneBackAndDropsItsJobs) {
+  World world(GetParam());
+  spawnLiftedRobot(&world);
+  ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok());
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
+  ASSERT_TRUE(world.applyJointEffort("joint1", 3.0, 0, -1).ok());
+  steps(&world, 300);
+  Pose pose;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
+  ASSERT_LT(pose.position.z, 0.9);  // fallen
+  const double swung = jointPosition(world, "joint1");
+
+  // The box back where it was spawned, at rest; the robot as it was.
+  ASSERT_TRUE(world.resetModel("box").ok());
+  ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
+  EXPECT_NEAR(pose.position.x, 2.0, 1e-12);
+  EXPECT_NEAR(pose.position.z, 1.0, 1e-12);
+  EXPECT_EQ(twist.linear.z, 0.0);
+  EXPECT_EQ(jointPosition(world, "joint1"), swung);
+  EXPECT_EQ(world.timeNs(), 300 * kMs);
+
+  // The robot back at its spawn configuration, at rest, its effort job gone: hanging at pi,
+  // link2 stays put.
+  ASSERT_TRUE(world.resetModel("one_DOF_robot").ok());
+  EXPECT_EQ(jointPosition(world, "joint1"), 0.0);
+  EXPECT_EQ(jointRate(world, "joint1"), 0.0);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI}).ok());
+  steps(&world, 100);
+  EXPECT_NEAR(jointPosition(world, "joint1"), M_PI, 1e-6);
+
+  const Status unknown = world.resetModel("nope");
+  EXPECT_EQ(unknown.code, StatusCode::ModelNotFound);
+  EXPECT_EQ(unknown.subject, "nope");
+}
+
 // Boxes tumbling onto each other under the iterative solver (ODE's quickstep orders its
 // constraints with random numbers, and its collision space orders contacts by the geoms last
 // moved): reset_simulation and the same steps again give the same states bit for bit, as a new
