@@ -1015,14 +1015,20 @@ TEST_P(Models, FixedJointWeldsMovingLinks) {
   EXPECT_NEAR(tool_in_b.position.z, 0.1, 1e-9);
 }
 
+// The lifted robot swung from 1 rad under a lasting effort job, and a box dropped from (2, 0, 1):
+// 300 steps on.
+void swingAndDrop(World* world) {
+  spawnLiftedRobot(world);
+  ASSERT_TRUE(world->spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok());
+  ASSERT_TRUE(world->setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
+  ASSERT_TRUE(world->applyJointEffort("joint1", 3.0, 0, -1).ok());
+  steps(world, 300);
+}
+
 // 10.
 TEST_P(State, ResetPutsModelsBackAndDropsJobs) {
   World world(GetParam());
-  spawnLiftedRobot(&world);
-  ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok());
-  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
-  ASSERT_TRUE(world.applyJointEffort("joint1", 3.0, 0, -1).ok());
-  steps(&world, 300);
+  swingAndDrop(&world);
   world.resetWorld();
   EXPECT_EQ(world.timeNs(), 300 * kMs);
   EXPECT_EQ(jointPosition(world, "joint1"), 0.0);
@@ -1043,11 +1049,7 @@ TEST_P(State, ResetPutsModelsBackAndDropsJobs) {
 // 10, for one model: reset_model.
 TEST_P(State, ResetModelPutsThatModelAloneBackAndDropsItsJobs) {
   World world(GetParam());
-  spawnLiftedRobot(&world);
-  ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok());
-  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
-  ASSERT_TRUE(world.applyJointEffort("joint1", 3.0, 0, -1).ok());
-  steps(&world, 300);
+  swingAndDrop(&world);
   Pose pose;
   Twist twist;
   ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
