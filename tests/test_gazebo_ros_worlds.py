@@ -163,6 +163,41 @@ def test_ros_network_disabled_serves_no_gazebo_name(ros, rospy_client, engine, t
         '/gazebo/get_loggers', '/gazebo/set_logger_level'}
 
 
+# What the Gazebo window runs (gazebo_ros' gzclient: rviz and the model handles, the wrench
+# dialogs), as words of a process's command line.
+WINDOW_WORDS = ('gzclient', 'rviz', 'model_handles', 'wrench_dialog', 'world_view')
+
+
+def test_without_gui_no_window_runs_and_nothing_subscribes_to_the_simulator(ros, rospy_client):
+    """gui:=false on a display where a window could open: no process of the window runs and no
+    node but the simulator's and rosout's is in the graph; nothing subscribes to what the
+    simulator publishes (rosout to its log alone), and it was not asked for its markers. The
+    window, absent, costs the simulator nothing."""
+    import psutil
+    import rosgraph
+    import rosnode
+    from onedof_sim.tutorial.rviz_view import start_xvfb
+    xvfb, display = start_xvfb(ros)
+    launch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'gui:=false',
+                                 'paused:=false'], 'roslaunch', env={'DISPLAY': display})
+    api = GazeboApi(rospy_client)
+    wait_until(lambda: api.get_world_properties().sim_time > 0.5, 60, what='the world running')
+    started = [' '.join(child.cmdline())
+               for child in psutil.Process(launch.pid).children(recursive=True)]
+    assert not [command for command in started if any(word in command for word in WINDOW_WORDS)]
+    me = rospy_client.get_name()
+    assert set(rosnode.get_node_names()) - {me} == {'/gazebo', '/rosout'}
+    publishers, subscribers, _ = rosgraph.Master('/test').getSystemState()
+    published = {topic for topic, nodes in publishers if '/gazebo' in nodes}
+    listeners = {topic: set(nodes) - {me} for topic, nodes in subscribers if topic in published}
+    assert {topic: nodes for topic, nodes in listeners.items() if nodes} == {
+        '/rosout': {'/rosout'}}
+    assert not rospy_client.has_param('/gazebo/enable_collision_markers')
+    assert launch.poll() is None, ros.log_text(launch)
+    ros.terminate(launch)
+    ros.terminate(xvfb)
+
+
 # Gazebo's names (docs/gazebo-api.md, "Every name the node advertises"): what the node publishes,
 # what it subscribes to (no publisher of its own) and the services it serves, with their types.
 GAZEBO_PUBLISHED = {
@@ -202,6 +237,8 @@ STEP_SERVICE = {'/gazebo/step_simulation': 'onedof_sim/StepSimulation'}
 # The world view's markers (~enable_collision_markers), one topic per item of Gazebo's View menu.
 MARKERS_TOPIC = {'/gazebo/' + view + '_markers': 'visualization_msgs/MarkerArray'
                  for view in ('visual', 'collision', 'joint', 'com', 'inertia', 'contact')}
+# The world view's service, served with its markers: one model back at its spawn pose.
+VIEW_SERVICE = {'/gazebo/reset_model': 'onedof_sim/ResetModel'}
 
 
 def simulator_names(rospy):
@@ -250,10 +287,14 @@ def test_by_default_the_simulator_advertises_exactly_gazebos_names(ros, rospy_cl
     rospy_client.set_param('/gazebo/enable_collision_markers', True)
     wait_until(lambda: publishers_of('/gazebo/collision_markers') == ['/gazebo'], 60,
                what='the simulator to publish its markers once asked')
+    wait_until(lambda: simulator_names(rospy_client)[2] == dict(GAZEBO_SERVICES, **VIEW_SERVICE),
+               60, what="the simulator to serve the view's reset_model with its markers")
     assert simulator_names(rospy_client)[0] == dict(GAZEBO_PUBLISHED, **MARKERS_TOPIC)
     rospy_client.set_param('/gazebo/enable_collision_markers', False)
     wait_until(lambda: publishers_of('/gazebo/collision_markers') == [], 60,
                what='the simulator to take its markers down')
+    wait_until(lambda: simulator_names(rospy_client)[2] == GAZEBO_SERVICES, 60,
+               what="the simulator to take the view's reset_model down")
 
 
 @pytest.mark.parametrize('arguments, step, markers', [
@@ -264,12 +305,13 @@ def test_by_default_the_simulator_advertises_exactly_gazebos_names(ros, rospy_cl
 def test_the_simulators_own_names_are_there_when_asked_for(ros, rospy_client, arguments, step,
                                                            markers):
     """Gazebo's names and the two asked for: the step service (lock-step implies it, unless
-    refused) and the collision markers."""
+    refused) and the world view's markers, with its reset_model."""
     launch = start_serving(ros, ['roslaunch', 'gazebo_ros', 'empty_world.launch', 'gui:=false'] +
                            arguments, 'roslaunch', env=HEADLESS)
     published, subscribed, services = simulator_names(rospy_client)
     assert published == dict(GAZEBO_PUBLISHED, **(MARKERS_TOPIC if markers else {}))
     assert subscribed == GAZEBO_SUBSCRIBED
-    assert services == dict(GAZEBO_SERVICES, **(STEP_SERVICE if step else {}))
+    assert services == dict(GAZEBO_SERVICES, **(STEP_SERVICE if step else {}),
+                            **(VIEW_SERVICE if markers else {}))
     if step:
         assert 'with step_simulation' in ros.log_text(launch)

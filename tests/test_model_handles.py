@@ -24,8 +24,10 @@ from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, DragSeen, 
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
 SERVER = '/gazebo_model_handles'
-# A handle's right-click menu, in Gazebo's order.
-MENU = ['Move To', 'Follow', 'Stop Following', 'Apply Force/Torque', 'Delete']
+# A handle's right-click menu, in Gazebo's order, and its View submenu (check boxes, unchecked).
+MENU = ['Move To', 'Follow', 'Stop Following', 'View', 'Apply Force/Torque', 'Reset Model Pose',
+        'Delete']
+VIEW_MENU = ['[ ] Transparent', '[ ] Wireframe']
 HANDLES = ['rosrun', 'gazebo_ros', 'model_handles']
 
 
@@ -76,6 +78,14 @@ def yawed(x, y, z, yaw):
 def close(a, b, tolerance=1e-3):
     """Whether two geometry_msgs/Pose agree within tolerance (m, and per quaternion component)."""
     return same_pose(a, b, tolerance)
+
+
+def menu_of(marker):
+    """A handle's right-click menu: its entries' titles, and its View submenu's."""
+    top = [entry for entry in marker.menu_entries if entry.parent_id == 0]
+    view = next(entry.id for entry in top if entry.title == 'View')
+    return ([entry.title for entry in top],
+            [entry.title for entry in marker.menu_entries if entry.parent_id == view])
 
 
 def model_pose(api, name):
@@ -257,13 +267,52 @@ def window_on_boxes(ros, rospy_client, boxes):
 def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
     api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
                                                             'kept': pose(-1.0, 1.0, 0.1)})
-    assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
+    assert menu_of(seen.markers['box']) == (MENU, VIEW_MENU)
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), MENU.index('Delete') + 1)
     ros.wait_until(lambda: 'box' not in api.get_world_properties().model_names, 60,
                    what='the box deleted')
     assert api.get_world_properties().model_names == ['ground_plane', 'kept']
     ros.wait_until(lambda: 'box' not in seen.markers, 60, what="the box's handle gone")
+    assert window.gzclient.poll() is None, window.log()
+    window.stop()
+
+
+def test_a_model_is_put_back_where_it_was_spawned_alone_or_with_all(ros, rospy_client,
+                                                                   tmp_path):
+    from onedof_sim.srv import ResetModel
+    spawned = {'box': yawed(1.0, 0.0, 0.1, 0.3), 'other': pose(-1.0, 1.0, 0.1)}
+    api, window, seen = window_on_boxes(ros, rospy_client, spawned)
+    moved = {'box': yawed(0.5, 0.5, 0.3, 1.2), 'other': pose(-1.5, 1.5, 0.1)}
+    for name, to in moved.items():
+        done = api.set_model_state(model_state(name, to))
+        assert done.success, done.status_message
+    ros.wait_until(lambda: all(handle_at(seen, name, to) for name, to in moved.items()), 60,
+                   what='the handles at the moved boxes')
+    # The simulator's reset_model refuses a model it does not have, and changes nothing.
+    reset_model = rospy_client.ServiceProxy('/gazebo/reset_model', ResetModel)
+    refused = reset_model('nothing')
+    assert not refused.success and refused.status_message == 'ResetModel: model does not exist', \
+        refused
+    assert all(close(model_pose(api, name), to) for name, to in moved.items())
+
+    # The box's right-click Reset Model Pose: the box back at its spawn pose, at rest; the other
+    # where it was moved.
+    at = moved['box'].position
+    window.screenshot(str(tmp_path / 'moved.png'))  # the handles drawn before the mouse goes
+    window.choose_from_menu((at.x + ARROW_GRAB, at.y, at.z), MENU.index('Reset Model Pose') + 1)
+    ros.wait_until(lambda: close(model_pose(api, 'box'), spawned['box'], 1e-9), 60,
+                   what='the box back at its spawn pose')
+    assert not any(twist_of(api, 'box'))
+    assert close(model_pose(api, 'other'), moved['other'], 1e-9)
+    ros.wait_until(lambda: handle_at(seen, 'box', spawned['box']), 60,
+                   what="the box's handle back with it")
+
+    # Edit > Reset Model Poses (Gazebo's Ctrl+Shift+R): every model back.
+    window.press('ctrl+shift+r')
+    ros.wait_until(lambda: close(model_pose(api, 'other'), spawned['other'], 1e-9), 60,
+                   what='the other box back at its spawn pose')
+    assert close(model_pose(api, 'box'), spawned['box'], 1e-9)
     assert window.gzclient.poll() is None, window.log()
     window.stop()
 
@@ -287,7 +336,7 @@ def test_the_right_click_menu_moves_the_view_to_a_model_and_follows_it(ros, rosp
                                                                        tmp_path):
     api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
                                                             'other': pose(-1.0, 1.0, 0.1)})
-    assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
+    assert menu_of(seen.markers['box']) == (MENU, VIEW_MENU)
     config = str(tmp_path / 'view.rviz')
     start = window.read_view(config)
     window.screenshot(str(tmp_path / 'handles.png'))  # the handles drawn before the mouse goes
@@ -357,7 +406,7 @@ def test_the_right_click_menu_applies_a_force_for_a_duration(ros, rospy_client, 
     from gazebo_ros.wrench_dialog import FIELDS, TITLE
     api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
     api.set_gravity(0, 0, 0)  # the box in the air, weightless: free
-    assert [entry.title for entry in seen.markers['box'].menu_entries] == MENU
+    assert menu_of(seen.markers['box']) == (MENU, VIEW_MENU)
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.5), MENU.index('Apply Force/Torque') + 1)
     typed = {'fx': FORCE, 'duration': PUSH_SECONDS}

@@ -17,6 +17,7 @@
 #include "gazebo_client.h"
 #include "gui_thread.h"
 #include "insert_tab.h"
+#include "menu_bar.h"
 #include "time_tab.h"
 #include "view_focus.h"
 #include "world_tab.h"
@@ -57,7 +58,8 @@ void GazeboPanel::onInitialize() {
   insert_ = new InsertTab(client_.get(), report, [this] { chooseInsertPoint(); });
   world_ = new WorldTab(client_.get(), report, physics_changed);
   auto* tabs = new QTabWidget;
-  // Each button and tab has an Alt mnemonic of its own, none of rviz's menus' (F, P, H).
+  // Each button and tab has an Alt mnemonic of its own, none of the menu bar's (rviz's F, P, H
+  // and GazeboMenus' V).
   tabs->addTab(scrollable(time_), "Ti&me");
   tabs->addTab(scrollable(insert_), "&Insert");
   tabs->addTab(scrollable(world_), "&World");
@@ -74,6 +76,7 @@ void GazeboPanel::onInitialize() {
   layout->addWidget(move_models);
   layout->addWidget(tabs, 1);
 
+  new GazeboMenus(vis_manager_, client_.get(), report, this);
   view_focus_ = new ViewFocus(vis_manager_, client_.get(), report, this);
   client_->listenForViewRequests([this](ViewRequest request, const std::string& model) {
     onGuiThread(this, [this, request, model] {

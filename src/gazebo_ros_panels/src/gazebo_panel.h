@@ -1,7 +1,8 @@
 // The Gazebo panel of rviz: Gazebo's Time bar, Insert tab and World tab over the simulator's
 // gazebo_ros services (GazeboClient), Gazebo's translate/rotate mode as a button that toggles it,
-// a line saying what the last action did or why not, and the view's Move To and Follow asked for by
-// the model handles' right-click menu (ViewFocus).
+// a line saying what the last action did or why not, the view's Move To and Follow asked for by
+// the model handles' right-click menu (ViewFocus), and Gazebo's Edit and View menus in rviz's menu
+// bar (GazeboMenus).
 #pragma once
 
 #include <QLabel>

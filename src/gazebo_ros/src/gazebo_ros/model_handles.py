@@ -22,8 +22,12 @@ is held gives it its gravity back first.
 
 A handle's right-click menu has Gazebo's Move To and Follow, for the Gazebo panel, which holds
 rviz's view (the model's name on MOVE_TO_TOPIC, or FOLLOW_TOPIC; Stop Following sends an empty
-name there), Apply Force/Torque (a dialog, gazebo_ros.wrench_dialog, through
-/gazebo/apply_body_wrench) and Delete (/gazebo/delete_model).
+name there), Gazebo's View > Transparent and Wireframe for that model alone (checked while on: the
+models in each mode on its latched topic, TRANSPARENT_TOPIC and WIREFRAME_TOPIC, which the view's
+model visuals display follows), Apply Force/Torque (a dialog, gazebo_ros.wrench_dialog, through
+/gazebo/apply_body_wrench), Reset Model Pose (/gazebo/reset_model, the simulator's own: the model
+back at its spawn pose, as Gazebo's Edit > Reset Model Poses puts every model; Gazebo's menu has
+no entry for one model) and Delete (/gazebo/delete_model).
 
 No simulator, or a refused move or delete, is logged once per reason; the node keeps serving.
 """
@@ -40,6 +44,7 @@ MODEL_STATES = '/gazebo/model_states'
 SET_MODEL_STATE = '/gazebo/set_model_state'
 GET_MODEL_PROPERTIES = '/gazebo/get_model_properties'
 DELETE_MODEL = '/gazebo/delete_model'
+RESET_MODEL = '/gazebo/reset_model'
 GET_LINK_PROPERTIES = '/gazebo/get_link_properties'
 SET_LINK_PROPERTIES = '/gazebo/set_link_properties'
 GET_WORLD_PROPERTIES = '/gazebo/get_world_properties'
@@ -48,6 +53,12 @@ FRAME = 'world'
 # The Gazebo panel's view requests (std_msgs/String, a model's name; gazebo_client.h).
 MOVE_TO_TOPIC = '/gazebo_window/move_to'
 FOLLOW_TOPIC = '/gazebo_window/follow'
+# The models drawn transparent, and wireframe, by the view's model visuals display
+# (std_msgs/String, the names one a line, latched; gazebo_ros_panels' model_visuals.h).
+TRANSPARENT_TOPIC = '/gazebo_window/transparent_models'
+WIREFRAME_TOPIC = '/gazebo_window/wireframe_models'
+# A model's View menu, Gazebo's titles: each mode and its topic.
+VIEW_MODES = (('Transparent', TRANSPARENT_TOPIC), ('Wireframe', WIREFRAME_TOPIC))
 # The world's plane: Gazebo's ground_plane model, which Gazebo's mouse neither selects nor moves.
 GROUND_PLANE = 'ground_plane'
 FOLLOW_HZ = 10.0
@@ -168,16 +179,16 @@ class ModelHandles:
     """The handles of the simulator's models on `server` (an InteractiveMarkerServer). The
     simulator's calls are `set_state(ModelState)` (a SetModelState response) and `ask_poses()`
     ({name: Pose}); each raises ServiceUnavailable when it cannot be made. `gravity` (a
-    GravityHold) holds a dragged model up. `menu` (an interactive_markers MenuHandler, or None)
-    is each handle's right-click menu. `say_once(text)` says a problem (said_once)."""
+    GravityHold) holds a dragged model up. `menus` (a ModelMenus, or None) gives each handle its
+    right-click menu. `say_once(text)` says a problem (said_once)."""
 
-    def __init__(self, server, set_state, ask_poses, gravity, say_once, menu=None):
+    def __init__(self, server, set_state, ask_poses, gravity, say_once, menus=None):
         self.server = server
         self.set_state = set_state
         self.ask_poses = ask_poses
         self.gravity = gravity
         self.say_once = say_once
-        self.menu = menu
+        self.menus = menus
         self.lock = threading.Lock()
         self.latest = None        # the latest model_states, serialised
         self.latest_at = -math.inf  # and the wall time it came
@@ -237,6 +248,8 @@ class ModelHandles:
             return
         for name in [name for name in self.shown if name not in poses]:
             self.server.erase(name)
+            if self.menus:
+                self.menus.forget(name)
             with self.lock:
                 for table in (self.shown, self.dragged, self.to_send, self.last_sent,
                               self.moved_at):
@@ -251,8 +264,8 @@ class ModelHandles:
                     continue
                 if name not in self.shown:
                     self.server.insert(handle_marker(name, pose), self.on_feedback)
-                    if self.menu:
-                        self.menu.apply(self.server, name)
+                    if self.menus:
+                        self.menus.apply(name)
                 elif (self.shown[name] is None or
                       pose_distance(pose, self.shown[name]) > FOLLOW_TOLERANCE):
                     self.server.setPose(name, pose)
@@ -316,31 +329,103 @@ class ModelHandles:
             self.gravity.let_go(self.held.popitem()[1])
 
 
-def model_menu(delete, open_wrench_dialog, view, say_once):
-    """A handle's right-click menu (an interactive_markers MenuHandler), in Gazebo's order: Move
-    To, Follow and Stop Following, through view (a ViewRequests), Apply Force/Torque, through
-    open_wrench_dialog(name), and Delete, through delete(name) (a DeleteModel call that raises
-    ServiceUnavailable when it cannot be made)."""
-    from interactive_markers.menu_handler import MenuHandler
-    menu = MenuHandler()
+class ModelViews:
+    """Gazebo's View > Transparent and Wireframe of single models: the models in each mode
+    (VIEW_MODES), published on the mode's topic at each change and at start (none).
+    `publisher(topic)` makes a latched std_msgs/String publisher."""
 
-    def on_delete(feedback):
+    def __init__(self, publisher):
+        self.models = {mode: set() for mode, _ in VIEW_MODES}
+        self.publishers = {mode: publisher(topic) for mode, topic in VIEW_MODES}
+        for mode in self.models:
+            self._publish(mode)
+
+    def is_on(self, mode, name):
+        return name in self.models[mode]
+
+    def toggle(self, mode, name):
+        """Model `name` into mode, or out of it; whether it is in it now."""
+        self.models[mode].symmetric_difference_update({name})
+        self._publish(mode)
+        return self.is_on(mode, name)
+
+    def forget(self, name):
+        """A model gone: in no mode."""
+        for mode, models in self.models.items():
+            if name in models:
+                models.discard(name)
+                self._publish(mode)
+
+    def _publish(self, mode):
+        from std_msgs.msg import String
+        self.publishers[mode].publish(String(data='\n'.join(sorted(self.models[mode]))))
+
+
+class ModelMenus:
+    """Each handle's right-click menu (an interactive_markers MenuHandler of its own, so that
+    its View entries' check marks are its model's), in Gazebo's order: Move To, Follow and Stop
+    Following, through view (a ViewRequests), View > Transparent and Wireframe, through views (a
+    ModelViews), Apply Force/Torque, through open_wrench_dialog(name), Reset Model Pose, through
+    reset(name) (a ResetModel call), and Delete, through delete(name) (a DeleteModel call), on
+    `server` (the handles' InteractiveMarkerServer); the calls raise ServiceUnavailable when they
+    cannot be made."""
+
+    def __init__(self, server, reset, delete, open_wrench_dialog, view, views, say_once):
+        self.server = server
+        self.reset = reset
+        self.delete = delete
+        self.open_wrench_dialog = open_wrench_dialog
+        self.view = view
+        self.views = views
+        self.say_once = say_once
+        self.menus = {}  # model name -> its MenuHandler
+
+    def apply(self, name):
+        """Model name's menu on its handle (the server's changes applied by the caller)."""
+        if name not in self.menus:
+            self.menus[name] = self._menu(name)
+        self.menus[name].apply(self.server, name)
+
+    def forget(self, name):
+        self.menus.pop(name, None)
+        self.views.forget(name)
+
+    def _menu(self, name):
+        from interactive_markers.menu_handler import MenuHandler
+        menu = MenuHandler()
+        menu.insert('Move To', callback=lambda feedback: self.view.move_to(name))
+        menu.insert('Follow', callback=lambda feedback: self.view.follow(name))
+        menu.insert('Stop Following', callback=lambda feedback: self.view.stop_following())
+        view = menu.insert('View')
+        for mode, _ in VIEW_MODES:
+            entry = menu.insert(mode, parent=view,
+                                callback=lambda feedback, mode=mode: self._toggle(menu, mode,
+                                                                                  feedback))
+            menu.setCheckState(entry, MenuHandler.UNCHECKED)
+        menu.insert('Apply Force/Torque', callback=lambda feedback: self.open_wrench_dialog(name))
+        menu.insert('Reset Model Pose', callback=lambda feedback: self._call(
+            self.reset, RESET_MODEL, 'reset', name))
+        menu.insert('Delete', callback=lambda feedback: self._call(
+            self.delete, DELETE_MODEL, 'delete', name))
+        return menu
+
+    def _toggle(self, menu, mode, feedback):
+        from interactive_markers.menu_handler import MenuHandler
+        on = self.views.toggle(mode, feedback.marker_name)
+        menu.setCheckState(feedback.menu_entry_id,
+                           MenuHandler.CHECKED if on else MenuHandler.UNCHECKED)
+        menu.reApply(self.server)
+        self.server.applyChanges()
+
+    def _call(self, call, service, verb, name):
         try:
-            result = delete(feedback.marker_name)
+            result = call(name)
         except ServiceUnavailable as error:
-            say_once('cannot delete %s through %s: %s' % (feedback.marker_name, DELETE_MODEL,
-                                                           error))
+            self.say_once('cannot %s %s through %s: %s' % (verb, name, service, error))
             return
         if not result.success:
-            say_once('%s refused to delete %s: %s' % (DELETE_MODEL, feedback.marker_name,
-                                                      result.status_message))
-    menu.insert('Move To', callback=lambda feedback: view.move_to(feedback.marker_name))
-    menu.insert('Follow', callback=lambda feedback: view.follow(feedback.marker_name))
-    menu.insert('Stop Following', callback=lambda feedback: view.stop_following())
-    menu.insert('Apply Force/Torque', callback=lambda feedback: open_wrench_dialog(
-        feedback.marker_name))
-    menu.insert('Delete', callback=on_delete)
-    return menu
+            self.say_once('%s refused to %s %s: %s' % (service, verb, name,
+                                                       result.status_message))
 
 
 class ViewRequests:
@@ -445,6 +530,7 @@ def main(argv):
                                  GetModelState, GetWorldProperties, SetLinkProperties,
                                  SetModelState)
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
+    from onedof_sim.srv import ResetModel
     from std_msgs.msg import String
     # Its own signal handling: the node ends its loop on SIGINT or SIGTERM and gives a model
     # held mid-drag its gravity back before rospy shuts down (after which no service is called).
@@ -460,12 +546,14 @@ def main(argv):
     gravity = GravityHold(proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
                           proxy_call(rospy, GET_LINK_PROPERTIES, GetLinkProperties),
                           proxy_call(rospy, SET_LINK_PROPERTIES, SetLinkProperties), say_once)
+    views = ModelViews(lambda topic: rospy.Publisher(topic, String, queue_size=1, latch=True))
+    menus = ModelMenus(server, proxy_call(rospy, RESET_MODEL, ResetModel),
+                       proxy_call(rospy, DELETE_MODEL, DeleteModel), dialogs.open, view, views,
+                       say_once)
     handles = ModelHandles(server, proxy_call(rospy, SET_MODEL_STATE, SetModelState),
                            asked_poses(proxy_call(rospy, GET_WORLD_PROPERTIES, GetWorldProperties),
                                        proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
-                           gravity, say_once,
-                           model_menu(proxy_call(rospy, DELETE_MODEL, DeleteModel),
-                                      dialogs.open, view, say_once))
+                           gravity, say_once, menus)
     rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).

@@ -503,6 +503,9 @@ class World {
   // Every model back to its spawn pose (of its model frame) and configuration with zero velocity;
   // drops effort jobs.
   void resetWorld();
+  // resetWorld() for one model: back to its spawn pose and configuration with zero velocity, its
+  // effort jobs dropped.
+  Status resetModel(const std::string& name);
   // resetWorld() and sim time back to 0, the engine's random numbers (and, where the engine
   // needs it, the engine itself) as a new world's: the same steps after it give the same states
   // bit for bit as they gave after the spawns.

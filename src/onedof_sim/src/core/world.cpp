@@ -372,6 +372,17 @@ void World::resetWorld() {
   impl_->dropJobs([](const ModelRecord*) { return true; });
 }
 
+Status World::resetModel(const std::string& name) {
+  for (const auto& model : impl_->models)
+    if (model->name == name) {
+      impl_->resetModel(model.get());
+      const ModelRecord* reset = model.get();
+      impl_->dropJobs([reset](const ModelRecord* m) { return m == reset; });
+      return {};
+    }
+  return {StatusCode::ModelNotFound, name};
+}
+
 void World::resetSimulation() {
   resetWorld();
   if (!impl_->engine->repeatsWhenPutBack()) {

@@ -157,6 +157,15 @@ void GazeboApi::advertiseServices(bool step_simulation) {
       // topic is up.
       n.advertiseService("unpause_physics", &GazeboApi::unpausePhysics, this),
   };
+  // The world view's own service (not Gazebo's) comes and goes with its markers, which the view
+  // asks for: by default the node's names are exactly Gazebo's.
+  loop_.followViewMarkers([this](bool on) {
+    if (on)
+      reset_model_service_ =
+          private_nh_.advertiseService("reset_model", &GazeboApi::resetModel, this);
+    else
+      reset_model_service_.shutdown();
+  });
 }
 
 GazeboApi::~GazeboApi() {
@@ -704,6 +713,11 @@ bool GazeboApi::resetSimulation(std_srvs::Empty::Request&, std_srvs::Empty::Resp
 bool GazeboApi::resetWorld(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
   loop_.resetWorld();
   return true;
+}
+
+bool GazeboApi::resetModel(ResetModel::Request& req, ResetModel::Response& res) {
+  const Status reset = loop_.resetModel(req.model_name);
+  return answer(res, reset, statusText(kResetModel, reset));
 }
 
 }  // namespace onedof_sim

@@ -48,6 +48,7 @@
 #include <gazebo_msgs/SetModelState.h>
 #include <gazebo_msgs/SetPhysicsProperties.h>
 #include <gazebo_msgs/SpawnModel.h>
+#include <onedof_sim/ResetModel.h>
 #include <onedof_sim/StepSimulation.h>
 #include <onedof_sim/world.h>
 
@@ -149,6 +150,7 @@ class GazeboApi {
   bool stepSimulation(StepSimulation::Request& req, StepSimulation::Response& res);
   bool resetSimulation(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
   bool resetWorld(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool resetModel(ResetModel::Request& req, ResetModel::Response& res);
 
   // Topics /gazebo/set_model_state and /gazebo/set_link_state: the services without a reply.
   void setModelStateTopic(const gazebo_msgs::ModelState::ConstPtr& msg);
@@ -173,6 +175,7 @@ class GazeboApi {
   std::vector<std::thread> service_threads_;  // serveGlobalQueue
   ros::CallbackQueue step_queue_;
   ros::ServiceServer step_service_;
+  ros::ServiceServer reset_model_service_;  // while the world view's markers are advertised
   ros::AsyncSpinner step_spinner_;
   ros::CallbackQueue effort_queue_;
   ros::ServiceServer effort_service_;

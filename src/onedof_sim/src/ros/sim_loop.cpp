@@ -592,6 +592,12 @@ void SimLoop::setViewMarkers(bool on) {
     view_markers_.advertise(private_nh_);
   else
     view_markers_.shutdown();
+  if (view_markers_follower_) view_markers_follower_(on);
+}
+
+void SimLoop::followViewMarkers(std::function<void(bool)> follow) {
+  view_markers_follower_ = std::move(follow);
+  view_markers_follower_(view_markers_.advertised());
 }
 
 // Sleeps until this step's absolute deadline (no drift: deadlines are origin + n periods).
@@ -734,6 +740,15 @@ void SimLoop::resetWorld() {
   world_.resetWorld();
   for (auto& [model, plugins] : plugins_)
     for (auto& plugin : plugins) plugin->reset(world_);
+}
+
+Status SimLoop::resetModel(const std::string& model) {
+  Lock lock(*this, Access::Change);
+  const Status reset = world_.resetModel(model);
+  auto found = plugins_.find(model);
+  if (reset.ok() && found != plugins_.end())
+    for (auto& plugin : found->second) plugin->reset(world_);
+  return reset;
 }
 
 PhysicsSettings SimLoop::physics() {

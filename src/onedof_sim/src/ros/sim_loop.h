@@ -13,6 +13,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -111,6 +112,8 @@ class SimLoop {
 
   void resetSimulation();
   void resetWorld();
+  // resetWorld() for one model and its plugins.
+  Status resetModel(const std::string& model);
 
   // The world's physics parameters and the loop's pace.
   PhysicsSettings physics();
@@ -123,6 +126,10 @@ class SimLoop {
                      std::vector<std::unique_ptr<plugins::ModelPlugin>> plugins);
   // Deletes the model; its plugins stop under the lock and are destroyed after it, unlocked.
   Status deleteModel(const std::string& model);
+  // follow(true) when the world view's markers are advertised, follow(false) when they are taken
+  // down, and at once with their current state: the view's other names (GazeboApi's) go with
+  // them. Set before run().
+  void followViewMarkers(std::function<void(bool)> follow);
   // The world, for plugins to read at creation under lockWorld().
   const World& world() const { return world_; }
   plugins::LockWorld lockWorld();
@@ -264,6 +271,7 @@ class SimLoop {
   ros::Publisher link_states_pub_;
   // Advertised while ~enable_collision_markers is true, as last read.
   ViewMarkers view_markers_;
+  std::function<void(bool)> view_markers_follower_;
 };
 
 }  // namespace onedof_sim

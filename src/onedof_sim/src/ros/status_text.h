@@ -53,6 +53,8 @@ inline const Wording kSpawnModel{
     "SpawnModel: reference reference_frame not found, did you forget to scope the link by model "
     "name?"};
 inline const Wording kDeleteModel{"DeleteModel", "DeleteModel: successfully deleted model"};
+// Ours (srv/ResetModel.srv): no Gazebo service resets one model.
+inline const Wording kResetModel{"ResetModel", "ResetModel: model back at its spawn pose"};
 inline const Wording kGetModelState{
     "GetModelState", "GetModelState: got properties", "values must be finite", nullptr,
     "GetModelState: reference relative_entity_name not found, did you forget to scope the body "

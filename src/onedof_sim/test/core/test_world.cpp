@@ -1015,14 +1015,20 @@ TEST_P(Models, FixedJointWeldsMovingLinks) {
   EXPECT_NEAR(tool_in_b.position.z, 0.1, 1e-9);
 }
 
+// The lifted robot swung from 1 rad under a lasting effort job, and a box dropped from (2, 0, 1):
+// 300 steps on.
+void swingAndDrop(World* world) {
+  spawnLiftedRobot(world);
+  ASSERT_TRUE(world->spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok());
+  ASSERT_TRUE(world->setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
+  ASSERT_TRUE(world->applyJointEffort("joint1", 3.0, 0, -1).ok());
+  steps(world, 300);
+}
+
 // 10.
 TEST_P(State, ResetPutsModelsBackAndDropsJobs) {
   World world(GetParam());
-  spawnLiftedRobot(&world);
-  ASSERT_TRUE(world.spawn("box", boxUrdf(0.2), ModelFormat::Urdf, at(2, 0, 1)).ok());
-  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {1.0}).ok());
-  ASSERT_TRUE(world.applyJointEffort("joint1", 3.0, 0, -1).ok());
-  steps(&world, 300);
+  swingAndDrop(&world);
   world.resetWorld();
   EXPECT_EQ(world.timeNs(), 300 * kMs);
   EXPECT_EQ(jointPosition(world, "joint1"), 0.0);
@@ -1038,6 +1044,39 @@ TEST_P(State, ResetPutsModelsBackAndDropsJobs) {
   world.resetSimulation();
   EXPECT_EQ(world.timeNs(), 0);
   EXPECT_EQ(world.stepCount(), 0u);
+}
+
+// 10, for one model: reset_model.
+TEST_P(State, ResetModelPutsThatModelAloneBackAndDropsItsJobs) {
+  World world(GetParam());
+  swingAndDrop(&world);
+  Pose pose;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
+  ASSERT_LT(pose.position.z, 0.9);  // fallen
+  const double swung = jointPosition(world, "joint1");
+
+  // The box back where it was spawned, at rest; the robot as it was.
+  ASSERT_TRUE(world.resetModel("box").ok());
+  ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
+  EXPECT_NEAR(pose.position.x, 2.0, 1e-12);
+  EXPECT_NEAR(pose.position.z, 1.0, 1e-12);
+  EXPECT_EQ(twist.linear.z, 0.0);
+  EXPECT_EQ(jointPosition(world, "joint1"), swung);
+  EXPECT_EQ(world.timeNs(), 300 * kMs);
+
+  // The robot back at its spawn configuration, at rest, its effort job gone: hanging at pi,
+  // link2 stays put.
+  ASSERT_TRUE(world.resetModel("one_DOF_robot").ok());
+  EXPECT_EQ(jointPosition(world, "joint1"), 0.0);
+  EXPECT_EQ(jointRate(world, "joint1"), 0.0);
+  ASSERT_TRUE(world.setModelConfiguration("one_DOF_robot", {"joint1"}, {M_PI}).ok());
+  steps(&world, 100);
+  EXPECT_NEAR(jointPosition(world, "joint1"), M_PI, 1e-6);
+
+  const Status unknown = world.resetModel("nope");
+  EXPECT_EQ(unknown.code, StatusCode::ModelNotFound);
+  EXPECT_EQ(unknown.subject, "nope");
 }
 
 // Boxes tumbling onto each other under the iterative solver (ODE's quickstep orders its

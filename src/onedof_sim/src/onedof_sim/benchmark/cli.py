@@ -7,9 +7,10 @@ The items, by their row of the table, short ones first so that a failure shows e
   5 real-time factor, 8 the real-time factor of the lock-stepped tutorial with each controller
   against its floor, and step_simulation with only in-simulator controllers against the free
   loop, 9 the tutorial's settled angle on a busy machine, lock-step against free-running, 10 a
-  camera's cost, 11 the laser's cost on the book's mobot in its pen; each in a module of its
-  own (startup, loop_speed, memory, scaling, round_trips, controller_periods, real_time_factor,
-  lockstep_speed, in_sim_stepping, busy_machine, camera_cost, laser_cost).
+  camera's cost, 11 the laser's cost on the book's mobot in its pen, 12 the Gazebo window's cost;
+  each in a module of its own (startup, loop_speed, memory, scaling, round_trips,
+  controller_periods, real_time_factor, lockstep_speed, in_sim_stepping, busy_machine,
+  camera_cost, laser_cost, window_cost).
 What is compared runs alternately in short windows (never at the same time: two cores), and the
 ratio of the two is the claim. Nothing here fails on speed; a node that cannot be measured (not
 built, crashed) gets its rows marked as not measured and the run goes on, and a missing profiler
@@ -28,7 +29,7 @@ import traceback
 from onedof_harness.private_ros import PrivateRos
 from onedof_sim.benchmark import (busy_machine, camera_cost, in_sim_stepping, laser_cost,
                                   lockstep_speed, loop_speed, real_time_factor, round_trips,
-                                  scaling, startup)
+                                  scaling, startup, window_cost)
 from onedof_sim.benchmark import report as bm
 from onedof_sim.benchmark.graph import Bench, read_file, say
 from onedof_sim.engines import default_engine, engine_names
@@ -68,10 +69,13 @@ class Sizes:
     laser_windows: int = 5
     laser_window_s: float = 1.0
     laser_real_time_s: float = 10.0
+    # The node's windows with no Gazebo window, with it open, and with none again (item 12).
+    window_cost_windows: int = 3
+    window_cost_window_s: float = 2.0
 
 
 # The rows of the table, one per kind of measurement.
-ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11)
+ROWS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12)
 FULL = Sizes()
 # The smallest run that still measures every row against its reference: it shows that the
 # benchmark works, and its figures are no claim. It starts no busy process beside item 9, whose
@@ -82,7 +86,8 @@ QUICK = Sizes(startup_repeats=1, throughput_windows=1, throughput_window_s=0.1, 
               latency_batches=1, persistent_calls=20, fresh_calls=5, control_s=2.0,
               sweep_rates=(200,), sweep_s=0.5, pacing_s=2.0, lockstep_s=0.2,
               comparison_phase_s=0.5, busy_processes=0, camera_windows=1, camera_window_s=0.3,
-              render_frames=20, laser_windows=1, laser_window_s=0.2, laser_real_time_s=1.0)
+              render_frames=20, laser_windows=1, laser_window_s=0.2, laser_real_time_s=1.0,
+              window_cost_windows=1, window_cost_window_s=0.3)
 
 
 def load_average():
@@ -159,6 +164,8 @@ def items(bench, engines, sizes):
               ({10}, '10 camera, ' + engines[0], lambda: camera_cost.measure(bench, engines[0]))]
     found += [({11}, '11 laser cost, ' + e, lambda e=e: laser_cost.measure(bench, e))
               for e in engines]
+    found += [({12}, '12 window cost, ' + engines[0],
+               lambda: window_cost.measure(bench, engines[0]))]
     return found
 
 

@@ -76,6 +76,22 @@ def orbit_pixel(view, panel, point):
             y0 + (y1 - y0) / 2 * (1 - dot(offset, up) / half_height))
 
 
+def mouse_position(view, panel, point):
+    """Where on the screen (x, y, unrounded) the mouse is to be for rviz to take it at a point of
+    the fixed frame, in rviz's orbit view (a config's Views: Current) drawn in panel (x0, y0, x1,
+    y1). orbit_pixel gives where the point is drawn, along a panel W pixels wide where pixel i
+    spans [i, i + 1); rviz's mouse tools (its interactive markers' drags, SelectionManager's
+    get3DPoint, which the Interact and Insert Here tools take a click's point from) cast the ray
+    of a mouse at pixel i through the viewport's fraction (i + 0.5) / (W - 1), between half a pixel
+    and a pixel and a half further right (down) than the pixel's own place."""
+    column, row = orbit_pixel(view, panel, point)
+    x0, y0, x1, y1 = panel
+
+    def mouse(at, start, size):
+        return start + (at - start) * (size - 1) / size - 0.5
+    return mouse(column, x0, x1 - x0), mouse(row, y0, y1 - y0)
+
+
 def dot(a, b):
     return sum(p * q for p, q in zip(a, b))
 
@@ -139,9 +155,8 @@ class GazeboWindow:
         self._must('key', '--clearmodifiers', *keys)
 
     def pixel(self, point):
-        """The screen pixel where the view draws a point of the world."""
-        column, row = orbit_pixel(self.view, self.panel, point)
-        return round(column), round(row)
+        """The screen pixel to put the mouse on for rviz to take it at a point of the world."""
+        return tuple(round(c) for c in mouse_position(self.view, self.panel, point))
 
     def insert_by_click(self, typed, shown_name, point, timeout=120):
         """Chooses the model whose name starts with `typed` in the Insert tab's list (shown there
@@ -185,8 +200,8 @@ class GazeboWindow:
                             what="rviz to report the mouse pressed on %s's handle" % drag.name)
 
     def move(self, drag, start, end, timeout=120):
-        """The pressed mouse moved in DRAG_MOVES steps from where the view shows `start` to where
-        it shows `end`, as a hand's drag passes through the pixels between; after each step, the
+        """The pressed mouse moved in DRAG_MOVES steps from where rviz takes `start` to where it
+        takes `end`, as a hand's drag passes through the pixels between; after each step, the
         next waits for rviz to report the handle's pose there (drag: a DragSeen on the handle's
         model), so that every step is one rviz has taken however slow it is."""
         first, last = self.pixel(start), self.pixel(end)
@@ -227,15 +242,20 @@ class GazeboWindow:
                             what='%s released where the drag left it' % drag.name)
         return last
 
-    def choose_from_menu(self, point, entry, timeout=60):
+    def choose_from_menu(self, point, entry, sub_entry=None, timeout=60):
         """Right-clicks where the view shows `point` (a handle's control) and chooses the
-        entry-th (from 1) entry of the menu that opens there, with the keyboard."""
+        entry-th (from 1) entry of the menu that opens there, with the keyboard; with sub_entry,
+        the sub_entry-th entry of the entry's submenu."""
         shown = self._shown_windows()
         self._must('mousemove', '--sync', *self.pixel(point))
         self._must('click', '3')
         self.ros.wait_until(lambda: self._shown_windows() - shown, timeout,
                             what='the right-click menu')
-        self._must('key', *(['Down'] * entry), 'Return')
+        if sub_entry is None:
+            self._must('key', *(['Down'] * entry), 'Return')
+            return
+        # Right opens the submenu on its first entry.
+        self._must('key', *(['Down'] * entry), 'Right', *(['Down'] * (sub_entry - 1)), 'Return')
 
     def fill_in(self, title, values, timeout=120):
         """Types `values` (strings) into the fields of the window titled `title` (a dialog the
