@@ -102,7 +102,7 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_
 
 
 def test_unknown_rows_are_refused_naming_the_rows():
-    result = subprocess.run(['rosrun', 'onedof_sim', 'benchmark', '--items', '12'],
+    result = subprocess.run(['rosrun', 'onedof_sim', 'benchmark', '--items', '13'],
                             capture_output=True, text=True, timeout=RUN_TIMEOUT)
     assert result.returncode == 2
-    assert '--items: rows are 1,2,3,4,5,6,7,8,9,10,11' in result.stderr
+    assert '--items: rows are 1,2,3,4,5,6,7,8,9,10,11,12' in result.stderr
