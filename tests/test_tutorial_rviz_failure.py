@@ -119,8 +119,8 @@ def test_an_rviz_that_dies_at_the_screenshot_is_restarted_and_shows_the_final_po
         exit_status_text(player.returncode), stdout[-3000:], ''.join(stderr)[-3000:])
     assert 'rviz try 1 of 3 failed: %s' % ABORTED in stdout
     # Only the first rviz was aborted. A restarted one can crash on its own as it starts (Mesa's
-    # llvmpipe on LLVM 15 does now and then on a busy machine: README, "Seeing the sensors in rviz"); the
-    # player then starts the next, and the final pose is still shown (below).
+    # llvmpipe on LLVM 15 does now and then on a busy machine: README, "Seeing the sensors in
+    # rviz"); the player then starts the next, and the final pose is still shown (below).
     assert 'rviz try 2 of 3 failed: %s' % ABORTED not in stdout
     # The restarted rviz was shown the final pose by one more control period of the world.
     after_failure = stdout[stdout.index('rviz try 1 of 3 failed'):]
