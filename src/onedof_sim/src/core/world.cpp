@@ -373,14 +373,11 @@ void World::resetWorld() {
 }
 
 Status World::resetModel(const std::string& name) {
-  for (const auto& model : impl_->models)
-    if (model->name == name) {
-      impl_->resetModel(model.get());
-      const ModelRecord* reset = model.get();
-      impl_->dropJobs([reset](const ModelRecord* m) { return m == reset; });
-      return {};
-    }
-  return {StatusCode::ModelNotFound, name};
+  ModelRecord* model = impl_->findModel(name);
+  if (!model) return {StatusCode::ModelNotFound, name};
+  impl_->resetModel(model);
+  impl_->dropJobs([model](const ModelRecord* m) { return m == model; });
+  return {};
 }
 
 void World::resetSimulation() {

@@ -524,12 +524,16 @@ std::optional<int> SimLoop::controllerPid(const std::string& caller) {
 }
 
 void SimLoop::publishClock(int64_t time_ns) {
+  publishClock(time_ns, clock_pub_.getNumSubscribers());
+}
+
+void SimLoop::publishClock(int64_t time_ns, uint32_t subscribers) {
   last_clock_ns_ = time_ns;
   held_clock_ns_ = -1;
   rosgraph_msgs::Clock clock;
   clock.clock.fromNSec(uint64_t(time_ns));
   clock_pub_.publish(clock);
-  clock_backlog_.handedOver(clock_pub_.getNumSubscribers());
+  clock_backlog_.handedOver(subscribers);
 }
 
 void SimLoop::publishHeldClock() {
@@ -549,7 +553,7 @@ void SimLoop::publish(const StepOutput& out) {
     // goes out with a later step's. A stop's clock always goes out (lock-step waits for it).
     const uint32_t subscribers = clock_pub_.getNumSubscribers();
     if (out.publish_clock || (subscribers > 0 && !clock_backlog_.full(subscribers))) {
-      publishClock(out.time_ns);
+      publishClock(out.time_ns, subscribers);
     } else {
       held_clock_ns_ = out.time_ns;
     }

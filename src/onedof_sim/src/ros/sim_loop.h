@@ -183,6 +183,9 @@ class SimLoop {
   void detachPluginsOfRemovedModels(std::vector<std::unique_ptr<plugins::ModelPlugin>>* detached);
   void publish(const StepOutput& out);
   void publishClock(int64_t time_ns);
+  // The same with the subscribers already counted (roscpp's count looks the topic up under a
+  // lock): the step's publish counts them once.
+  void publishClock(int64_t time_ns, uint32_t subscribers);
   // The latest time not published for want of subscribers, or while roscpp's network thread had
   // its budget of clocks still to write (-1: none): replaced by the next clock published, or
   // published once the loop stops.
