@@ -313,6 +313,18 @@ class Bench:
         from std_srvs.srv import Empty
         self.call('/gazebo/pause_physics' if paused else '/gazebo/unpause_physics', Empty)
 
+    def running_window(self, sim_time, settle_s, window_s):
+        """(steps, wall seconds) of the paused node run for one window: unpaused, settle_s of
+        wall time let pass, then window_s measured through sim_time (a sim_clock()), paused
+        again."""
+        self.pause(False)
+        time.sleep(settle_s)
+        wall0, sim0 = sim_time()
+        time.sleep(window_s)  # the measurement window itself
+        wall1, sim1 = sim_time()
+        self.pause(True)
+        return round((sim1 - sim0) / STEP), wall1 - wall0
+
     def answers(self, service, srv_class, *args):
         if not self.ros.has_service(service):
             return False

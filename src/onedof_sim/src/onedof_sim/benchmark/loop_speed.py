@@ -2,12 +2,11 @@
 table, as fast as possible, /clock every step and throttled, against the bare loop of its engine
 on the same models (and, for the engine pybullet wraps, against bare pybullet), in alternating
 windows. The same node also gives item 7 (memory) before its windows."""
-import time
 
 from onedof_harness.private_ros import wait_until
 from onedof_sim.benchmark import memory
 from onedof_sim.benchmark import report as bm
-from onedof_sim.benchmark.graph import (CLOCK_FREQUENCY, PROFILE_S, STEP, BareLoop, NotMeasured,
+from onedof_sim.benchmark.graph import (CLOCK_FREQUENCY, PROFILE_S, BareLoop, NotMeasured,
                                         engine_loop_command, node_label, pybullet_loop_command)
 
 # The engine whose physics library pybullet wraps: its node is also set against bare pybullet.
@@ -32,13 +31,8 @@ def measure_with_memory(bench, engine):
         def node_window(clock_frequency):
             """(steps, wall seconds) of the node running for one window."""
             bench.ros.set_param(CLOCK_FREQUENCY, clock_frequency)
-            bench.pause(False)
-            time.sleep(SETTLE_S)  # the node re-reads pub_clock_frequency 10 times a second
-            wall0, sim0 = sim_time()
-            time.sleep(sizes.throughput_window_s)  # the measurement window itself
-            wall1, sim1 = sim_time()
-            bench.pause(True)
-            return round((sim1 - sim0) / STEP), wall1 - wall0
+            # The settling: the node re-reads pub_clock_frequency 10 times a second.
+            return bench.running_window(sim_time, SETTLE_S, sizes.throughput_window_s)
 
         bench.pause(False)
         wait_until(lambda: sim_time()[1] > 0.1, 30, what='the first 100 steps')

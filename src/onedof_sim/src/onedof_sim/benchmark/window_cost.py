@@ -5,11 +5,10 @@ software), then with no window again, in one run: what the window costs the simu
 (its subscribers: the visual markers, /gazebo/model_states, /clock; and rviz's drawing beside it
 on the same cores), and that no window costs nothing (the two no-window stretches, before it
 opened and after it closed, agree)."""
-import time
 
 from onedof_harness.private_ros import wait_until
 from onedof_sim.benchmark import report as bm
-from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label
+from onedof_sim.benchmark.graph import NotMeasured, node_label
 
 SETTLE_S = 0.25  # wall seconds after an unpause before a window opens
 # The window's share of the node's loop the issue allows (the steps/s with it open over those
@@ -32,16 +31,8 @@ def measure(bench, engine):
 
         def windows(count):
             """(steps, wall seconds) of `count` windows of the node running."""
-            taken = []
-            for _ in range(count):
-                bench.pause(False)
-                time.sleep(SETTLE_S)
-                wall0, sim0 = sim_time()
-                time.sleep(sizes.window_cost_window_s)  # the measurement window itself
-                wall1, sim1 = sim_time()
-                bench.pause(True)
-                taken.append((round((sim1 - sim0) / STEP), wall1 - wall0))
-            return taken
+            return [bench.running_window(sim_time, SETTLE_S, sizes.window_cost_window_s)
+                    for _ in range(count)]
 
         runs = {'before': windows(sizes.window_cost_windows)}
         xvfb, display = start_xvfb(bench.ros)
