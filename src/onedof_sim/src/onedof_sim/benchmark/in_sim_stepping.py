@@ -57,13 +57,8 @@ def windows(bench, engine):
         window_s = bench.sizes.throughput_window_s
         stepped, free = [], []
         for _ in range(bench.sizes.throughput_windows):
-            bench.pause(False)
-            time.sleep(SETTLE_S)
-            wall0, sim0 = sim_time()
-            time.sleep(window_s)  # the measurement window itself
-            wall1, sim1 = sim_time()
-            bench.pause(True)
-            free.append((sim1 - sim0) / STEP / (wall1 - wall0))
+            steps_run, wall_s = bench.running_window(sim_time, SETTLE_S, window_s)
+            free.append(steps_run / wall_s)
             steps = max(1, round(free[-1] * window_s))
             start = time.monotonic()
             reply = step(steps)
