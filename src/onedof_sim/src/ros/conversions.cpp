@@ -77,4 +77,30 @@ uint8_t toJointTypeConstant(JointType type) {
   return gazebo_msgs::GetJointProperties::Response::REVOLUTE;
 }
 
+gazebo_msgs::ModelStates modelStatesOf(const World& world) {
+  gazebo_msgs::ModelStates states;
+  for (const auto& name : world.modelNames()) {
+    Pose pose;
+    Twist twist;
+    if (!world.modelState(name, "", &pose, &twist).ok()) continue;
+    states.name.push_back(name);
+    states.pose.push_back(toMsg(pose));
+    states.twist.push_back(toMsg(twist));
+  }
+  return states;
+}
+
+gazebo_msgs::LinkStates linkStatesOf(const World& world) {
+  gazebo_msgs::LinkStates states;
+  for (const auto& name : world.linkNames()) {
+    Pose pose;
+    Twist twist;
+    if (!world.linkState(name, "", &pose, &twist).ok()) continue;
+    states.name.push_back(name);
+    states.pose.push_back(toMsg(pose));
+    states.twist.push_back(toMsg(twist));
+  }
+  return states;
+}
+
 }  // namespace onedof_sim

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include <gazebo_msgs/LinkStates.h>
+#include <gazebo_msgs/ModelStates.h>
 #include <geometry_msgs/Point.h>
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Twist.h>
@@ -28,6 +30,11 @@ geometry_msgs::Vector3 toVector3(const Vec3& v);
 geometry_msgs::Quaternion toQuaternion(const Quat& q);
 geometry_msgs::Pose toMsg(const Pose& p);
 geometry_msgs::Twist toMsg(const Twist& t);
+
+// Every model's (link's) pose and twist in the world frame, as /gazebo/model_states
+// (/gazebo/link_states) publishes them; world locked.
+gazebo_msgs::ModelStates modelStatesOf(const World& world);
+gazebo_msgs::LinkStates linkStatesOf(const World& world);
 
 // ROS time and duration to nanoseconds; sec/nsec are widened first so nothing overflows.
 int64_t toNs(const ros::Time& t);

@@ -327,25 +327,11 @@ void SimLoop::collectStates(StepOutput* out, bool want_model_states, bool want_l
   if (states_due && (want_model_states || want_link_states)) last_states_ns_ = out->time_ns;
   if (states_due && want_model_states) {
     out->has_model_states = true;
-    for (const auto& name : world_.modelNames()) {
-      Pose pose;
-      Twist twist;
-      if (!world_.modelState(name, "", &pose, &twist).ok()) continue;
-      out->model_states.name.push_back(name);
-      out->model_states.pose.push_back(toMsg(pose));
-      out->model_states.twist.push_back(toMsg(twist));
-    }
+    out->model_states = modelStatesOf(world_);
   }
   if (states_due && want_link_states) {
     out->has_link_states = true;
-    for (const auto& name : world_.linkNames()) {
-      Pose pose;
-      Twist twist;
-      if (!world_.linkState(name, "", &pose, &twist).ok()) continue;
-      out->link_states.name.push_back(name);
-      out->link_states.pose.push_back(toMsg(pose));
-      out->link_states.twist.push_back(toMsg(twist));
-    }
+    out->link_states = linkStatesOf(world_);
   }
   view_markers_.collect(world_, true, &out->views);
 }
