@@ -4,7 +4,9 @@ the world, insert copies named name_0, name_1, list what the model path holds wh
 the models' links and joints, move a model and set the physics, and say why when there is no
 simulator or the simulator refuses; and the simulator's rviz view (gzclient) loads the panel,
 whose buttons, pressed with xdotool through their Alt mnemonics, pause and play the world and
-insert cafe_table_0 then cafe_table_1, at a typed position or where a click in the 3D view falls."""
+insert cafe_table_0 then cafe_table_1, at a typed position or where a click in the 3D view falls;
+the window (rviz and its panel) hears the sim time from the simulator's view clock, at the views'
+rate, not from /clock at every step."""
 import math
 
 import pytest
@@ -23,6 +25,13 @@ def actions(ros, *args, env=None):
 def model_names(api):
     """The models inserted: the world's, but for the ground_plane its world file places."""
     return sorted(name for name in api.get_world_properties().model_names if name != GROUND)
+
+
+def window_subscribers(ros, topic):
+    """The nodes of the window (gzclient's rviz) subscribed to `topic`, as the master knows them."""
+    _, _, (_, subscriptions, _) = ros.master().getSystemState('/test')
+    nodes = next((nodes for name, nodes in subscriptions if name == topic), [])
+    return [node for node in nodes if node.startswith('/gzclient')]
 
 
 def write_model(folder, name, shown_name, sdf):
@@ -112,6 +121,9 @@ def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_clien
     window = GazeboWindow(ros)
     log = window.log()
     assert 'PluginlibFactory' not in log and 'Failed to load' not in log, log
+    ros.wait_until(lambda: window_subscribers(ros, '/gazebo/view_clock'), 60,
+                   what='the window hearing the view clock')
+    assert not window_subscribers(ros, '/clock')
 
     # Pause (Alt+U), then Play (Alt+A) once the panel shows the world paused.
     window.press('alt+u')

@@ -5,7 +5,9 @@ an rgba colour, explicit SDF colours and meshes (package:// and model:// URIs) g
 those colours where their links put them, the meshes as file:// URIs rviz loads; a joint's axis
 and a link's centre of mass and inertia box are where the model puts them; contacts appear where a
 box rests on the ground; markers follow their links, a deleted model's are deleted, and a view is
-published to whoever subscribes, paused or running."""
+published to whoever subscribes, paused or running. The window's own streams, the sim time
+(/gazebo/view_clock) and the models' states (/gazebo/view_model_states), come at the views' rate,
+not at every step, and end at the world's state where it stops."""
 import math
 import os
 
@@ -240,3 +242,37 @@ def test_a_deleted_models_markers_are_deleted_and_a_new_subscriber_gets_the_worl
     markers = markers_of(rospy_client, 'visual_markers', lambda m: of_model(m, 'wooden'),
                          'the world to a new subscriber')
     assert not of_model(markers, 'box')
+
+
+def test_the_windows_clock_and_model_states_come_at_the_views_rate(api, rospy_client):
+    from gazebo_msgs.msg import ModelStates
+    from rosgraph_msgs.msg import Clock
+    assert api.spawn_sdf_model('box', BOX_SDF, '', pose(0.5, -0.5, 1.0), '').success
+    clocks, states = [], []
+    subscribers = [rospy_client.Subscriber('/gazebo/view_clock', Clock, clocks.append),
+                   rospy_client.Subscriber('/gazebo/view_model_states', ModelStates,
+                                           states.append)]
+    try:
+        wait_until(lambda: clocks and states, 60, what='the view clock and model states')
+        start = api.get_world_properties().sim_time
+        res = api.step_simulation(2000)  # 2 s of sim time: the box falls and comes to rest
+        assert res.success, res.status_message
+        end = api.get_world_properties().sim_time
+        assert end == pytest.approx(start + 2.0, abs=1e-9)
+        # The paused world's time and states reach the window after the run.
+        wait_until(lambda: clocks[-1].clock.to_sec() == pytest.approx(end, abs=1e-9), 60,
+                   what='the view clock at the end of the run')
+        box = api.get_model_state('box', '').pose.position
+        wait_until(lambda: dict(zip(states[-1].name, states[-1].pose))['box'].position.z ==
+                   pytest.approx(box.z, abs=1e-9), 60, what='the box at rest in the states')
+    finally:
+        for subscriber in subscribers:
+            subscriber.unregister()
+    # During the run, a time at most every 0.1 s of sim time (kViewFrequency): some 20 for the
+    # run's 2000 steps, not 2000; then the time where the run stopped.
+    times = sorted({round(msg.clock.to_sec(), 9) for msg in clocks})
+    running = [t for t in times if start < t < end - 1e-9]
+    assert times[-1] == pytest.approx(end, abs=1e-9)
+    gaps = [later - earlier for earlier, later in zip([start] + running, running)]
+    assert all(gap >= 0.1 - 1e-9 for gap in gaps), gaps
+    assert len(running) <= 20, running

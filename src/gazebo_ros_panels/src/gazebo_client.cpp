@@ -53,7 +53,7 @@ GazeboClient::GazeboClient(const std::string& gazebo_namespace)
         ++clock_.count;
       });
   states_sub_ = nh_.subscribe<gazebo_msgs::ModelStates>(
-      namespace_ + "/model_states", 1, [this](const gazebo_msgs::ModelStates::ConstPtr& msg) {
+      namespace_ + "/view_model_states", 1, [this](const gazebo_msgs::ModelStates::ConstPtr& msg) {
         const int64_t wall = steadyNowNs();
         std::lock_guard<std::mutex> lock(state_mutex_);
         states_ = *msg;

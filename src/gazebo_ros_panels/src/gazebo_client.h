@@ -1,6 +1,8 @@
 // The Gazebo panel's side of ROS: the simulator's services called one at a time on a worker
-// thread of its own (never on rviz's GUI thread), and /clock and /gazebo/model_states received on
-// a spinner of its own, with the view requests of the model handles' right-click menu (Move To,
+// thread of its own (never on rviz's GUI thread), and /clock and the window's model states
+// (/gazebo/view_model_states: the simulator's poses at its views' rate, 20 times a wall second at
+// most, 5 while paused, never a message per step as /gazebo/model_states) received on a spinner
+// of its own, with the view requests of the model handles' right-click menu (Move To,
 // Follow). Each call's outcome goes to its callback, on the worker thread; a missing
 // simulator or a refusal is an outcome with the reason, never an exception. No Qt.
 #pragma once
@@ -91,8 +93,9 @@ class GazeboClient {
 
   ClockReading clock() const;
   gazebo_msgs::ModelStates modelStates() const;
-  // Model `name`'s pose in the latest /gazebo/model_states, when they came less than max_age_ns
-  // ago (steady wall time) and have it; false otherwise (a paused world publishes none).
+  // Model `name`'s pose in the latest view_model_states, when they came less than max_age_ns
+  // ago (steady wall time) and have it; false otherwise (a world slowed far below real time
+  // publishes them seldom).
   bool recentModelPose(const std::string& name, int64_t max_age_ns,
                        geometry_msgs::Pose* pose) const;
   // From now on, each view request (kMoveToTopic, kFollowTopic) goes to `handler`, on the

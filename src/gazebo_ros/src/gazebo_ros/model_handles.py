@@ -1,6 +1,7 @@
 """Gazebo's translate and rotate modes in the simulator's rviz view: an interactive marker server
 (topics under /gazebo_model_handles, the node /gazebo_model_handles) with one handle per model of
-/gazebo/model_states but the ground plane, at the model's pose: arrows along the world's x, y and z
+the simulator's world (/gazebo/view_model_states: its poses at its views' rate, not every step as
+/gazebo/model_states) but the ground plane, at the model's pose: arrows along the world's x, y and z
 (translate) and rings about them (rotate), dragged with rviz's Interact tool. Static models have
 handles too (Gazebo moves a static model, the cafe table a student places, with the mouse); the
 ground plane has none, as Gazebo selects no plane. world.rviz's "Move models" display shows them
@@ -8,9 +9,10 @@ ground plane has none, as Gazebo selects no plane. world.rviz's "Move models" di
 select mode, so that the picture of the world is the world's until the user asks for the handles.
 
 A handle follows its model while it is not dragged (at most FOLLOW_HZ times a wall second, and only
-when the model moved): the poses of /gazebo/model_states, or, while none has come for STALE_S (a
-paused world publishes none, as Gazebo's), those /gazebo/get_world_properties and
-/gazebo/get_model_state answer, so that a model inserted or moved in a paused world is handled.
+when the model moved): the poses of /gazebo/view_model_states, or, while none has come for
+STALE_S (a world slowed far below real time publishes them seldom), those
+/gazebo/get_world_properties and /gazebo/get_model_state answer, so that a model inserted or moved
+in a world that hardly moves is handled.
 While a handle is dragged, the model is held where the mouse puts it, as Gazebo holds a dragged
 model: its links' gravity off (/gazebo/set_link_properties, those whose gravity_mode is on) and
 the dragged pose, with zero velocity, through /gazebo/set_model_state at most DRAG_HZ times a wall
@@ -40,7 +42,7 @@ import time
 
 SERVER_TOPIC = '/gazebo_model_handles'
 NODE_NAME = 'gazebo_model_handles'
-MODEL_STATES = '/gazebo/model_states'
+MODEL_STATES = '/gazebo/view_model_states'
 SET_MODEL_STATE = '/gazebo/set_model_state'
 GET_MODEL_PROPERTIES = '/gazebo/get_model_properties'
 DELETE_MODEL = '/gazebo/delete_model'
@@ -65,7 +67,7 @@ FOLLOW_HZ = 10.0
 DRAG_HZ = 20.0
 # A handle is moved to its model once the model is this far (m, rad) from the handle.
 FOLLOW_TOLERANCE = 1e-3
-# Wall seconds without model_states after which the poses are asked for instead.
+# Wall seconds without view_model_states after which the poses are asked for instead.
 STALE_S = 0.5
 # Bounds a dialog's orderly exit after the node's; only a hung dialog waits this long.
 DIALOG_STOP_SECONDS = 10.0
@@ -190,7 +192,7 @@ class ModelHandles:
         self.say_once = say_once
         self.menus = menus
         self.lock = threading.Lock()
-        self.latest = None        # the latest model_states, serialised
+        self.latest = None        # the latest view_model_states, serialised
         self.latest_at = -math.inf  # and the wall time it came
         self.shown = {}           # name -> the Pose its handle was last put at (None: released)
         self.dragged = {}         # name -> the Pose the mouse holds it at
@@ -200,8 +202,8 @@ class ModelHandles:
         self.held = {}            # name -> its links held without gravity (send_moves' own)
 
     def on_model_states(self, raw):
-        """Keeps the latest /gazebo/model_states undecoded (a rospy.AnyMsg): the simulator may
-        publish it every step, and the handles read it FOLLOW_HZ times a second."""
+        """Keeps the latest model states undecoded (a rospy.AnyMsg): they come up to 20 times a
+        second, and the handles read them FOLLOW_HZ times a second."""
         with self.lock:
             self.latest = raw._buff
             self.latest_at = time.monotonic()

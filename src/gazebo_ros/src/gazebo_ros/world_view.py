@@ -1,11 +1,14 @@
 """rviz showing the simulated world, as gzclient and gazebo start it: the view of rviz/world.rviz
 (the world's visuals on the ground grid, Gazebo's View menu as displays, fixed frame `world`) and
 one display for each sensor stream the simulator publishes: a LaserScan, a PointCloud2 or an Image
-on the topic a spawned robot's sensor plugin advertises. The simulator publishes its markers only when asked
-(gazebo_ros' API has no such topic): the view asks for them as it starts rviz, by setting the
-simulator's ~enable_collision_markers, which the node follows while running and which stays set
-after the view exits. The view asks the master which topics of those types the simulator (the
-node publishing /gazebo/collision_markers) advertises, each second while rviz runs; when the set
+on the topic a spawned robot's sensor plugin advertises. The simulator publishes its markers only
+when asked (gazebo_ros' API has no such topic): the view asks for them as it starts rviz, by
+setting the simulator's ~enable_collision_markers, which the node follows while running and which
+stays set after the view exits. rviz's /clock is the simulator's view clock (/gazebo/view_clock,
+a remapping): the sim time as often as the view's markers move, so that an open window costs the
+simulator's loop no message per step (nor does its Gazebo panel, in rviz's process). The view
+asks the master which topics of those types the simulator (the node publishing
+/gazebo/collision_markers) advertises, each second while rviz runs; when the set
 changes (a robot with sensors spawned or deleted) it saves rviz's current configuration (the
 user's camera and settings), replaces the sensor displays in it and has rviz load it again. A
 world without sensors shows exactly world.rviz.
@@ -40,7 +43,8 @@ import rospkg
 import yaml
 
 from onedof_harness.private_ros import exit_status_text
-from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, request_collision_markers
+from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, VIEW_CLOCK_TOPIC, \
+    request_collision_markers
 
 SENSOR_DISPLAY_PREFIX = 'Sensor: '
 # The depth an image's white stands for: the Kinect's far cutoff (pointCloudCutoffMax's default);
@@ -168,7 +172,10 @@ class WorldView:
         self.restarts = 0
 
     def command(self):
-        return ['rosrun', 'rviz', 'rviz', '-d', self.config, '__name:=' + self.name] + self.ros_args
+        """rviz on the view, its /clock the simulator's view clock: the sim time as often as the
+        view draws (the simulator's views' rate), not a message per step."""
+        return (['rosrun', 'rviz', 'rviz', '-d', self.config, '__name:=' + self.name,
+                 '/clock:=' + VIEW_CLOCK_TOPIC] + self.ros_args)
 
     def handles_command(self):
         """The model handles' node (gazebo_ros.model_handles): its own name, this view's

@@ -8,6 +8,8 @@ NODE = '/gazebo'
 STEP_SERVICE = NODE + '/step_simulation'
 MARKERS_TOPIC = NODE + '/collision_markers'
 MARKERS_PARAMETER = NODE + '/enable_collision_markers'
+# The sim time at the views' rate (with the markers): the window's rviz takes it for its /clock.
+VIEW_CLOCK_TOPIC = NODE + '/view_clock'
 # The service the node advertises last: once it is there, so is the step service if it is served.
 LAST_SERVICE = NODE + '/unpause_physics'
 

@@ -258,6 +258,8 @@ void ViewMarkers::advertise(ros::NodeHandle& nh) {
     view->pub = nh.advertise<MarkerArray>(topic, 1);
     view->shown.clear();
   }
+  model_states_ = nh.advertise<gazebo_msgs::ModelStates>("view_model_states", 1);
+  clock_ = nh.advertise<rosgraph_msgs::Clock>("view_clock", 1, true);
   advertised_ = true;
   last_ns_ = -1;  // due at once
   last_wall_ = {};
@@ -268,6 +270,8 @@ void ViewMarkers::shutdown() {
     view->pub.shutdown();
     view->shown.clear();
   }
+  model_states_.shutdown();
+  clock_.shutdown();
   advertised_ = false;
 }
 
@@ -288,15 +292,19 @@ void ViewMarkers::collect(const World& world, bool stepped, Facts* out) {
   out->coms = coms_.pub.getNumSubscribers() > 0;
   out->inertias = inertias_.pub.getNumSubscribers() > 0;
   out->contacts = contacts_.pub.getNumSubscribers() > 0;
+  out->model_states = model_states_.getNumSubscribers() > 0;
+  out->clock = clock_.getNumSubscribers() > 0;
   if (!out->any()) return;  // no view open: nothing to look at
   last_ns_ = time_ns;
   last_wall_ = now;
   out->taken = true;
+  out->time_ns = time_ns;
   if (out->visuals) out->visual_shapes = world.visualShapes();
   if (out->collisions) out->collision_shapes = world.collisionShapes();
   if (out->joints) out->joint_axes = world.jointAxes();
   if (out->coms || out->inertias) out->link_masses = world.linkMasses();
   if (out->contacts) out->contact_list = world.allContacts();
+  if (out->model_states) out->model_state_list = modelStatesOf(world);
 }
 
 void ViewMarkers::publish(const Facts& facts) {
@@ -341,6 +349,12 @@ void ViewMarkers::publish(const Facts& facts) {
     if (facts.inertias) inertias_.publish(std::move(inertias));
   }
   if (facts.contacts) contacts_.publish(contactMarkers(facts.contact_list));
+  if (facts.model_states) model_states_.publish(facts.model_state_list);
+  if (facts.clock) {
+    rosgraph_msgs::Clock clock;
+    clock.clock.fromNSec(uint64_t(facts.time_ns));
+    clock_.publish(clock);
+  }
 }
 
 }  // namespace onedof_sim

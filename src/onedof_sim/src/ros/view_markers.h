@@ -10,6 +10,14 @@
 //   inertia_markers    each link's box of equal mass and inertia on its principal axes (View >
 //                      Inertias)
 //   contact_markers    the last step's contact points and their normals (View > Contacts)
+// and the window's own streams, at the views' rate, for the window's rviz, panel and model
+// handles: /clock and /gazebo/model_states go out at every step a subscriber is there, each
+// message a cost to the loop (a write for roscpp's network thread), and the window needs neither
+// more often than it draws (Gazebo's window, too, has its poses and world statistics from
+// streams of their own, throttled):
+//   view_model_states  every model's pose and twist (gazebo_msgs/ModelStates)
+//   view_clock         the sim time (rosgraph_msgs/Clock, latched): the window's rviz has it for
+//                      its /clock (a remapping), its time moving in the views' steps
 // Markers are in the frame `world`, one namespace per model (a checkbox per model in rviz), and
 // follow their links: each view is republished while someone subscribes to it, at most
 // kViewFrequency times per second of sim time (and kMaxViewFrequency per wall second, for a
@@ -26,7 +34,9 @@
 #include <utility>
 #include <vector>
 
+#include <gazebo_msgs/ModelStates.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <onedof_sim/world.h>
@@ -60,14 +70,19 @@ class ViewMarkers {
   // What the views due at one moment need of the world.
   struct Facts {
     bool visuals = false, collisions = false, joints = false, coms = false, inertias = false,
-         contacts = false;
+         contacts = false, model_states = false, clock = false;
     bool taken = false;  // collect took them: publish has something to send
     std::vector<VisualShape> visual_shapes;
     std::vector<CollisionShape> collision_shapes;
     std::vector<JointAxis> joint_axes;
     std::vector<LinkMass> link_masses;  // for coms and inertias
     std::vector<Contact> contact_list;
-    bool any() const { return visuals || collisions || joints || coms || inertias || contacts; }
+    gazebo_msgs::ModelStates model_state_list;
+    int64_t time_ns = 0;  // the world's time when taken
+    bool any() const {
+      return visuals || collisions || joints || coms || inertias || contacts || model_states ||
+             clock;
+    }
   };
 
   // Advertises every view's topic under nh, or takes them all down.
@@ -90,6 +105,7 @@ class ViewMarkers {
     void publish(std::vector<visualization_msgs::Marker> markers);
   };
   View visuals_, collisions_, joints_, coms_, inertias_, contacts_;
+  ros::Publisher model_states_, clock_;
   bool advertised_ = false;
   int64_t last_ns_ = -1;  // sim time of the last views taken
   std::chrono::steady_clock::time_point last_wall_;
