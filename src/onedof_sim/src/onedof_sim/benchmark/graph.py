@@ -39,6 +39,18 @@ def read_file(path):
         return f.read()
 
 
+def cpu_seconds(pid, thread=None):
+    """CPU time so far of a thread of a process, or of all of them, s (schedstat: nanoseconds on
+    a CPU)."""
+    total = 0
+    for task in [str(thread)] if thread else os.listdir('/proc/%d/task' % pid):
+        try:
+            total += int(read_file('/proc/%d/task/%s/schedstat' % (pid, task)).split()[0])
+        except (OSError, ValueError, IndexError):
+            continue  # a thread that has just ended
+    return total * 1e-9
+
+
 def descendants(pid):
     """pid and every process below it (a launch's nodes, rosrun's exec'd node)."""
     children = {}
@@ -313,17 +325,20 @@ class Bench:
         from std_srvs.srv import Empty
         self.call('/gazebo/pause_physics' if paused else '/gazebo/unpause_physics', Empty)
 
-    def running_window(self, sim_time, settle_s, window_s):
+    def running_window(self, sim_time, settle_s, window_s, pid=None):
         """(steps, wall seconds) of the paused node run for one window: unpaused, settle_s of
         wall time let pass, then window_s measured through sim_time (a sim_clock()), paused
-        again."""
+        again; given the node's pid, (steps, wall seconds, the CPU seconds of its threads)."""
         self.pause(False)
         time.sleep(settle_s)
+        cpu0 = cpu_seconds(pid) if pid else 0.0
         wall0, sim0 = sim_time()
         time.sleep(window_s)  # the measurement window itself
         wall1, sim1 = sim_time()
+        cpu1 = cpu_seconds(pid) if pid else 0.0
         self.pause(True)
-        return round((sim1 - sim0) / STEP), wall1 - wall0
+        steps = round((sim1 - sim0) / STEP)
+        return (steps, wall1 - wall0, cpu1 - cpu0) if pid else (steps, wall1 - wall0)
 
     def answers(self, service, srv_class, *args):
         if not self.ros.has_service(service):

@@ -20,7 +20,7 @@ import rospkg
 
 from onedof_harness.private_ros import wait_until
 from onedof_sim.benchmark import report as bm
-from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label, read_file
+from onedof_sim.benchmark.graph import STEP, NotMeasured, cpu_seconds, node_label, read_file
 
 SCAN_HZ = 40.0
 PEN_Y = -5.0   # mobot_in_pen.launch: spawn_model ... -model starting_pen -y -5
@@ -59,18 +59,6 @@ class ScanCounter:
 
     def close(self):
         self._subscriber.unregister()
-
-
-def cpu_seconds(pid, thread=None):
-    """CPU time so far of a thread of a process, or of all of them, s (schedstat: nanoseconds on
-    a CPU)."""
-    total = 0
-    for task in [str(thread)] if thread else os.listdir('/proc/%d/task' % pid):
-        try:
-            total += int(read_file('/proc/%d/task/%s/schedstat' % (pid, task)).split()[0])
-        except (OSError, ValueError, IndexError):
-            continue  # a thread that has just ended
-    return total * 1e-9
 
 
 def scan_connected(bench):
