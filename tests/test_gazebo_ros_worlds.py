@@ -234,9 +234,12 @@ GAZEBO_SERVICES.update({
 })
 # The simulator's own names, served when asked for.
 STEP_SERVICE = {'/gazebo/step_simulation': 'onedof_sim/StepSimulation'}
-# The world view's markers (~enable_collision_markers), one topic per item of Gazebo's View menu.
-MARKERS_TOPIC = {'/gazebo/' + view + '_markers': 'visualization_msgs/MarkerArray'
-                 for view in ('visual', 'collision', 'joint', 'com', 'inertia', 'contact')}
+# The world view's markers (~enable_collision_markers), one topic per item of Gazebo's View menu,
+# and the window's own streams at the views' rate: the sim time and the models' states.
+MARKERS_TOPIC = dict({'/gazebo/' + view + '_markers': 'visualization_msgs/MarkerArray'
+                      for view in ('visual', 'collision', 'joint', 'com', 'inertia', 'contact')},
+                     **{'/gazebo/view_clock': 'rosgraph_msgs/Clock',
+                        '/gazebo/view_model_states': 'gazebo_msgs/ModelStates'})
 # The world view's service, served with its markers: one model back at its spawn pose.
 VIEW_SERVICE = {'/gazebo/reset_model': 'onedof_sim/ResetModel'}
 
