@@ -1,6 +1,8 @@
 #include "conversions.h"
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include <gazebo_msgs/GetJointProperties.h>
 #include <onedof_sim/pose_math.h>
@@ -77,12 +79,16 @@ uint8_t toJointTypeConstant(JointType type) {
   return gazebo_msgs::GetJointProperties::Response::REVOLUTE;
 }
 
-gazebo_msgs::ModelStates modelStatesOf(const World& world) {
-  gazebo_msgs::ModelStates states;
-  for (const auto& name : world.modelNames()) {
+namespace {
+
+// Each named model's or link's pose and twist, of those `read` finds, in the names' order.
+template <class Message, class Read>
+Message statesOf(const std::vector<std::string>& names, Read read) {
+  Message states;
+  for (const auto& name : names) {
     Pose pose;
     Twist twist;
-    if (!world.modelState(name, "", &pose, &twist).ok()) continue;
+    if (!read(name, &pose, &twist).ok()) continue;
     states.name.push_back(name);
     states.pose.push_back(toMsg(pose));
     states.twist.push_back(toMsg(twist));
@@ -90,17 +96,20 @@ gazebo_msgs::ModelStates modelStatesOf(const World& world) {
   return states;
 }
 
+}  // namespace
+
+gazebo_msgs::ModelStates modelStatesOf(const World& world) {
+  return statesOf<gazebo_msgs::ModelStates>(
+      world.modelNames(), [&world](const std::string& name, Pose* pose, Twist* twist) {
+        return world.modelState(name, "", pose, twist);
+      });
+}
+
 gazebo_msgs::LinkStates linkStatesOf(const World& world) {
-  gazebo_msgs::LinkStates states;
-  for (const auto& name : world.linkNames()) {
-    Pose pose;
-    Twist twist;
-    if (!world.linkState(name, "", &pose, &twist).ok()) continue;
-    states.name.push_back(name);
-    states.pose.push_back(toMsg(pose));
-    states.twist.push_back(toMsg(twist));
-  }
-  return states;
+  return statesOf<gazebo_msgs::LinkStates>(
+      world.linkNames(), [&world](const std::string& name, Pose* pose, Twist* twist) {
+        return world.linkState(name, "", pose, twist);
+      });
 }
 
 }  // namespace onedof_sim
