@@ -14,6 +14,7 @@ import pytest
 
 PR_SET_PDEATHSIG = 1
 worker_pid = None  # the process that forks the tests
+worker_gone_told = False  # in a test's process: whether the test was failed for its worker's end
 
 
 def pytest_configure(config):
@@ -22,6 +23,14 @@ def pytest_configure(config):
 
 
 def worker_gone(signum, frame):
+    """Fails the test once. The signal can come more than once: Linux sends it each time the
+    thread that forked the test ends and the test passes to the worker's next live thread, and
+    the worker's threads end one after another. A second failure raised in the first one's
+    report or teardown would end the test's process with its fixtures still up."""
+    global worker_gone_told
+    if worker_gone_told:
+        return
+    worker_gone_told = True
     pytest.fail("the test's pytest worker ended (the suite's timeout); the test was stopped",
                 pytrace=False)
 

@@ -3,14 +3,19 @@ onedof_harness.forked_timeout) with a test that never ends: at the timeout that 
 fixtures tear down, and the run goes on to its closing summary."""
 import os
 import re
+import signal
 import subprocess
 import sys
 import textwrap
 
+import pytest
+
+from onedof_harness import forked_timeout
 from onedof_harness.private_ros import wait_until
 
 SUITE = textwrap.dedent('''
     import os
+    import signal
     import threading
 
     import pytest
@@ -18,6 +23,9 @@ SUITE = textwrap.dedent('''
     @pytest.fixture
     def started():
         yield
+        # Told again that the worker went, as the worker's other threads end after the one
+        # that forked this test: the teardown goes on.
+        os.kill(os.getpid(), signal.SIGTERM)
         with open(os.environ['TORN_DOWN'], 'w') as f:
             f.write('torn down')
 
@@ -49,3 +57,10 @@ def test_a_test_that_never_ends_fails_at_the_timeout_and_the_run_reaches_its_sum
     assert "crashed while running 'test_sample.py::test_never_ends'" in result.stdout
     # The test's own process, told its worker went, failed there and tore its fixture down.
     wait_until(lambda: torn_down.exists(), HANG_SECONDS, what="the test's fixture torn down")
+
+
+def test_the_test_is_failed_once_however_often_its_worker_going_is_told(monkeypatch):
+    monkeypatch.setattr(forked_timeout, 'worker_gone_told', False)
+    with pytest.raises(pytest.fail.Exception, match='worker ended'):
+        forked_timeout.worker_gone(signal.SIGTERM, None)
+    forked_timeout.worker_gone(signal.SIGTERM, None)
