@@ -29,6 +29,9 @@ LOCKSTEP = ['_lockstep:=true']  # at the default max_update_rate: real-time fact
 # How far the rest angle may be from the closed form: the engines' joint error (core_test) and the
 # 0.5 s tail mean of a link still settling by less than that.
 REST_TOLERANCE = 2e-4
+# How steady jnt_trq is once settled: Kp times a tenth of a mrad, well within the 1e-3 relative
+# tolerance of the holding torque (about 4 N m at command 1).
+TORQUE_BAND = 1e-3
 # How long after its first sample a controller is surely lock-stepped (its first effort is applied
 # a period after the sample; the world ran free until then).
 LOCKSTEP_ENGAGED = 0.2
@@ -130,19 +133,27 @@ class ControlledRobot:
         wait_until(lambda: self.now() >= end, duration * 20 + 30,
                    what='%.1f s of sim time' % duration)
 
-    def wait_settled(self, since, window=1.0, band=0.001, timeout=120):
-        """Waits until jnt_pos has stayed within `band` rad for `window` s of sim time; returns
-        the mean position and mean jnt_trq over that window."""
+    def wait_settled(self, since, window=1.0, band=0.001, torque_band=TORQUE_BAND, timeout=120):
+        """Waits until jnt_pos has stayed within `band` rad and jnt_trq within `torque_band` N m
+        for `window` s of sim time; returns the mean position and mean jnt_trq over that window.
+
+        Both are asked to be steady because they are separate topics, each sample stamped with
+        its arrival: on a busy machine a torque of the approach can arrive inside the position's
+        window, and a steady position alone would let it into the mean."""
         def settled():
             self.assert_controller_alive()
             tail = self.jnt_pos.steady_tail(since, window, band)
             if not tail or len(tail) < window * RATE_HZ * 0.5:
                 return None
+            torque_tail = self.jnt_trq.steady_tail(since, window, torque_band)
+            if not torque_tail or len(torque_tail) < window * RATE_HZ * 0.5:
+                return None
             positions = [q for _, q in tail]
-            torques = [u for t, u in self.jnt_trq.values_since(tail[-1][0] - window)]
+            torques = [u for _, u in torque_tail]
             return sum(positions) / len(positions), sum(torques) / len(torques)
         return wait_until(settled, timeout, interval=0.2,
-                          what='jnt_pos to settle within %g rad for %g s' % (band, window))
+                          what='jnt_pos to settle within %g rad and jnt_trq within %g N m for %g s'
+                          % (band, torque_band, window))
 
 
 @pytest.fixture
