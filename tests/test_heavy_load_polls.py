@@ -29,9 +29,13 @@ from onedof_sim.tools import package_executable
 # second, a 262k-ray scan 0.1 to 0.2 s at every step).
 MARGIN_S = 0.25
 # And at the most: a poll is made after the one before it is answered, so a stall of seconds
-# (a render under the lock) is one late poll among hundreds, which only the maximum shows. A busy
-# machine alone stops a process for a few hundred ms now and then.
+# (a render under the lock) is one late poll among hundreds, which only the slowest polls show.
+# A busy machine alone stops a process for a few hundred ms now and then, at load 20 once in a
+# while for most of a second: one poll of the loaded windows may be that late, up to
+# MACHINE_STALL_S; a stall the load causes comes back with its work (every frame, every scan)
+# and makes the second slowest late too.
 MAX_MARGIN_S = 0.75
+MACHINE_STALL_S = 2.0
 # Under the 32 clients the simulator does more than the bare service beside it: it steps the world
 # (each step holds the world a poll waits for) and writes each step's clock to the 33 nodes that
 # subscribe to it, up to sim_loop's backlog of 100 messages, which a poll's request may wait
@@ -238,8 +242,9 @@ def measure_against_bare(ros, rospy):
 
 
 def figures(latencies):
-    return '%d polls, 99th percentile %.1f ms, max %.1f ms' % (
-        len(latencies), 1e3 * percentile(latencies, 0.99), 1e3 * latencies[-1])
+    return '%d polls, 99th percentile %.1f ms, slowest %.1f and %.1f ms' % (
+        len(latencies), 1e3 * percentile(latencies, 0.99), 1e3 * latencies[-1],
+        1e3 * latencies[-2])
 
 
 LOADS = ['camera_4096', 'laser_262k', pytest.param('clients_32', marks=pytest.mark.skip(
@@ -282,4 +287,5 @@ def test_a_poll_is_answered_as_soon_with_heavy_work_beside_it(ros, rospy_client,
     print(report)
     margin = MARGIN_S if load else CLIENTS_MARGIN_S
     assert percentile(loaded, 0.99) <= percentile(without, 0.99) + margin, report
-    assert loaded[-1] <= without[-1] + MAX_MARGIN_S, report
+    assert loaded[-2] <= without[-1] + MAX_MARGIN_S, report
+    assert loaded[-1] <= without[-1] + MACHINE_STALL_S, report
