@@ -14,6 +14,7 @@ it there as the model moves (paused and running) until another model is followed
 Following, or the model is deleted; Delete deletes its model and Apply Force/Torque's dialog
 pushes it by F for t: it moves at F t / m."""
 import math
+import time
 
 import pytest
 
@@ -27,7 +28,8 @@ SERVER = '/gazebo_model_handles'
 # A handle's right-click menu, in Gazebo's order, and its View submenu (check boxes, unchecked).
 MENU = ['Move To', 'Follow', 'Stop Following', 'View', 'Apply Force/Torque', 'Reset Model Pose',
         'Delete']
-VIEW_MENU = ['[ ] Transparent', '[ ] Wireframe']
+VIEW_MENU = ['[ ] Transparent', '[ ] Wireframe', '[ ] Collisions', '[ ] Joints',
+             '[ ] Center of Mass', '[ ] Inertia']
 HANDLES = ['rosrun', 'gazebo_ros', 'model_handles']
 
 
@@ -246,6 +248,102 @@ def test_the_simulators_view_runs_the_handles_and_stops_them_with_rviz(ros, rosp
     ros.wait_until(lambda: not rosnode.rosnode_ping(SERVER, max_count=1), 120,
                    what='the handles stopped with the view')
     ros.terminate(xvfb)
+
+
+class RelayedViews:
+    """What the view's "Model views" display receives (gazebo_ros.model_marker_views): the markers
+    shown now, {namespace: {id: Marker}}, and how many arrays came."""
+
+    def __init__(self, rospy):
+        from visualization_msgs.msg import MarkerArray
+        self.shown = {}
+        self.arrays = 0
+        self.subscriber = rospy.Subscriber('/gazebo_window/model_view_markers', MarkerArray,
+                                           self._received, queue_size=100)
+
+    def _received(self, array):
+        for marker in array.markers:
+            if marker.action == marker.DELETE:
+                self.shown.get(marker.ns, {}).pop(marker.id, None)
+            else:
+                self.shown.setdefault(marker.ns, {})[marker.id] = marker
+        self.shown = {ns: markers for ns, markers in self.shown.items() if markers}
+        self.arrays += 1
+
+
+def choose(ros, mouse, seen, name, title):
+    """Model name's right-click menu entry `title`, chosen as rviz sends a choice (MENU_SELECT),
+    once; returns when the entry's check mark has changed."""
+    def titles():
+        return [entry.title for entry in seen.markers[name].menu_entries]
+    entry = next(entry for entry in seen.markers[name].menu_entries
+                 if entry.title.endswith('] ' + title))
+    message = mouse.feedback(marker_name=name, event_type=mouse.feedback.MENU_SELECT,
+                             menu_entry_id=entry.id, client_id='/rviz/Move models')
+    message.header.frame_id = 'world'
+    mouse.publisher.publish(message)
+    ros.wait_until(lambda: entry.title not in titles(), 60,
+                   what='%s chosen in the menu of %s' % (title, name))
+
+
+def test_a_models_own_view_shows_its_markers_of_that_view_alone(ros, rospy_client):
+    from visualization_msgs.msg import Marker
+    start_sim(ros, ENGINES[0])
+    api = GazeboApi(rospy_client)
+    api.pause_physics()
+    api.spawn_box('near', pose(1.0, 0.5, 0.1))
+    api.spawn_box('far', pose(0.5, -1.5, 0.1))
+    handles = ros.start(HANDLES, name='model_handles')
+    seen = HandlesSeen(rospy_client)
+    ros.wait_until(lambda: seen.markers and {'near', 'far'} <= set(seen.markers), 120,
+                   what="the boxes' handles")
+    # The server takes no feedback on a handle within 1 s of its making (ROS's marker server
+    # keeps a first client from being overruled), and these were made before they were seen.
+    handles_seen = time.monotonic()
+    ros.wait_until(lambda: time.monotonic() > handles_seen + 1.0, 10,
+                   what='the handles a second old')
+    relayed = RelayedViews(rospy_client)
+    ros.wait_until(lambda: relayed.subscriber.get_num_connections() > 0, 60,
+                   what="the relay of the models' views")
+    mouse = Mouse(ros, rospy_client)
+    # No model in a view: the handles ask the simulator for none of its views' markers.
+    for topic in ('/gazebo/collision_markers', '/gazebo/com_markers'):
+        assert not ros.connected('/gazebo', topic, '/gazebo_model_handles')
+
+    choose(ros, mouse, seen, 'near', 'Collisions')
+    choose(ros, mouse, seen, 'far', 'Center of Mass')
+    ros.wait_until(lambda: set(relayed.shown) == {'near/Collisions', 'far/Center of Mass'}, 60,
+                   what="near's collision and far's centre of mass relayed, nothing else")
+    assert '[x] Collisions' in [e.title for e in seen.markers['near'].menu_entries]
+    assert '[ ] Collisions' in [e.title for e in seen.markers['far'].menu_entries]
+    collision = list(relayed.shown['near/Collisions'].values())
+    assert [m.type for m in collision] == [Marker.CUBE], collision
+    assert (collision[0].pose.position.x, collision[0].pose.position.y) == pytest.approx(
+        (1.0, 0.5), abs=1e-6)
+    assert collision[0].header.frame_id == 'world'
+    com = list(relayed.shown['far/Center of Mass'].values())
+    assert [m.type for m in com] == [Marker.SPHERE], com
+    assert (com[0].pose.position.x, com[0].pose.position.y) == pytest.approx((0.5, -1.5),
+                                                                             abs=1e-6)
+    # A box moved: its relayed marker follows.
+    moved = api.set_model_state(model_state('near', pose(1.5, 0.5, 0.1)))
+    assert moved.success, moved.status_message
+    ros.wait_until(lambda: [m.pose.position.x for m in relayed.shown.get(
+        'near/Collisions', {}).values()] == pytest.approx([1.5], abs=1e-6), 60,
+        what="near's collision following it")
+
+    # Unchecked, near's collision goes; deleted, far's centre of mass goes with it; with no
+    # model in a view the simulator's topics are left.
+    choose(ros, mouse, seen, 'near', 'Collisions')
+    ros.wait_until(lambda: set(relayed.shown) == {'far/Center of Mass'}, 60,
+                   what="near's collision gone")
+    deleted = api.delete_model('far')
+    assert deleted.success, deleted.status_message
+    ros.wait_until(lambda: not relayed.shown, 60, what="far's centre of mass gone with far")
+    for topic in ('/gazebo/collision_markers', '/gazebo/com_markers'):
+        ros.wait_until(lambda: not ros.connected('/gazebo', topic, '/gazebo_model_handles'), 60,
+                       what='the handles to leave ' + topic)
+    assert handles.poll() is None, ros.log_text(handles)
 
 
 def window_on_boxes(ros, rospy_client, boxes):

@@ -288,7 +288,7 @@ def test_the_view_shows_the_simulators_sensor_topics_only_and_keeps_the_users_di
     displays = with_sensor_displays(shown, [])['Visualization Manager']['Displays']
     names = [d['Name'] for d in displays]
     assert names == ['Ground plane', 'Visuals', 'Collisions', 'Joints', 'Center of Mass',
-                     'Inertias', 'Contacts', 'Move models', 'My TF']
+                     'Inertias', 'Contacts', 'Model views', 'Move models', 'My TF']
 
 
 def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_client,

@@ -26,7 +26,9 @@ A handle's right-click menu has Gazebo's Move To and Follow, for the Gazebo pane
 rviz's view (the model's name on MOVE_TO_TOPIC, or FOLLOW_TOPIC; Stop Following sends an empty
 name there), Gazebo's View > Transparent and Wireframe for that model alone (checked while on: the
 models in each mode on its latched topic, TRANSPARENT_TOPIC and WIREFRAME_TOPIC, which the view's
-model visuals display follows), Apply Force/Torque (a dialog, gazebo_ros.wrench_dialog, through
+model visuals display follows), View > Collisions, Joints, Center of Mass and Inertia for that
+model alone (gazebo_ros.model_marker_views: the model's markers of the simulator's view, relayed
+to the view's "Model views" display), Apply Force/Torque (a dialog, gazebo_ros.wrench_dialog, through
 /gazebo/apply_body_wrench), Reset Model Pose (/gazebo/reset_model, the simulator's own: the model
 back at its spawn pose, as Gazebo's Edit > Reset Model Poses puts every model; Gazebo's menu has
 no entry for one model) and Delete (/gazebo/delete_model).
@@ -39,6 +41,8 @@ import subprocess
 import sys
 import threading
 import time
+
+from gazebo_ros.model_marker_views import MODEL_VIEW_MARKERS, ModelMarkerViews
 
 SERVER_TOPIC = '/gazebo_model_handles'
 NODE_NAME = 'gazebo_model_handles'
@@ -337,6 +341,7 @@ class ModelViews:
     `publisher(topic)` makes a latched std_msgs/String publisher."""
 
     def __init__(self, publisher):
+        self.modes = [mode for mode, _ in VIEW_MODES]
         self.models = {mode: set() for mode, _ in VIEW_MODES}
         self.publishers = {mode: publisher(topic) for mode, topic in VIEW_MODES}
         for mode in self.models:
@@ -366,8 +371,9 @@ class ModelViews:
 class ModelMenus:
     """Each handle's right-click menu (an interactive_markers MenuHandler of its own, so that
     its View entries' check marks are its model's), in Gazebo's order: Move To, Follow and Stop
-    Following, through view (a ViewRequests), View > Transparent and Wireframe, through views (a
-    ModelViews), Apply Force/Torque, through open_wrench_dialog(name), Reset Model Pose, through
+    Following, through view (a ViewRequests), View > Transparent, Wireframe, Collisions, Joints,
+    Center of Mass and Inertia, through views (view groups: a ModelViews and a ModelMarkerViews,
+    each with its `modes`), Apply Force/Torque, through open_wrench_dialog(name), Reset Model Pose, through
     reset(name) (a ResetModel call), and Delete, through delete(name) (a DeleteModel call), on
     `server` (the handles' InteractiveMarkerServer); the calls raise ServiceUnavailable when they
     cannot be made."""
@@ -378,7 +384,7 @@ class ModelMenus:
         self.delete = delete
         self.open_wrench_dialog = open_wrench_dialog
         self.view = view
-        self.views = views
+        self.views = {mode: group for group in views for mode in group.modes}
         self.say_once = say_once
         self.menus = {}  # model name -> its MenuHandler
 
@@ -390,7 +396,8 @@ class ModelMenus:
 
     def forget(self, name):
         self.menus.pop(name, None)
-        self.views.forget(name)
+        for group in set(self.views.values()):
+            group.forget(name)
 
     def _menu(self, name):
         from interactive_markers.menu_handler import MenuHandler
@@ -399,7 +406,7 @@ class ModelMenus:
         menu.insert('Follow', callback=lambda feedback: self.view.follow(name))
         menu.insert('Stop Following', callback=lambda feedback: self.view.stop_following())
         view = menu.insert('View')
-        for mode, _ in VIEW_MODES:
+        for mode in self.views:
             entry = menu.insert(mode, parent=view,
                                 callback=lambda feedback, mode=mode: self._toggle(menu, mode,
                                                                                   feedback))
@@ -413,7 +420,7 @@ class ModelMenus:
 
     def _toggle(self, menu, mode, feedback):
         from interactive_markers.menu_handler import MenuHandler
-        on = self.views.toggle(mode, feedback.marker_name)
+        on = self.views[mode].toggle(mode, feedback.marker_name)
         menu.setCheckState(feedback.menu_entry_id,
                            MenuHandler.CHECKED if on else MenuHandler.UNCHECKED)
         menu.reApply(self.server)
@@ -534,6 +541,7 @@ def main(argv):
     from interactive_markers.interactive_marker_server import InteractiveMarkerServer
     from onedof_sim.srv import ResetModel
     from std_msgs.msg import String
+    from visualization_msgs.msg import MarkerArray
     # Its own signal handling: the node ends its loop on SIGINT or SIGTERM and gives a model
     # held mid-drag its gravity back before rospy shuts down (after which no service is called).
     rospy.init_node(NODE_NAME, argv=argv, disable_signals=True)
@@ -548,7 +556,10 @@ def main(argv):
     gravity = GravityHold(proxy_call(rospy, GET_MODEL_PROPERTIES, GetModelProperties),
                           proxy_call(rospy, GET_LINK_PROPERTIES, GetLinkProperties),
                           proxy_call(rospy, SET_LINK_PROPERTIES, SetLinkProperties), say_once)
-    views = ModelViews(lambda topic: rospy.Publisher(topic, String, queue_size=1, latch=True))
+    views = [ModelViews(lambda topic: rospy.Publisher(topic, String, queue_size=1, latch=True)),
+             ModelMarkerViews(rospy.Publisher(MODEL_VIEW_MARKERS, MarkerArray, queue_size=100),
+                              lambda topic, callback: rospy.Subscriber(topic, MarkerArray,
+                                                                       callback, queue_size=1))]
     menus = ModelMenus(server, proxy_call(rospy, RESET_MODEL, ResetModel),
                        proxy_call(rospy, DELETE_MODEL, DeleteModel), dialogs.open, view, views,
                        say_once)
