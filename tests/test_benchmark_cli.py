@@ -91,6 +91,11 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_
             # partner ran slower than the simulator (the notes say so).
             assert 'bench_lockstep_floor' in row[3] and float(row[5]) > 0, row
             assert row[6] == '—' or re.fullmatch(r'>= \d+, or >= 0\.7 of the floor', row[6]), row
+    if '12' in items:
+        # The window's view: its frames per second while the world runs, against the view's own
+        # frame rate.
+        fps = [row for row in table if row[0] == '12' and 'frames per second' in row[1]]
+        assert len(fps) == 1 and fps[0][2].endswith(' fps') and fps[0][6] == '>= 20 fps', fps
     if '9' in items:
         busy = [row[1] for row in table if row[0] == '9']
         assert len(busy) == 2 and 'lock-stepped' in busy[0] and 'free-running' in busy[1], busy

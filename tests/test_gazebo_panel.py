@@ -6,7 +6,8 @@ simulator or the simulator refuses; and the simulator's rviz view (gzclient) loa
 whose buttons, pressed with xdotool through their Alt mnemonics, pause and play the world and
 insert cafe_table_0 then cafe_table_1, at a typed position or where a click in the 3D view falls;
 the window (rviz and its panel) hears the sim time from the simulator's view clock, at the views'
-rate, not from /clock at every step."""
+rate, not from /clock at every step, and the panel publishes the frames per second its view
+draws."""
 import math
 
 import pytest
@@ -124,6 +125,14 @@ def test_gzclient_shows_the_panel_whose_buttons_drive_the_world(ros, rospy_clien
     ros.wait_until(lambda: window_subscribers(ros, '/gazebo/view_clock'), 60,
                    what='the window hearing the view clock')
     assert not window_subscribers(ros, '/clock')
+    # The view's frames per second, as the Time tab's FPS shows them, each wall second.
+    from std_msgs.msg import Float64
+    rates = []
+    rospy_client.Subscriber('/gazebo_window/frame_rate', Float64,
+                            lambda message: rates.append(message.data))
+    ros.wait_until(lambda: len(rates) >= 2 and rates[-1] > 0, 120,
+                   what="the view's frame rate, drawing")
+    print('the view drew %s frames per second' % ', '.join('%.1f' % rate for rate in rates))
 
     # Pause (Alt+U), then Play (Alt+A) once the panel shows the world paused.
     window.press('alt+u')

@@ -10,6 +10,7 @@
 #include <onedof_sim/StepSimulation.h>
 #include <ros/package.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/Float64.h>
 #include <std_msgs/String.h>
 #include <std_srvs/Empty.h>
 
@@ -136,6 +137,13 @@ void GazeboClient::listenForViewRequests(
   };
   move_to_sub_ = listen(kMoveToTopic, ViewRequest::kMoveTo);
   follow_sub_ = listen(kFollowTopic, ViewRequest::kFollow);
+}
+
+void GazeboClient::publishFrameRate(double frames_per_second) {
+  if (!frame_rate_pub_) frame_rate_pub_ = nh_.advertise<std_msgs::Float64>(kFrameRateTopic, 1);
+  std_msgs::Float64 message;
+  message.data = frames_per_second;
+  frame_rate_pub_.publish(message);
 }
 
 template <class Srv>

@@ -51,6 +51,9 @@ struct ModelTree {
 const char* const kMoveToTopic = "/gazebo_window/move_to";
 const char* const kFollowTopic = "/gazebo_window/follow";
 enum class ViewRequest { kMoveTo, kFollow };
+// The frames per second the view draws (std_msgs/Float64, once a wall second), as the Time tab's
+// FPS shows them: for what measures the window (the benchmark).
+const char* const kFrameRateTopic = "/gazebo_window/frame_rate";
 
 struct ClockReading {
   bool seen = false;
@@ -101,6 +104,8 @@ class GazeboClient {
   // From now on, each view request (kMoveToTopic, kFollowTopic) goes to `handler`, on the
   // spinner's thread.
   void listenForViewRequests(std::function<void(ViewRequest, const std::string&)> handler);
+  // The view's frames per second, as the panel shows them, on kFrameRateTopic.
+  void publishFrameRate(double frames_per_second);
   bool busy() const;  // a call under way or queued
 
  private:
@@ -120,6 +125,7 @@ class GazeboClient {
   ros::CallbackQueue queue_;
   ros::AsyncSpinner spinner_;
   ros::Subscriber clock_sub_, states_sub_, move_to_sub_, follow_sub_;
+  ros::Publisher frame_rate_pub_;
 
   mutable std::mutex state_mutex_;
   ClockReading clock_;

@@ -5,9 +5,11 @@
 #include <QScrollArea>
 #include <QTabWidget>
 #include <QVBoxLayout>
+#include <OGRE/OgreRenderWindow.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <rviz/display.h>
 #include <rviz/display_group.h>
+#include <rviz/render_panel.h>
 #include <rviz/visualization_manager.h>
 #include <rviz/tool.h>
 #include <rviz/tool_manager.h>
@@ -161,6 +163,18 @@ void GazeboPanel::refresh() {
                           .count();
   time_->showClock(client_->clock(), now);
   world_->showModelStates(client_->modelStates());
+  showFrameRate(now);
+}
+
+void GazeboPanel::showFrameRate(int64_t now_wall_ns) {
+  rviz::RenderPanel* render_panel = vis_manager_->getRenderPanel();
+  Ogre::RenderWindow* window = render_panel ? render_panel->getRenderWindow() : nullptr;
+  if (!window) return;
+  const double frames_per_second = window->getStatistics().lastFPS;
+  time_->showFrameRate(frames_per_second);
+  if (now_wall_ns - frame_rate_published_ns_ < 1000000000) return;
+  frame_rate_published_ns_ = now_wall_ns;
+  client_->publishFrameRate(frames_per_second);
 }
 
 void GazeboPanel::askForPhysics() {

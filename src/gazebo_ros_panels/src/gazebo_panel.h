@@ -32,7 +32,12 @@ class GazeboPanel : public rviz::Panel {
 
  private:
   void report(const QString& text);
-  void refresh();         // the clock's figures and the model states, several times a second
+  // The clock's figures, the model states and the view's frames per second, several times a
+  // second.
+  void refresh();
+  // The frames the view drew over its last whole second (OGRE's statistics of rviz's render
+  // window), shown, and published once a wall second (GazeboClient::publishFrameRate).
+  void showFrameRate(int64_t now_wall_ns);
   void askForPhysics();   // the pause state and the physics, unless a call is under way
   void useTool(const QString& class_id);  // the rviz tool made current (added if not there)
   void chooseInsertPoint();  // rviz's Insert Here tool made current
@@ -54,6 +59,7 @@ class GazeboPanel : public rviz::Panel {
   QTimer refresh_timer_;
   QTimer physics_timer_;
   bool physics_pending_ = false;
+  int64_t frame_rate_published_ns_ = 0;  // steady wall time
   QString last_physics_error_;
 };
 

@@ -24,6 +24,8 @@ TimeTab::TimeTab(GazeboClient* client, std::function<void(const QString&)> repor
   real_time_->setToolTip("wall time since this panel first saw the clock or since Reset Time");
   factor_ = new QLabel("-");
   iterations_ = new QLabel("-");
+  frame_rate_ = new QLabel("-");
+  frame_rate_->setToolTip("frames the 3D view drew in the last second");
   auto* reset_time = new QPushButton("&Reset Time");
   auto* reset_world = new QPushButton("Reset W&orld");
 
@@ -36,6 +38,7 @@ TimeTab::TimeTab(GazeboClient* client, std::function<void(const QString&)> repor
   figures->addRow("Real time", real_time_);
   figures->addRow("Real time factor", factor_);
   figures->addRow("Iterations", iterations_);
+  figures->addRow("FPS", frame_rate_);
   auto* resets = new QHBoxLayout;
   resets->addWidget(reset_time);
   resets->addWidget(reset_world);
@@ -80,6 +83,10 @@ void TimeTab::showClock(const ClockReading& clock, int64_t now_wall_ns) {
   real_time_->setText(QString::fromStdString(gazeboTimeText(figures_.realSeconds(now_wall_ns))));
   factor_->setText(QString::number(figures_.realTimeFactor(now_wall_ns), 'f', 2));
   iterations_->setText(QString::number(figures_.iterations()));
+}
+
+void TimeTab::showFrameRate(double frames_per_second) {
+  frame_rate_->setText(QString::number(frames_per_second, 'f', 1));
 }
 
 }  // namespace gazebo_ros_panels

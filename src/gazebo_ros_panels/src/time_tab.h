@@ -1,5 +1,5 @@
 // Gazebo's bottom bar and Edit menu's resets: play/pause, step with a count, sim time, real time,
-// real-time factor, iterations, reset time, reset world.
+// real-time factor, iterations, the view's frames per second, reset time, reset world.
 #pragma once
 
 #include <QLabel>
@@ -21,6 +21,7 @@ class TimeTab : public QWidget {
           std::function<void()> physics_changed, QWidget* parent = nullptr);
   void showPhysics(const PhysicsState& state);  // the pause state and the step size
   void showClock(const ClockReading& clock, int64_t now_wall_ns);
+  void showFrameRate(double frames_per_second);
 
  private:
   GazeboClient* client_;
@@ -36,6 +37,7 @@ class TimeTab : public QWidget {
   QLabel* real_time_;
   QLabel* factor_;
   QLabel* iterations_;
+  QLabel* frame_rate_;
 };
 
 }  // namespace gazebo_ros_panels

@@ -7,7 +7,10 @@ book's lidar nodes do (the laser's own cost is item 11's), so that what changes 
 alone. The node's CPU time (every thread's, from /proc) is what the window costs the simulator's
 loop: the streams it listens to (the visual markers and the window's model states at the views'
 rate, /clock, /scan drawn), whatever rviz's drawing takes of the machine beside it. And no window
-costs nothing: the two no-window stretches, before it opened and after it closed, agree."""
+costs nothing: the two no-window stretches, before it opened and after it closed, agree. While the
+window is open, the frames per second its view draws are taken as the Gazebo panel reports them
+(its Time tab's FPS, published once a wall second), against the frame rate the view's
+configuration asks rviz for."""
 
 import os
 
@@ -27,6 +30,36 @@ ARM_X = -2.5  # the arm beside the mobot, within the lidar's reach
 VISUAL_MARKERS = '/gazebo/visual_markers'
 VIEW_MODEL_STATES = '/gazebo/view_model_states'
 MODEL_STATES = '/gazebo/model_states'  # per step: the window does not listen to it
+FRAME_RATE = '/gazebo_window/frame_rate'  # the Gazebo panel's FPS (std_msgs/Float64)
+FRAME_RATE_AIM = 20.0  # frames per second the view keeps, at least
+FRAME_RATE_WAIT_S = 60  # bounds the wait for a reading; the panel sends one a wall second
+
+
+class FrameRates:
+    """The Gazebo panel's frames per second, those that come while `taking` is set."""
+
+    def __init__(self, rospy):
+        from std_msgs.msg import Float64
+        self.taking = False
+        self.heard = 0
+        self.rates = []
+        self._subscriber = rospy.Subscriber(FRAME_RATE, Float64, self._on_rate, queue_size=100)
+
+    def _on_rate(self, message):
+        self.heard += 1
+        if self.taking:
+            self.rates.append(message.data)
+
+    def close(self):
+        self._subscriber.unregister()
+
+
+def configured_frame_rate():
+    """The frame rate the simulator's view (gazebo_ros' world.rviz) asks rviz for."""
+    import yaml
+    path = os.path.join(rospkg.RosPack().get_path('gazebo_ros'), 'rviz', 'world.rviz')
+    with open(path) as f:
+        return float(yaml.safe_load(f)['Visualization Manager']['Global Options']['Frame Rate'])
 
 
 def arm():
@@ -39,7 +72,7 @@ def measure(bench, engine):
     from onedof_sim.tutorial.rviz_view import start_xvfb
     sizes = bench.sizes
     name = node_label(engine)
-    proc = xvfb = window = scans = None
+    proc = xvfb = window = scans = frame_rates = None
     try:
         proc, pid = bench.start_sim(engine, max_update_rate=1000, paused=True)
         laser_cost.spawn_scene(bench)
@@ -65,10 +98,21 @@ def measure(bench, engine):
             'and the lidar')
         if window.poll() is not None:
             raise NotMeasured('gzclient ended: %s' % bench.ros.log_text(window)[-200:])
+        frame_rates = FrameRates(bench.rospy)
+        wait_until(lambda: window.poll() is not None or frame_rates.heard, WINDOW_UP_S,
+                   what="the Gazebo panel's frames per second")
         listeners = {topic: bench.subscribers(topic)
                      for topic in (VISUAL_MARKERS, VIEW_MODEL_STATES, '/scan', MODEL_STATES,
                                    '/clock')}
+        frame_rates.taking = True
         runs['open'] = windows(sizes.window_cost_windows)
+        # A reading a wall second: a quick run's windows can be shorter; the world runs on.
+        if not frame_rates.rates:
+            bench.pause(False)
+            wait_until(lambda: frame_rates.rates or window.poll() is not None,
+                       FRAME_RATE_WAIT_S, what="a reading of the view's frames per second")
+            bench.pause(True)
+        frame_rates.taking = False
         bench.ros.terminate(window)
         window = None
         wait_until(lambda: not bench.subscribers(VISUAL_MARKERS), 120,
@@ -96,12 +140,27 @@ def measure(bench, engine):
         bench.add('12', 'CPU time per step of the %s with no window, after the window closed'
                   % name, '%.1f us' % per_step['after'], 'the same, before the window opened',
                   '%.1f us' % per_step['before'], per_step['after'] / per_step['before'])
-        bench.results['window'] = dict(engine=engine, listeners=listeners, cost=cost, **runs)
+        rates = frame_rates.rates
+        if rates:
+            mean_rate, configured = sum(rates) / len(rates), configured_frame_rate()
+            bench.add('12', 'frames per second the Gazebo window\'s view draws while the world '
+                      'runs (gzclient on Xvfb, software rendering; the panel\'s FPS, %d reading(s) '
+                      'a wall second apart, slowest %.1f)' % (len(rates), min(rates)),
+                      '%.1f fps' % mean_rate, 'the frame rate the view\'s configuration asks '
+                      'rviz for (world.rviz)', '%.0f fps' % configured, mean_rate / configured,
+                      '>= %.0f fps' % FRAME_RATE_AIM, mean_rate >= FRAME_RATE_AIM)
+        else:
+            bench.not_measured('12', 'frames per second of the Gazebo window\'s view',
+                               'no reading of %s came while the window was open' % FRAME_RATE)
+        bench.results['window'] = dict(engine=engine, listeners=listeners, cost=cost,
+                                       frame_rates=rates, **runs)
     except (NotMeasured, TimeoutError, OSError) as error:
         bench.not_measured('12', 'the Gazebo window\'s cost, %s' % name, str(error)[:200])
     finally:
         if scans:
             scans.close()
+        if frame_rates:
+            frame_rates.close()
         if window:
             bench.ros.terminate(window)  # rviz before its X server
         if xvfb:
