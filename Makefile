@@ -76,9 +76,20 @@ LOAD_MAX_SECONDS ?= 3600
 # Rebuild when any source file changes (generated and cached files excluded).
 SOURCES := $(shell find $(WS)/src -type f -not -name '*.pyc' -not -path '*/__pycache__/*' 2>/dev/null)
 
-.PHONY: setup deps venv build commands tutorial test test-under-load bench lint clean
+.PHONY: setup deps venv build commands host tutorial test test-under-load bench lint clean
 
-setup: deps venv build commands
+setup: deps venv build commands host
+
+# Says, without failing set-up, when this machine's host name does not resolve (no /etc/hosts line
+# for it, as a minimal system or container may have): roslaunch and catkin look it up and fail,
+# with errors that do not say why.
+host:
+	@name=$$(hostname); \
+	if ! getent hosts "$$name" >/dev/null; then \
+	  echo "set-up: warning: this machine's host name '$$name' does not resolve: roslaunch and" \
+	       "catkin overlays (the tutorial's launch files, some tests) will fail. Add the line" \
+	       "'127.0.1.1 $$name' to /etc/hosts, as Debian's installer writes it."; \
+	fi
 
 # Fails set-up, naming the package to install, when a command the targets or tests run is missing.
 # A PACKAGE/EXECUTABLE entry is one `rosrun PACKAGE EXECUTABLE` runs: its manifest and executable

@@ -6,6 +6,8 @@ import os
 import re
 import subprocess
 
+import pytest
+
 from conftest import WORKSPACE
 
 STEP = os.path.join(WORKSPACE, 'scripts', 'step')
@@ -136,3 +138,27 @@ def test_the_deps_step_says_how_many_packages_apt_installs_and_logs_their_names(
                             install_line[0].split(' done in ')[-1])], result.stdout
     assert not any(package in result.stdout for package in ('libode-dev', 'python3-rospy'))
     assert 'libode-dev' in log.read_text() and 'Setting up everything' in log.read_text()
+
+
+def test_set_up_warns_when_the_host_name_does_not_resolve():
+    """Run on a machine whose host name has no /etc/hosts line (a UTS namespace with a name that
+    cannot resolve), set-up's host check warns, names the line to add, and does not fail; on this
+    machine, as it is, it says nothing when the name resolves."""
+    made = subprocess.run(['unshare', '--uts', 'true'], capture_output=True, text=True)
+    if made.returncode != 0:
+        pytest.skip('no UTS namespace can be made here: %s' % made.stderr.strip())
+    name = 'onedof-nowhere.invalid'  # RFC 6761: never resolves
+    result = subprocess.run(['unshare', '--uts', 'sh', '-c', 'hostname %s && exec make '
+                             '--no-print-directory -C %s host' % (name, WORKSPACE)],
+                            capture_output=True, text=True, timeout=HANG_SECONDS)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout == (
+        "set-up: warning: this machine's host name '%s' does not resolve: roslaunch and catkin "
+        "overlays (the tutorial's launch files, some tests) will fail. Add the line '127.0.1.1 "
+        "%s' to /etc/hosts, as Debian's installer writes it.\n" % (name, name)), result.stdout
+    resolves = subprocess.run(['sh', '-c', 'getent hosts "$(hostname)"'],
+                              capture_output=True).returncode == 0
+    here = subprocess.run(['make', '--no-print-directory', '-C', WORKSPACE, 'host'],
+                          capture_output=True, text=True, timeout=HANG_SECONDS)
+    assert here.returncode == 0
+    assert (here.stdout == '') == resolves, here.stdout
