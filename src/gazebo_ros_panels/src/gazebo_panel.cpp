@@ -170,10 +170,12 @@ void GazeboPanel::showFrameRate(int64_t now_wall_ns) {
   rviz::RenderPanel* render_panel = vis_manager_->getRenderPanel();
   Ogre::RenderWindow* window = render_panel ? render_panel->getRenderWindow() : nullptr;
   if (!window) return;
-  const double frames_per_second = window->getStatistics().lastFPS;
-  time_->showFrameRate(frames_per_second);
+  // OGRE counts once a second: shown and published at that pace, the figure changes no more
+  // often than it is taken.
   if (now_wall_ns - frame_rate_published_ns_ < 1000000000) return;
   frame_rate_published_ns_ = now_wall_ns;
+  const double frames_per_second = window->getStatistics().lastFPS;
+  time_->showFrameRate(frames_per_second);
   client_->publishFrameRate(frames_per_second);
 }
 

@@ -36,7 +36,8 @@ class GazeboPanel : public rviz::Panel {
   // second.
   void refresh();
   // The frames the view drew over its last whole second (OGRE's statistics of rviz's render
-  // window), shown, and published once a wall second (GazeboClient::publishFrameRate).
+  // window), shown (whole frames) and published (GazeboClient::publishFrameRate) once a wall
+  // second.
   void showFrameRate(int64_t now_wall_ns);
   void askForPhysics();   // the pause state and the physics, unless a call is under way
   void useTool(const QString& class_id);  // the rviz tool made current (added if not there)

@@ -86,7 +86,7 @@ void TimeTab::showClock(const ClockReading& clock, int64_t now_wall_ns) {
 }
 
 void TimeTab::showFrameRate(double frames_per_second) {
-  frame_rate_->setText(QString::number(frames_per_second, 'f', 1));
+  frame_rate_->setText(QString::number(frames_per_second, 'f', 0));
 }
 
 }  // namespace gazebo_ros_panels
