@@ -252,11 +252,27 @@ class Checks:
             return None
 
     def lift(self, command):
-        result = self.ok(command)
-        assert 'success: True' in result.stdout, result.shown
+        """The model is lifted: the world's model states show it above 1 m after the command
+        (it falls back at once in the running world, before a later get_model_state on a busy
+        machine)."""
+        from gazebo_msgs.msg import ModelStates
         name = re.search(r'model_name: (\w+)', command).group(1)
-        state = self.s.api().get_model_state(name, '')
-        assert state.success and (state.pose.position.z > 1.0), state
+        heights = []
+
+        def heard(states):
+            if name in states.name:
+                heights.append(states.pose[states.name.index(name)].position.z)
+        # Every message kept (a busy machine may hold this process up for seconds of steps).
+        listener = self.s.rospy.Subscriber('/gazebo/model_states', ModelStates, heard,
+                                           queue_size=None)
+        try:
+            wait_until(lambda: heights, 60, what='the model states of %s' % name)
+            result = self.ok(command)
+            assert 'success: True' in result.stdout, result.shown
+            wait_until(lambda: heights and max(heights) > 1.0, 60,
+                       what='the model states to show %s lifted above 1 m' % name)
+        finally:
+            listener.unregister()
 
     def echo(self, command, words):
         result = self.ok(command + ' -n 1')
