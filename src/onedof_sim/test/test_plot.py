@@ -158,6 +158,15 @@ def test_buffer_series_until_a_time_leaves_out_what_came_after_it():
     assert buffer.series(until=11.0) == {'a': ([0.0, 0.5, 1.0], [20.0, 21.0, 22.0])}
 
 
+def test_buffer_series_since_a_time_starts_there_at_zero():
+    buffer = SampleBuffer(['a', 'b'])
+    for t in (10.0, 10.5, 11.0, 11.5):
+        buffer.append('a', t, t * 2)
+    buffer.append('b', 10.75, 1.0)  # b's first sample: the recording covers both from here
+    assert buffer.series(since=10.75, until=11.5) == {'a': ([0.25, 0.75], [22.0, 23.0]),
+                                                      'b': ([0.0], [1.0])}
+
+
 def test_buffer_is_bounded_and_keeps_the_newest_samples():
     buffer = SampleBuffer(['a'], maxlen=100)
     for i in range(10000):

@@ -249,12 +249,13 @@ class SampleBuffer:
         with self._lock:
             return None if self._origin is None else t - self._origin
 
-    def series(self, until=None):
-        """{label: (times, values)}, times relative to the earliest sample ever appended; only
-        the samples up to time `until` when it is given."""
+    def series(self, since=None, until=None):
+        """{label: (times, values)}: the samples from time `since` (then 0 on the times' axis;
+        else the earliest sample ever appended is) up to time `until`, each when given."""
         with self._lock:
-            origin = self._origin or 0.0
-            kept = {label: [(t, v) for t, v in samples if until is None or t <= until]
+            origin = since if since is not None else (self._origin or 0.0)
+            kept = {label: [(t, v) for t, v in samples
+                            if (since is None or t >= since) and (until is None or t <= until)]
                     for label, samples in self._samples.items()}
             return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
                     for label, samples in kept.items()}
@@ -471,8 +472,10 @@ class TopicRecorder:
     def __init__(self, specs, buffer_length=DEFAULT_BUFFER_LENGTH, timeout=10.0):
         self.message_counts = collections.Counter()
         self.first_reception = None  # ROS time (s) at which the first message arrived
+        self.first_receptions = {}  # topic -> ROS time (s) at which its first message arrived
         # topic -> [(label, read, msg_class)]; one label per plotted field, in the order given.
         self._fields, self.labels = self._resolve(specs, timeout)
+        self.topics = list(self._fields)
         self._timeout = timeout
         self.buffer = SampleBuffer(self.labels, buffer_length)
         self._missing_index = set()
@@ -538,6 +541,7 @@ class TopicRecorder:
         received = rospy.get_rostime().to_sec()
         if self.first_reception is None:
             self.first_reception = received
+        self.first_receptions.setdefault(topic, received)
         t = header_stamp(msg)
         if t is None:
             t = received
@@ -566,19 +570,22 @@ class TopicRecorder:
 
 
 def record(recorder, duration, timeout):
-    """Records `duration` seconds of ROS time from the first message received; returns the ROS
-    time at which the recording ends (what arrived later, while this process looked, is not
-    part of it). PlotError when nothing arrives within `timeout` wall seconds, when
-    ROS time stands still that long, or when a topic sent nothing."""
+    """Records `duration` seconds of ROS time from when every topic has sent its first message
+    (each is connected to on its own, some later than others: every series then covers the
+    whole recording); returns (start, end), the ROS times the recording covers (what arrived
+    earlier or later is not part of it). PlotError when a topic sends nothing within `timeout`
+    wall seconds, or when ROS time stands still that long."""
     import rospy
     recorder.start()
+    topics = len(recorder.topics)
     try:
         deadline = time.monotonic() + timeout
-        while recorder.first_reception is None:
+        while len(recorder.first_receptions) < topics:
             if time.monotonic() > deadline or rospy.is_shutdown():
                 recorder.check_received('the first %g s' % timeout)
+                break  # each topic has spoken by now
             time.sleep(0.01)
-        start = recorder.first_reception
+        start = max(recorder.first_receptions.values())
         last_time, last_progress = start, time.monotonic()
         while not rospy.is_shutdown():
             now = rospy.get_rostime().to_sec()
@@ -594,7 +601,7 @@ def record(recorder, duration, timeout):
     finally:
         recorder.stop()
     recorder.check_received('%g s of ROS time' % duration)
-    return now
+    return start, now
 
 
 def show_live(recorder, title, start_paused=False, refresh_hz=10.0):
@@ -717,11 +724,10 @@ def main(argv=None, prog='rosrun onedof_sim plot'):
         if not headless:
             show_live(recorder, args.title or prog, args.start_paused)
             return 0
-        end = record(recorder, args.duration, args.timeout)
-        series = recorder.buffer.series(until=end)
+        start, end = record(recorder, args.duration, args.timeout)
+        series = recorder.buffer.series(since=start, until=end)
         if args.png:
-            write_figure(series, args.png, title=args.title,
-                         until=recorder.buffer.since_origin(end))
+            write_figure(series, args.png, title=args.title, until=end - start)
         if args.csv:
             write_csv(series, args.csv)
         print('%s: %s samples of %s over %g s of ROS time -> %s' % (
