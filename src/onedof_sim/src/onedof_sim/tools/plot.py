@@ -240,6 +240,19 @@ class SampleBuffer:
                 self._origin = t
             self._samples[label].append((t, value))
 
+    def first_time(self, since):
+        """The time of the earliest sample from time `since` on (0 on series(since)'s axis);
+        `since` when there is none."""
+        with self._lock:
+            kept = {label: [(t, v) for t, v in samples if t >= since]
+                    for label, samples in self._samples.items()}
+            return self._kept_origin(kept, since)
+
+    @staticmethod
+    def _kept_origin(kept, default=0.0):
+        times = [t for samples in kept.values() for t, _ in samples]
+        return min(times) if times else default
+
     def count(self, label):
         with self._lock:
             return len(self._samples[label])
@@ -250,13 +263,14 @@ class SampleBuffer:
             return None if self._origin is None else t - self._origin
 
     def series(self, since=None, until=None):
-        """{label: (times, values)}: the samples from time `since` (then 0 on the times' axis;
-        else the earliest sample ever appended is) up to time `until`, each when given."""
+        """{label: (times, values)}: the samples from time `since` up to time `until`, each when
+        given, times relative to the earliest of them (with since; else to the earliest sample
+        ever appended)."""
         with self._lock:
-            origin = since if since is not None else (self._origin or 0.0)
             kept = {label: [(t, v) for t, v in samples
                             if (since is None or t >= since) and (until is None or t <= until)]
                     for label, samples in self._samples.items()}
+            origin = self._kept_origin(kept) if since is not None else (self._origin or 0.0)
             return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
                     for label, samples in kept.items()}
 
@@ -727,7 +741,8 @@ def main(argv=None, prog='rosrun onedof_sim plot'):
         start, end = record(recorder, args.duration, args.timeout)
         series = recorder.buffer.series(since=start, until=end)
         if args.png:
-            write_figure(series, args.png, title=args.title, until=end - start)
+            write_figure(series, args.png, title=args.title,
+                         until=end - recorder.buffer.first_time(start))
         if args.csv:
             write_csv(series, args.csv)
         print('%s: %s samples of %s over %g s of ROS time -> %s' % (
