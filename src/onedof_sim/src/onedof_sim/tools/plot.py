@@ -244,14 +244,8 @@ class SampleBuffer:
         """The time of the earliest sample from time `since` on (0 on series(since)'s axis);
         `since` when there is none."""
         with self._lock:
-            kept = {label: [(t, v) for t, v in samples if t >= since]
-                    for label, samples in self._samples.items()}
-            return self._kept_origin(kept, since)
-
-    @staticmethod
-    def _kept_origin(kept, default=0.0):
-        times = [t for samples in kept.values() for t, _ in samples]
-        return min(times) if times else default
+            return min((t for samples in self._samples.values() for t, _ in samples
+                        if t >= since), default=since)
 
     def count(self, label):
         with self._lock:
@@ -270,7 +264,10 @@ class SampleBuffer:
             kept = {label: [(t, v) for t, v in samples
                             if (since is None or t >= since) and (until is None or t <= until)]
                     for label, samples in self._samples.items()}
-            origin = self._kept_origin(kept) if since is not None else (self._origin or 0.0)
+            if since is None:
+                origin = self._origin or 0.0
+            else:
+                origin = min((t for samples in kept.values() for t, _ in samples), default=since)
             return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
                     for label, samples in kept.items()}
 
