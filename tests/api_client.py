@@ -45,6 +45,8 @@ BOX_SDF = """<?xml version="1.0"?>
   </model>
 </sdf>
 """
+BOX_VISUAL = ('<visual name="visual"><geometry><box><size>0.2 0.2 0.2</size></box></geometry>'
+              '</visual>')
 
 
 def tutorial_urdf():
@@ -119,8 +121,11 @@ class GazeboApi:
         assert res.success, res.status_message
         return res
 
-    def spawn_box(self, name='box', initial_pose=None):
-        res = self.spawn_sdf_model(name, BOX_SDF, '', initial_pose or pose(z=0.1), '')
+    def spawn_box(self, name='box', initial_pose=None, visual=False):
+        """A 0.2 m box of 1 kg: its collision, and with `visual` a visual of its shape (what the
+        window draws, and a click selects)."""
+        sdf = BOX_SDF.replace('</link>', BOX_VISUAL + '</link>') if visual else BOX_SDF
+        res = self.spawn_sdf_model(name, sdf, '', initial_pose or pose(z=0.1), '')
         assert res.success, res.status_message
         return res
 

@@ -1,12 +1,14 @@
 """The model handles of the simulator's rviz view (gazebo_ros.model_handles: Gazebo's translate and
-rotate modes as interactive markers), over real ROS against the real simulator: a free model gets
-a handle at its pose, the ground plane none; feedback as rviz's Interact tool sends it (MOUSE_DOWN,
+rotate modes as interactive markers), over real ROS against the real simulator: a model gets a
+handle at its pose, the ground plane none, and only the selected model's handle has arrows and
+rings, taking a press at once; feedback as rviz's Interact tool sends it (MOUSE_DOWN,
 POSE_UPDATEs while the mouse drags, MOUSE_UP where it is released) moves the model there and lets
 it go with zero velocity, and what rviz sends outside a drag moves nothing; the handle follows a
 model moved by anyone else, and goes with a deleted model; a refused move is logged once and the
 node keeps serving; a model held when the node stops gets its gravity back; started before the
 simulator, the node serves and picks the simulator up when it comes. And in the simulator's window
-(a real rviz under Xvfb), the mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project
+(a real rviz under Xvfb), a click selects a model (its handle gains its controls, another's lose
+them, a click on the ground selects none), and the mouse (xdotool) drags a model's x arrow by the pixels 0.3 m project
 to, holding the model in the air while the world runs, flicks it on and lets it go at once where
 it lands, and turns it by a quarter turn on its z ring; in a handle's right-click menu, Move To
 puts the view's focal point on its model (the view's distance, yaw and pitch kept), Follow keeps
@@ -22,8 +24,8 @@ import pytest
 
 from api_client import GazeboApi, pose
 from conftest import ENGINES, start_sim
-from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, DragSeen, GazeboWindow,
-                                               HandlesSeen, same_pose)
+from onedof_sim.tutorial.gazebo_window import (ARROW_GRAB, RING_GRAB, SELECTED_TOPIC, DragSeen,
+                                               GazeboWindow, HandlesSeen, same_pose)
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
 SERVER = '/gazebo_model_handles'
@@ -36,15 +38,23 @@ HANDLES = ['rosrun', 'gazebo_ros', 'model_handles']
 
 
 class Mouse:
-    """rviz's Interact tool on the handles: InteractiveMarkerFeedback to the server."""
+    """The view's Select Model tool on the models and their handles: the selected model's name
+    (latched), and InteractiveMarkerFeedback to the server."""
 
     def __init__(self, ros, rospy):
+        from std_msgs.msg import String
         from visualization_msgs.msg import InteractiveMarkerFeedback
         self.feedback = InteractiveMarkerFeedback
         self.publisher = rospy.Publisher(SERVER + '/feedback', InteractiveMarkerFeedback,
                                          queue_size=10)
+        self.selection = rospy.Publisher(SELECTED_TOPIC, String, queue_size=1, latch=True)
+        self.name = String
         ros.wait_until(lambda: self.publisher.get_num_connections() > 0, 120,
                        what='the handles to hear the mouse')
+
+    def select(self, name):
+        """A click on model `name` ('' : on none)."""
+        self.selection.publish(self.name(data=name))
 
     def send(self, name, event, target):
         message = self.feedback(marker_name=name, control_name='move_x', event_type=event,
@@ -119,13 +129,26 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
                    what="the box's handle at the box")
     assert api.get_world_properties().model_names == ['ground_plane', 'box']
     assert 'ground_plane' not in seen.markers  # a plane: no handle, as Gazebo selects none
-    controls = sorted(control.name for control in seen.markers['box'].controls)
-    assert controls == ['move_x', 'move_y', 'move_z', 'rotate_x', 'rotate_y', 'rotate_z']
+    # Nothing selected: no arrows, no rings, only a control that shows nothing.
+    assert [control.name for control in seen.markers['box'].controls] == ['unselected']
+    assert seen.markers['box'].controls[0].interaction_mode == 0  # NONE
+    assert seen.markers['box'].controls[0].markers == []
     assert seen.markers['box'].header.frame_id == 'world'
 
+    # Selected, the box's handle has its arrows and rings, and takes a press at once: the marker
+    # the server made for it over a second ago (ROS's marker server takes no feedback on a new
+    # marker in its first second) is the one selected, not a new one.
+    handle_seen = time.monotonic()
+    ros.wait_until(lambda: time.monotonic() > handle_seen + 1.0, 10, what='the handle a second old')
+    mouse = Mouse(ros, rospy_client)
+    mouse.select('box')
+    ros.wait_until(lambda: seen.has_controls('box'), 60, what="the selected box's controls")
+    controls = sorted(control.name for control in seen.markers['box'].controls)
+    assert controls == ['move_x', 'move_y', 'move_z', 'rotate_x', 'rotate_y', 'rotate_z']
     # Pressed, the box is held without gravity; the mouse drags it up and about z, the box
     # follows; released, the box stays there, at rest.
-    mouse = Mouse(ros, rospy_client)
+    mouse.send('box', mouse.feedback.MOUSE_DOWN, model_pose(api, 'box'))
+    ros.wait_until(lambda: not gravity_on(api, 'box'), 60, what='the first press taken')
     mouse.press_until(ros, 'box', model_pose(api, 'box'), lambda: not gravity_on(api, 'box'),
                       'the box held without gravity')
     held = yawed(1.0, 0.5, 0.6, 0.3)
@@ -142,11 +165,15 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     # After a release, rviz sends a POSE_UPDATE and a MOUSE_UP with the pose it shows when the
     # control under the still mouse changes: no drag, so the box and its handle stay. (A press
     # and release of another box after them, seen done, shows they were heard and acted on.)
+    # Another model selected: its handle has the controls, the box's none.
     api.spawn_box('other', pose(-1.0, -1.0, 0.5))
     ros.wait_until(lambda: handle_at(seen, 'other', pose(-1.0, -1.0, 0.5)), 60,
                    what="the other box's handle")
     mouse.send('box', mouse.feedback.POSE_UPDATE, held)
     mouse.send('box', mouse.feedback.MOUSE_UP, held)
+    mouse.select('other')
+    ros.wait_until(lambda: seen.has_controls('other') and not seen.has_controls('box'), 60,
+                   what='the controls moved to the other box')
     mouse.press_until(ros, 'other', pose(-1.0, -1.0, 0.5), lambda: not gravity_on(api, 'other'),
                       'the other box held')
     mouse.release('other', pose(-1.0, -1.0, 0.5))
@@ -161,13 +188,20 @@ def test_a_dragged_handle_moves_its_model_and_follows_it(ros, rospy_client, engi
     ros.wait_until(lambda: handle_at(seen, 'box', yawed(-1.0, 2.0, 0.1, 0)), 60,
                    what='the handle following the box')
 
-    # A model spawned gets a handle; a deleted one loses it.
+    # A model spawned gets a handle; a deleted one loses it, and is no longer selected: a new
+    # model of its name has no controls.
     api.spawn_box('box2', pose(0, 1, 0.1))
     ros.wait_until(lambda: handle_at(seen, 'box2', pose(0, 1, 0.1)), 60, what="box2's handle")
+    mouse.select('box')
+    ros.wait_until(lambda: seen.has_controls('box'), 60, what='the box selected again')
     deleted = api.delete_model('box')
     assert deleted.success, deleted.status_message
     ros.wait_until(lambda: 'box' not in seen.markers, 60, what="the box's handle gone")
     assert 'box2' in seen.markers
+    api.spawn_box('box', pose(1.0, 1.0, 0.1))
+    ros.wait_until(lambda: handle_at(seen, 'box', pose(1.0, 1.0, 0.1)), 60,
+                   what="the new box's handle")
+    assert not seen.has_controls('box')
 
     # In a running world the handle follows a falling box down to where it rests.
     dropped = api.set_model_state(model_state('box2', pose(0, 1, 0.6)))
@@ -204,6 +238,7 @@ def test_a_refused_move_is_logged_once_and_the_handles_keep_serving(ros, rospy_c
 
     # A pose the simulator refuses (not finite), dragged and held: said once, the box where it was.
     mouse = Mouse(ros, rospy_client)
+    mouse.select('box')
     mouse.press_until(ros, 'box', pose(0, 0, 0.1), lambda: not gravity_on(api, 'box'),
                       'the box held')
     nowhere = pose(math.nan, 0, 0.1)
@@ -230,6 +265,7 @@ def test_a_model_held_when_the_handles_stop_gets_its_gravity_back(ros, rospy_cli
     seen = HandlesSeen(rospy_client)
     ros.wait_until(lambda: handle_at(seen, 'box', pose(0, 0, 0.5)), 120, what="the box's handle")
     mouse = Mouse(ros, rospy_client)
+    mouse.select('box')
     mouse.press_until(ros, 'box', pose(0, 0, 0.5), lambda: not gravity_on(api, 'box'),
                       'the box held without gravity')
     # The view closes mid-drag (it stops the handles as PrivateRos does, SIGINT first).
@@ -316,7 +352,12 @@ def test_a_models_own_view_shows_its_markers_of_that_view_alone(ros, rospy_clien
     for topic in ('/gazebo/collision_markers', '/gazebo/com_markers'):
         assert not ros.connected('/gazebo', topic, '/gazebo_model_handles')
 
+    # Each menu is the selected model's: rviz shows a menu on a handle's controls.
+    mouse.select('near')
+    ros.wait_until(lambda: seen.has_controls('near'), 60, what='near selected')
     choose_checked(ros, mouse, seen, 'near', 'Collisions')
+    mouse.select('far')
+    ros.wait_until(lambda: seen.has_controls('far'), 60, what='far selected')
     choose_checked(ros, mouse, seen, 'far', 'Center of Mass')
     ros.wait_until(lambda: set(relayed.shown) == {'near/Collisions', 'far/Center of Mass'}, 60,
                    what="near's collision and far's centre of mass relayed, nothing else")
@@ -340,6 +381,8 @@ def test_a_models_own_view_shows_its_markers_of_that_view_alone(ros, rospy_clien
 
     # Unchecked, near's collision goes; deleted, far's centre of mass goes with it; with no
     # model in a view the simulator's topics are left.
+    mouse.select('near')
+    ros.wait_until(lambda: seen.has_controls('near'), 60, what='near selected again')
     choose_checked(ros, mouse, seen, 'near', 'Collisions')
     ros.wait_until(lambda: set(relayed.shown) == {'far/Center of Mass'}, 60,
                    what="near's collision gone")
@@ -353,13 +396,14 @@ def test_a_models_own_view_shows_its_markers_of_that_view_alone(ros, rospy_clien
 
 
 def window_on_boxes(ros, rospy_client, boxes):
-    """The simulator, paused, with a box at each of boxes' poses ({name: Pose}), and its window
-    with the handles shown: (api, window, seen: a HandlesSeen) once each box's handle is at it."""
+    """The simulator, paused, with a box (a visual of its shape) at each of boxes' poses ({name:
+    Pose}), and its window with the handles shown: (api, window, seen: a HandlesSeen) once each
+    box's handle is at it."""
     start_sim(ros, ENGINES[0])
     api = GazeboApi(rospy_client)
     api.pause_physics()
     for name, at in boxes.items():
-        api.spawn_box(name, at)
+        api.spawn_box(name, at, visual=True)
     window = GazeboWindow(ros)
     window.show_handles()
     seen = HandlesSeen(rospy_client)
@@ -368,9 +412,33 @@ def window_on_boxes(ros, rospy_client, boxes):
     return api, window, seen
 
 
-def test_the_right_click_menu_deletes_a_model(ros, rospy_client, tmp_path):
+def box_top(api, name):
+    """The middle of the top of box model `name` (0.2 m, unturned but about z), where a click
+    selects it."""
+    at = position_of(api, name)
+    return (at[0], at[1], at[2] + 0.1)
+
+
+def select_by_click(window, api, seen, name):
+    """A click on box model `name` in the window: selected, its handle with its controls."""
+    window.select(name, box_top(api, name))
+    window.ros.wait_until(lambda: seen.has_controls(name), 60, what='%s selected' % name)
+
+
+def test_a_click_selects_a_model_and_the_right_click_menu_deletes_it(ros, rospy_client,
+                                                                    tmp_path):
     api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.1),
                                                             'kept': pose(-1.0, 1.0, 0.1)})
+    # Nothing selected: no arrows or rings. A click on a model selects it alone; a click on the
+    # ground, or on nothing, selects none.
+    assert not seen.has_controls('box') and not seen.has_controls('kept')
+    select_by_click(window, api, seen, 'kept')
+    assert not seen.has_controls('box')
+    select_by_click(window, api, seen, 'box')
+    ros.wait_until(lambda: not seen.has_controls('kept'), 60, what='kept deselected')
+    window.select('', (0.0, -1.0, 0.0))
+    ros.wait_until(lambda: not seen.has_controls('box'), 60, what='the ground selecting none')
+    select_by_click(window, api, seen, 'box')
     assert menu_of(seen.markers['box']) == (MENU, VIEW_MENU)
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.1), MENU.index('Delete') + 1)
@@ -403,7 +471,8 @@ def test_a_model_is_put_back_where_it_was_spawned_alone_or_with_all(ros, rospy_c
     # The box's right-click Reset Model Pose: the box back at its spawn pose, at rest; the other
     # where it was moved.
     at = moved['box'].position
-    window.screenshot(str(tmp_path / 'moved.png'))  # the handles drawn before the mouse goes
+    select_by_click(window, api, seen, 'box')
+    window.screenshot(str(tmp_path / 'moved.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((at.x + ARROW_GRAB, at.y, at.z), MENU.index('Reset Model Pose') + 1)
     ros.wait_until(lambda: close(model_pose(api, 'box'), spawned['box'], 1e-9), 60,
                    what='the box back at its spawn pose')
@@ -450,6 +519,7 @@ def test_the_right_click_menu_moves_the_view_to_a_model_and_follows_it(ros, rosp
         it, once the window shows that view."""
         at = position_of(api, name)
         window.read_view(config)
+        select_by_click(window, api, seen, name)
         window.screenshot(str(tmp_path / ('%s_%s.png' % (name, entry.replace(' ', '_')))))
         window.choose_from_menu((at[0] + ARROW_GRAB, at[1], at[2]), MENU.index(entry) + 1)
 
@@ -510,6 +580,7 @@ def test_the_right_click_menu_applies_a_force_for_a_duration(ros, rospy_client, 
     from gazebo_ros.wrench_dialog import FIELDS, TITLE
     api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
     api.set_gravity(0, 0, 0)  # the box in the air, weightless: free
+    select_by_click(window, api, seen, 'box')
     assert menu_of(seen.markers['box']) == (MENU, VIEW_MENU)
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
     window.choose_from_menu((1.0 + ARROW_GRAB, 0.0, 0.5), MENU.index('Apply Force/Torque') + 1)
@@ -544,6 +615,7 @@ def yaw_of(orientation):
 def test_the_mouse_drags_and_turns_a_model_in_the_window(ros, rospy_client, tmp_path):
     # The box in the air: it falls unless held.
     api, window, seen = window_on_boxes(ros, rospy_client, {'box': pose(1.0, 0.0, 0.5)})
+    select_by_click(window, api, seen, 'box')
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes
 
     # The x arrow's head pressed and moved by the pixels 0.3 m along x project to, and held.
@@ -621,8 +693,8 @@ def resident_bytes(pid):
 
 
 def test_the_window_stays_up_through_many_inserts_drags_and_deletes(ros, rospy_client):
-    """CYCLES times a box spawned, dragged by its handle and deleted through its right-click menu
-    (the feedback rviz sends, over ROS), with the window (a real rviz on Xvfb) drawing it all:
+    """CYCLES times a box spawned, selected by a click in the window, dragged by its handle and
+    deleted through its right-click menu (the feedback rviz sends, over ROS), with the window (a real rviz on Xvfb) drawing it all:
     rviz never exits, no model is lost or left, and neither rviz's memory nor the node's grows."""
     import psutil
     sim = start_sim(ros, ENGINES[0])
@@ -637,8 +709,9 @@ def test_the_window_stays_up_through_many_inserts_drags_and_deletes(ros, rospy_c
     memory = {}
     for cycle in range(CYCLES):
         name = 'box_%d' % cycle
-        api.spawn_box(name, start)
+        api.spawn_box(name, start, visual=True)
         ros.wait_until(lambda: handle_at(seen, name, start), 60, what="%s's handle" % name)
+        select_by_click(window, api, seen, name)
         mouse.press_until(ros, name, start, lambda: not gravity_on(api, name), name + ' held')
         mouse.drag_until(ros, name, target, lambda: close(model_pose(api, name), target),
                          name + ' dragged')

@@ -182,7 +182,8 @@ def test_the_view_modes_make_the_world_or_one_model_wireframe_or_transparent(
     def model_view(name, mode):
         x, y = MODE_BOXES[name]
         window.show_handles()
-        ros.wait_until(lambda: name in (seen_handles.markers or {}), 60, what=name + "'s handle")
+        window.select(name, (x, y, 2 * HALF))  # a click on its top
+        ros.wait_until(lambda: seen_handles.has_controls(name), 60, what=name + "'s handle")
         # The handles drawn before the mouse goes.
         window.screenshot(str(tmp_path / ('handles_%d.png' % next(shots))))
         window.choose_from_menu((x + ARROW_GRAB, y, HALF), VIEW_ENTRY, VIEW_SUB_ENTRY[mode])

@@ -28,7 +28,7 @@ namespace gazebo_ros_panels {
 namespace {
 
 const QString kInsertHereTool = "gazebo_ros_panels/InsertHere";  // plugin_description.xml
-const QString kInteractTool = "rviz/Interact";
+const QString kSelectTool = "gazebo_ros_panels/SelectModel";
 // The display of the model handles (gazebo_ros.model_handles) in gazebo_ros' world.rviz.
 const QString kHandlesDisplay = "Move models";
 const QString kHandlesClass = "rviz/InteractiveMarkers";
@@ -67,8 +67,8 @@ void GazeboPanel::onInitialize() {
   tabs->addTab(scrollable(world_), "&World");
   // Gazebo's T (translate mode); Alt+T here, as the panel's other buttons.
   auto* move_models = new QPushButton("Move models (&T)");
-  move_models->setToolTip("Gazebo's translate and rotate modes: arrows and rings on each "
-                          "model, dragged with rviz's Interact tool; pressed again, hidden");
+  move_models->setToolTip("Gazebo's translate and rotate modes: arrows and rings on the model "
+                          "clicked, dragged with the Select Model tool; pressed again, hidden");
   connect(move_models, &QPushButton::clicked, this, &GazeboPanel::toggleMoveModels);
   status_ = new QLabel;
   status_->setWordWrap(true);
@@ -148,8 +148,8 @@ void GazeboPanel::toggleMoveModels() {
     report("models shown without their handles");
     return;
   }
-  useTool(kInteractTool);
-  report("drag a model's arrows and rings in the 3D view");
+  useTool(kSelectTool);
+  report("click a model, then drag its arrows and rings in the 3D view");
 }
 
 void GazeboPanel::report(const QString& text) {

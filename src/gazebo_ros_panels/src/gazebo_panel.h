@@ -43,7 +43,7 @@ class GazeboPanel : public rviz::Panel {
   void useTool(const QString& class_id);  // the rviz tool made current (added if not there)
   void chooseInsertPoint();  // rviz's Insert Here tool made current
   // Gazebo's translate and rotate modes, on and off: the model handles' display shown (added if
-  // the view has none) and rviz's Interact tool made current, or the handles hidden.
+  // the view has none) and the Select Model tool made current, or the handles hidden.
   void toggleMoveModels();
   rviz::Display* handlesDisplay(bool add);  // the model handles' display, nullptr if none
   // Tabbed with rviz's Displays panel in its dock, raised (as Gazebo's World and Insert tabs

@@ -5,6 +5,7 @@
 #include <OGRE/OgreTechnique.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <rviz/default_plugin/marker_utils.h>
+#include <rviz/default_plugin/markers/marker_selection_handler.h>
 #include <rviz/display_context.h>
 #include <rviz/properties/bool_property.h>
 #include <rviz/properties/int_property.h>
@@ -19,6 +20,14 @@ namespace {
 constexpr float kTransparency = 0.5f;
 // rviz/Marker's DELETEALL (visualization_msgs' constant is newer than some of its users).
 constexpr int kDeleteAll = 3;
+
+// rviz's marker keeps its selection handler, which picking finds, protected: read through a
+// member pointer named in a derived type, which C++ allows.
+struct MarkerHandler : rviz::MarkerBase {
+  static const rviz::SelectionHandler* of(const rviz::MarkerBase& marker) {
+    return (marker.*(&MarkerHandler::handler_)).get();
+  }
+};
 
 }  // namespace
 
@@ -90,6 +99,12 @@ void ModelVisuals::reset() {
 void ModelVisuals::fixedFrameChanged() {
   MarkerArrayDisplay::fixedFrameChanged();
   clearShown();
+}
+
+std::string ModelVisuals::modelOf(const rviz::SelectionHandler* handler) const {
+  for (const auto& [id, shown] : shown_)
+    if (handler && MarkerHandler::of(*shown.marker) == handler) return id.first;
+  return "";
 }
 
 void ModelVisuals::clearShown() {

@@ -35,6 +35,7 @@ class Pass;
 namespace rviz {
 class BoolProperty;
 class Property;
+class SelectionHandler;
 }
 
 namespace gazebo_ros_panels {
@@ -52,6 +53,9 @@ class ModelVisuals : public rviz::MarkerArrayDisplay {
   ~ModelVisuals() override;
   void reset() override;
   void fixedFrameChanged() override;
+  // The model (a marker's namespace) whose drawn marker rviz's picking found through `handler`,
+  // "" if none of this display's.
+  std::string modelOf(const rviz::SelectionHandler* handler) const;
 
  protected:
   void subscribe() override;

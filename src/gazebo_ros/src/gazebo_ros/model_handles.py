@@ -1,12 +1,19 @@
 """Gazebo's translate and rotate modes in the simulator's rviz view: an interactive marker server
-(topics under /gazebo_model_handles, the node /gazebo_model_handles) with one handle per model of
-the simulator's world (/gazebo/view_model_states: its poses at its views' rate, not every step as
-/gazebo/model_states) but the ground plane, at the model's pose: arrows along the world's x, y and z
-(translate) and rings about them (rotate), dragged with rviz's Interact tool. Static models have
-handles too (Gazebo moves a static model, the cafe table a student places, with the mouse); the
-ground plane has none, as Gazebo selects no plane. world.rviz's "Move models" display shows them
-(the Gazebo panel's "Move models" button ticks it); it starts unticked, as Gazebo starts in its
-select mode, so that the picture of the world is the world's until the user asks for the handles.
+(topics under /gazebo_model_handles, the node /gazebo_model_handles) with a handle on the selected
+model, as Gazebo puts its arrows and rings on the model selected alone: the model named on
+SELECTED_TOPIC (latched; the view's Select Model tool publishes a clicked model, an empty name for
+none), at its pose in the simulator's world (/gazebo/view_model_states: its poses at its views'
+rate, not every step as /gazebo/model_states): arrows along the world's x, y and z (translate) and
+rings about them (rotate), dragged with that tool. Static models have handles too (Gazebo moves a
+static model, the cafe table a student places, with the mouse); the ground plane has none, as
+Gazebo selects no plane. Every other model has a marker whose one control neither moves nor shows
+anything (UNSELECTED_CONTROL; interactive_markers takes a marker of no controls for a deleted one,
+and rviz then draws no handle at all): selected, a model's marker gains its controls and keeps its
+server state (ROS's marker server takes no feedback in a new marker's first second), and a press is
+taken at once. A model deselected mid-drag keeps its controls until its release is sent; a deleted
+model is deselected. world.rviz's "Move models" display shows the handles (the Gazebo panel's "Move
+models" button ticks it); it starts unticked, as Gazebo starts in its select mode, so that the
+picture of the world is the world's until the user asks for them.
 
 A handle follows its model while it is not dragged (at most FOLLOW_HZ times a wall second, and only
 when the model moved): the poses of /gazebo/view_model_states, or, while none has come for
@@ -47,6 +54,8 @@ from gazebo_ros.model_marker_views import MODEL_VIEW_MARKERS, ModelMarkerViews
 SERVER_TOPIC = '/gazebo_model_handles'
 NODE_NAME = 'gazebo_model_handles'
 MODEL_STATES = '/gazebo/view_model_states'
+# The selected model's name (std_msgs/String, latched; gazebo_ros_panels' select_model_tool.h).
+SELECTED_TOPIC = '/gazebo_window/selected_model'
 SET_MODEL_STATE = '/gazebo/set_model_state'
 GET_MODEL_PROPERTIES = '/gazebo/get_model_properties'
 DELETE_MODEL = '/gazebo/delete_model'
@@ -67,6 +76,8 @@ WIREFRAME_TOPIC = '/gazebo_window/wireframe_models'
 VIEW_MODES = (('Transparent', TRANSPARENT_TOPIC), ('Wireframe', WIREFRAME_TOPIC))
 # The world's plane: Gazebo's ground_plane model, which Gazebo's mouse neither selects nor moves.
 GROUND_PLANE = 'ground_plane'
+# The name of an unselected model's handle's only control.
+UNSELECTED_CONTROL = 'unselected'
 FOLLOW_HZ = 10.0
 DRAG_HZ = 20.0
 # A handle is moved to its model once the model is this far (m, rad) from the handle.
@@ -96,8 +107,16 @@ def axis_controls():
     return controls
 
 
-def handle_marker(name, pose):
-    """The interactive marker of model `name` at `pose` (geometry_msgs/Pose in FRAME)."""
+def unselected_control():
+    """The one control of an unselected model's handle: no interaction, nothing drawn."""
+    from visualization_msgs.msg import InteractiveMarkerControl
+    return InteractiveMarkerControl(name=UNSELECTED_CONTROL,
+                                    interaction_mode=InteractiveMarkerControl.NONE)
+
+
+def handle_marker(name, pose, selected):
+    """The interactive marker of model `name` at `pose` (geometry_msgs/Pose in FRAME): its
+    arrows and rings if `selected`, unselected_control() else."""
     from visualization_msgs.msg import InteractiveMarker
     marker = InteractiveMarker()
     marker.header.frame_id = FRAME
@@ -105,7 +124,7 @@ def handle_marker(name, pose):
     marker.description = name
     marker.pose = pose
     marker.scale = 1.0
-    marker.controls = axis_controls()
+    marker.controls = axis_controls() if selected else [unselected_control()]
     return marker
 
 
@@ -196,9 +215,11 @@ class ModelHandles:
         self.say_once = say_once
         self.menus = menus
         self.lock = threading.Lock()
+        self.selected = ''        # the selected model's name ('': none)
         self.latest = None        # the latest view_model_states, serialised
         self.latest_at = -math.inf  # and the wall time it came
         self.shown = {}           # name -> the Pose its handle was last put at (None: released)
+        self.controlled = {}      # name -> whether its handle has its controls
         self.dragged = {}         # name -> the Pose the mouse holds it at
         self.to_send = {}         # name -> a dragged or released Pose not yet sent
         self.last_sent = {}       # name -> wall time of the last move sent
@@ -211,6 +232,11 @@ class ModelHandles:
         with self.lock:
             self.latest = raw._buff
             self.latest_at = time.monotonic()
+
+    def on_selected(self, name):
+        """The selected model (a std_msgs/String: its name, empty for none)."""
+        with self.lock:
+            self.selected = name.data
 
     def current_poses(self, now):
         """({name: Pose} of the simulator's models, the wall time they are from), or (None,
@@ -233,7 +259,9 @@ class ModelHandles:
         when the control under a still mouse changes after a release (a focus change)."""
         with self.lock:
             name = feedback.marker_name
-            if name not in self.shown:
+            # No press on a handle with no controls: what rviz cannot show it cannot press.
+            if name not in self.shown or (feedback.event_type == feedback.MOUSE_DOWN and
+                                          not self.controlled.get(name)):
                 return
             if feedback.event_type == feedback.MOUSE_DOWN or (
                     feedback.event_type == feedback.POSE_UPDATE and name in self.dragged):
@@ -248,7 +276,8 @@ class ModelHandles:
                 self.shown[name] = None  # the server took its pose: back to its model's
 
     def follow(self, now):
-        """Adds, moves and erases handles after the simulator's current poses."""
+        """Adds, moves and erases handles after the selection and the simulator's current
+        poses."""
         poses, as_of = self.current_poses(now)
         if poses is None:
             return
@@ -257,9 +286,13 @@ class ModelHandles:
             if self.menus:
                 self.menus.forget(name)
             with self.lock:
-                for table in (self.shown, self.dragged, self.to_send, self.last_sent,
-                              self.moved_at):
+                for table in (self.shown, self.controlled, self.dragged, self.to_send,
+                              self.last_sent, self.moved_at):
                     table.pop(name, None)
+                if self.selected == name:
+                    self.selected = ''
+        with self.lock:
+            selected = self.selected
         for name, pose in poses.items():
             if name == GROUND_PLANE:
                 continue
@@ -268,8 +301,10 @@ class ModelHandles:
                 if (name in self.dragged or name in self.to_send or
                         as_of < self.moved_at.get(name, -math.inf)):
                     continue
-                if name not in self.shown:
-                    self.server.insert(handle_marker(name, pose), self.on_feedback)
+                if name not in self.shown or self.controlled[name] != (name == selected):
+                    self.server.insert(handle_marker(name, pose, name == selected),
+                                       self.on_feedback)
+                    self.controlled[name] = name == selected
                     if self.menus:
                         self.menus.apply(name)
                 elif (self.shown[name] is None or
@@ -568,6 +603,7 @@ def main(argv):
                                        proxy_call(rospy, GET_MODEL_STATE, GetModelState)),
                            gravity, say_once, menus)
     rospy.Subscriber(MODEL_STATES, rospy.AnyMsg, handles.on_model_states, queue_size=1)
+    rospy.Subscriber(SELECTED_TOPIC, String, handles.on_selected, queue_size=1)
     rospy.loginfo('model handles: serving %s', SERVER_TOPIC)
     # Wall time: the rates bound the node's cost whatever the simulator's clock does (paused too).
     next_follow = time.monotonic()

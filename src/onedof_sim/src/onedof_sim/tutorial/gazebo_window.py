@@ -6,7 +6,8 @@ picture holds still.
 
 A model is inserted as in Gazebo's Insert tab: the model chosen in the panel's list by typing its
 name, "Insert by clicking", and a click on the ground where it goes. It is moved as in Gazebo's
-translate mode: the panel's "Move models" (the handles shown, rviz's Interact tool current), then
+translate mode: the panel's "Move models" (the handles shown, the Select Model tool current), a
+click on the model (its handle's arrows and rings on it once the view says it selected), then
 the mouse pressed on the middle of the arrow's head of its handle, moved by the pixels the
 distance projects to, and released; a handle's ring turns it the same way. The press, each step
 of the move and the release go on once rviz has reported the one before (its feedback to the
@@ -28,6 +29,8 @@ PANEL_UP = 'gazebo_ros_panels: the Gazebo panel is up'
 CATALOG_LISTED = 'gazebo_ros_panels: Insert: '
 HANDLES_UPDATE = '/gazebo_model_handles/update'
 HANDLES_FEEDBACK = '/gazebo_model_handles/feedback'
+# The model the view's Select Model tool selected (std_msgs/String, latched).
+SELECTED_TOPIC = '/gazebo_window/selected_model'
 # interactive_markers' default controls of a handle of scale 1 (the model handles'): a MOVE_AXIS
 # arrow runs from 0.5 to 0.9 m along its axis, its head the outer part, clear of the rotate rings
 # (radius 0.5 to 0.65 m); ARROW_GRAB is where the mouse takes it. RING_GRAB: the middle of a ring.
@@ -174,7 +177,7 @@ class GazeboWindow:
 
     def show_handles(self, timeout=120):
         """The panel's "Move models" (Alt+T): the handles shown (rviz subscribes to them), and
-        Interact the current tool."""
+        Select Model the current tool."""
         self.say('Move models (Gazebo\'s translate mode)')
         self.press('alt+t')
         self.ros.wait_until(self._handles_shown, timeout, what='rviz to show the model handles')
@@ -185,6 +188,23 @@ class GazeboWindow:
         self.press('alt+t')
         self.ros.wait_until(lambda: not self._handles_shown(), timeout,
                             what='rviz to hide the model handles')
+
+    def select(self, name, point, timeout=120):
+        """Clicks where the view shows world point `point`, on model `name`'s visuals, and
+        returns once the view names `name` selected ('' for a click on no model)."""
+        import rospy
+        from std_msgs.msg import String
+        said = []
+        subscriber = rospy.Subscriber(SELECTED_TOPIC, String, lambda m: said.append(m.data))
+        try:
+            clicks = len(said)
+            self.say('a click on %s' % (name or 'no model'))
+            self._must('mousemove', '--sync', *self.pixel(point))
+            self._must('click', '1')
+            self.ros.wait_until(lambda: len(said) > clicks and said[-1] == name, timeout,
+                                what='the view to select %r' % name)
+        finally:
+            subscriber.unregister()
 
     def _handles_shown(self):
         _, _, (_, subscribers, _) = self.ros.master().getSystemState('/gazebo_window')
@@ -332,6 +352,8 @@ class GazeboWindow:
 # clear of the arm, in the view), then dragged along x to where the tutorial wants it.
 TABLE_SHOWN_NAME = 'Cafe table'
 TABLE_INSERTED_AT = (1.3, 0.0)
+# The height of the cafe table's top (src/onedof_sim/models/cafe_table), where a click selects it.
+TABLE_TOP = 0.775
 # The window's screenshots, in the order the student sees them.
 WINDOW_SHOTS = ('window_1_open.png', 'window_2_table_inserted.png', 'window_3_move_models.png',
                 'window_4_table_dragged.png', 'window_5_table_2.5.png')
@@ -349,6 +371,11 @@ class HandlesSeen:
 
     def _received(self, init):
         self.markers = {marker.name: marker for marker in init.markers}
+
+    def has_controls(self, name):
+        """Whether model name's handle has its arrows and rings (the model is selected)."""
+        return bool(self.markers and name in self.markers and any(
+            control.name == 'move_x' for control in self.markers[name].controls))
 
 
 class DragSeen:
@@ -393,8 +420,8 @@ def same_pose(a, b, tolerance=1e-6):
 
 
 def place_table_by_mouse(window, rospy, x, output, timeout=120):
-    """Inserts the cafe table through the window's Insert tab at TABLE_INSERTED_AT and drags it
-    by its handle's x arrow to `x`, the handles shown for the drag only, a screenshot in `output`
+    """Inserts the cafe table through the window's Insert tab at TABLE_INSERTED_AT, selects it
+    with a click and drags it by its handle's x arrow to `x`, the handles shown for the drag only, a screenshot in `output`
     after each step (WINDOW_SHOTS 2 to 4); returns the table's name and where the mouse left
     it (x, y, z)."""
     from gazebo_msgs.srv import GetModelState, GetWorldProperties
@@ -411,7 +438,8 @@ def place_table_by_mouse(window, rospy, x, output, timeout=120):
 
     seen = HandlesSeen(rospy)
     window.show_handles()
-    window.ros.wait_until(lambda: name in (seen.markers or {}), timeout, what="the table's handle")
+    window.select(name, (start.x, start.y, TABLE_TOP))
+    window.ros.wait_until(lambda: seen.has_controls(name), timeout, what="the table's handle")
     window.screenshot(os.path.join(output, WINDOW_SHOTS[2]))  # drawn before the mouse goes
 
     window.say('the x arrow of %s dragged by the pixels %.3f m project to'
