@@ -8,12 +8,12 @@ rings about them (rotate), dragged with that tool. Static models have handles to
 static model, the cafe table a student places, with the mouse); the ground plane has none, as
 Gazebo selects no plane. Every other model has a marker whose one control neither moves nor shows
 anything (UNSELECTED_CONTROL; interactive_markers takes a marker of no controls for a deleted one,
-and rviz then draws no handle at all): selected, a model's marker gains its controls and keeps its
-server state (ROS's marker server takes no feedback in a new marker's first second), and a press is
-taken at once. A model deselected mid-drag keeps its controls until its release is sent; a deleted
-model is deselected. world.rviz's "Move models" display shows the handles (the Gazebo panel's "Move
-models" button ticks it); it starts unticked, as Gazebo starts in its select mode, so that the
-picture of the world is the world's until the user asks for them.
+and rviz then draws no handle at all): selected, a model's marker gains its controls, and a press
+on them is taken at once (take_feedback_at_once). A model deselected mid-drag keeps its controls
+until its release is sent; a deleted model is deselected. world.rviz's "Move models" display shows
+the handles (the Gazebo panel's "Move models" button ticks it); it starts unticked, as Gazebo
+starts in its select mode, so that the picture of the world is the world's until the user asks for
+them.
 
 A handle follows its model while it is not dragged (at most FOLLOW_HZ times a wall second, and only
 when the model moved): the poses of /gazebo/view_model_states, or, while none has come for
@@ -293,6 +293,7 @@ class ModelHandles:
                     self.selected = ''
         with self.lock:
             selected = self.selected
+        added = []
         for name, pose in poses.items():
             if name == GROUND_PLANE:
                 continue
@@ -301,6 +302,8 @@ class ModelHandles:
                 if (name in self.dragged or name in self.to_send or
                         as_of < self.moved_at.get(name, -math.inf)):
                     continue
+                if name not in self.shown:
+                    added.append(name)
                 if name not in self.shown or self.controlled[name] != (name == selected):
                     self.server.insert(handle_marker(name, pose, name == selected),
                                        self.on_feedback)
@@ -315,6 +318,20 @@ class ModelHandles:
                 self.shown[name] = pose
         self.withhold_dragged_poses()
         self.server.applyChanges()
+        self.take_feedback_at_once(added)
+
+    def take_feedback_at_once(self, names):
+        """Lets the server take rviz's feedback on the new handles of `names` at once: ROS's
+        marker server refuses a client's feedback within a second of the last feedback of
+        another client, and counts a new marker's creation as one; a model inserted and dragged
+        in its first second would stay where it was while rviz shows its handle dragged. One
+        view drags the handles."""
+        import rospy
+        with self.server.mutex:
+            for name in names:
+                context = self.server.marker_contexts.get(name)
+                if context is not None:
+                    context.last_feedback = rospy.Time(0)
 
     def withhold_dragged_poses(self):
         """Drops the server's pending pose of each dragged handle: the server takes a drag's

@@ -190,19 +190,28 @@ class GazeboWindow:
                             what='rviz to hide the model handles')
 
     def select(self, name, point, timeout=120):
-        """Clicks where the view shows world point `point`, on model `name`'s visuals, and
-        returns once the view names `name` selected ('' for a click on no model)."""
+        """Clicks where the view shows world point `point`, on model `name`'s visuals, until the
+        view names `name` selected ('' for a click on no model): a model just added to the world
+        is drawn once its visuals reach rviz, and a click before that selects none. Each click
+        waits for the view's answer to it."""
         import rospy
         from std_msgs.msg import String
         said = []
         subscriber = rospy.Subscriber(SELECTED_TOPIC, String, lambda m: said.append(m.data))
         try:
-            clicks = len(said)
+            # The latched answer to an earlier click first: the next one is this click's.
+            self.ros.wait_until(lambda: subscriber.get_num_connections() > 0, timeout,
+                                what='the view\'s selection')
             self.say('a click on %s' % (name or 'no model'))
             self._must('mousemove', '--sync', *self.pixel(point))
-            self._must('click', '1')
-            self.ros.wait_until(lambda: len(said) > clicks and said[-1] == name, timeout,
-                                what='the view to select %r' % name)
+
+            def clicked():
+                answers = len(said)
+                self._must('click', '1')
+                self.ros.wait_until(lambda: len(said) > answers, timeout,
+                                    what='the view to answer a click')
+                return said[-1] == name
+            self.ros.wait_until(clicked, timeout, what='the view to select %r' % name)
         finally:
             subscriber.unregister()
 
