@@ -147,16 +147,17 @@ void GazeboClient::publishFrameRate(double frames_per_second) {
 }
 
 template <class Srv>
-bool GazeboClient::call(const std::string& name, Srv& srv, Outcome* failed, bool reading) {
+bool GazeboClient::call(const std::string& name, Srv& srv, Outcome* failed, bool repeatable) {
   const std::string full = simulatorName(name);
   if (!ros::service::exists(full, false)) {
     failed->text = "no simulator: " + full + " is not served";
     return false;
   }
   bool called = ros::service::call(full, srv);
-  // A reading whose connection dropped (a busy machine) is made once more before it counts as
-  // failed; a change is not, as it may have been made.
-  if (!called && reading) called = ros::service::call(full, srv);
+  // A call whose connection dropped (a busy machine) is made once more before it counts as
+  // failed when two have the effect of one (a reading, a state set to given values); a step or
+  // a spawn is not, as it may have been made.
+  if (!called && repeatable) called = ros::service::call(full, srv);
   if (!called) {
     failed->text = full + " failed (the simulator's log says why)";
     return false;
@@ -239,7 +240,7 @@ void GazeboClient::setModelPose(const std::string& model, const geometry_msgs::P
     srv.request.model_state.model_name = model;
     srv.request.model_state.pose = pose;
     srv.request.model_state.reference_frame = "world";
-    if (call("set_model_state", srv, &outcome)) {
+    if (call("set_model_state", srv, &outcome, true)) {
       outcome.ok = srv.response.success;
       outcome.text = srv.response.success ? "moved " + model
                                           : model + ": " + srv.response.status_message;
@@ -289,7 +290,7 @@ void GazeboClient::setPhysics(const PhysicsState& state, Done done) {
     srv.request.max_update_rate = state.max_update_rate;
     srv.request.gravity = state.gravity;
     srv.request.ode_config = state.ode;
-    if (call("set_physics_properties", srv, &outcome)) {
+    if (call("set_physics_properties", srv, &outcome, true)) {
       outcome.ok = srv.response.success;
       outcome.text = srv.response.success ? "physics set" : srv.response.status_message;
     }

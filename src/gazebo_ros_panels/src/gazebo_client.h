@@ -115,10 +115,10 @@ class GazeboClient {
   std::string simulatorName(const std::string& name) const { return namespace_ + "/" + name; }
   // Empty-request services (pause_physics, ...): "<what>" on success.
   Outcome callEmpty(const std::string& name, const std::string& what);
-  // A service of the simulator; false with the reason in *failed. A reading (get_...) is tried
-  // twice.
+  // A service of the simulator; false with the reason in *failed. A repeatable call (a reading,
+  // a state set to given values) is tried twice.
   template <class Srv>
-  bool call(const std::string& name, Srv& srv, Outcome* failed, bool reading = false);
+  bool call(const std::string& name, Srv& srv, Outcome* failed, bool repeatable = false);
 
   const std::string namespace_;
   ros::NodeHandle nh_;
