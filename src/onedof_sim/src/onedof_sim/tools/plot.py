@@ -244,8 +244,12 @@ class SampleBuffer:
         """The time of the earliest sample from time `since` on (0 on series(since)'s axis);
         `since` when there is none."""
         with self._lock:
-            return min((t for samples in self._samples.values() for t, _ in samples
-                        if t >= since), default=since)
+            return self._earliest_from(since)
+
+    def _earliest_from(self, since):
+        """first_time's answer, the lock held."""
+        return min((t for samples in self._samples.values() for t, _ in samples if t >= since),
+                   default=since)
 
     def count(self, label):
         with self._lock:
@@ -264,10 +268,7 @@ class SampleBuffer:
             kept = {label: [(t, v) for t, v in samples
                             if (since is None or t >= since) and (until is None or t <= until)]
                     for label, samples in self._samples.items()}
-            if since is None:
-                origin = self._origin or 0.0
-            else:
-                origin = min((t for samples in kept.values() for t, _ in samples), default=since)
+            origin = (self._origin or 0.0) if since is None else self._earliest_from(since)
             return {label: ([t - origin for t, _ in samples], [v for _, v in samples])
                     for label, samples in kept.items()}
 

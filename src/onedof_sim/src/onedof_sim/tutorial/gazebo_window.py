@@ -430,9 +430,9 @@ def same_pose(a, b, tolerance=1e-6):
 
 def place_table_by_mouse(window, rospy, x, output, timeout=120):
     """Inserts the cafe table through the window's Insert tab at TABLE_INSERTED_AT, selects it
-    with a click and drags it by its handle's x arrow to `x`, the handles shown for the drag only, a screenshot in `output`
-    after each step (WINDOW_SHOTS 2 to 4); returns the table's name and where the mouse left
-    it (x, y, z)."""
+    with a click and drags it by its handle's x arrow to `x`, the handles shown for the drag
+    only, a screenshot in `output` after each step (WINDOW_SHOTS 2 to 4); returns the table's
+    name and where the mouse left it (x, y, z)."""
     from gazebo_msgs.srv import GetModelState, GetWorldProperties
     world = rospy.ServiceProxy('/gazebo/get_world_properties', GetWorldProperties)
     model_state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)
