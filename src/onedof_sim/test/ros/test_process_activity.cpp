@@ -243,16 +243,21 @@ TEST(ProcessThreads, AChildKilledReadsGoneBeforeItIsReaped) {
 }
 
 // A child whose main thread blocks on one pipe and a second thread, after many runs, on another;
-// a byte on the second ends that thread, a byte on the first wakes the main thread once.
+// a byte on the second ends that thread, a byte on the first wakes the main thread once. Each of
+// the helper's sleeps is long enough that its timer cannot expire before the thread blocks (a
+// 1 us timer can, and then the sleep returns without a run), so its 300 sleeps give it well over
+// kHelperRuns runs on any machine.
 class TwoThreadChild {
  public:
+  static constexpr uint64_t kHelperRuns = 100;
+
   TwoThreadChild() {
     EXPECT_EQ(::pipe(wake_main_), 0);
     EXPECT_EQ(::pipe(end_helper_), 0);
     pid_ = ::fork();
     if (pid_ == 0) {
       std::thread helper([this] {
-        for (int i = 0; i < 300; ++i) std::this_thread::sleep_for(std::chrono::microseconds(1));
+        for (int i = 0; i < 300; ++i) std::this_thread::sleep_for(std::chrono::microseconds(200));
         char byte;
         while (::read(end_helper_[0], &byte, 1) < 0) {
         }
@@ -289,7 +294,7 @@ TEST(ProcessThreads, AThreadThatExitsTakesNothingFromTheRunsOfThoseThatStay) {
     const ProcessActivity activity = view.activity();
     if (activity.asleep && activity.threads.size() == 2) {
       const ThreadRuns& helper = activity.threads[activity.threads[0].tid == child.pid()];
-      if (helper.runs >= 300) {
+      if (helper.runs >= TwoThreadChild::kHelperRuns) {
         at_command = view.runs();
         break;
       }
