@@ -429,10 +429,22 @@ def test_a_click_selects_a_model_and_the_right_click_menu_deletes_it(ros, rospy_
     assert not seen.has_controls('box') and not seen.has_controls('kept')
     select_by_click(window, api, seen, 'kept')
     assert not seen.has_controls('box')
+    # The World tab's tree chooses what the view selects: its Move moves that model, to the
+    # pose its fields show for it (where it is: the world is paused).
+    kept_at = position_of(api, 'kept')
+    assert window.move_chosen_in_world_tab() == 'kept'
+    assert position_of(api, 'kept') == pytest.approx(kept_at, abs=1e-3)
     select_by_click(window, api, seen, 'box')
     ros.wait_until(lambda: not seen.has_controls('kept'), 60, what='kept deselected')
+    box_at = position_of(api, 'box')
+    assert window.move_chosen_in_world_tab() == 'box'
+    assert position_of(api, 'box') == pytest.approx(box_at, abs=1e-3)
     window.select('', (0.0, -1.0, 0.0))
     ros.wait_until(lambda: not seen.has_controls('box'), 60, what='the ground selecting none')
+    # And the view selects what the tree chooses.
+    window.choose_in_world_tab('kept')
+    ros.wait_until(lambda: seen.has_controls('kept'), 60, what='kept chosen in the World tab')
+    assert not seen.has_controls('box')
     select_by_click(window, api, seen, 'box')
     assert menu_of(seen.markers['box']) == (MENU, VIEW_MENU)
     window.screenshot(str(tmp_path / 'handles.png'))  # the handle drawn before the mouse goes

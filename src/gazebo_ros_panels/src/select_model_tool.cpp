@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include "model_visuals.h"
+#include "selection.h"
 
 namespace gazebo_ros_panels {
 namespace {
@@ -40,8 +41,11 @@ void SelectModelTool::onInitialize() {
   InteractionTool::onInitialize();
   setName("Select Model");
   setIcon(rviz::loadPixmap("package://rviz/icons/classes/Interact.png"));
-  // Nothing is published until a click: the model handles start with none selected.
+  // Nothing is published until a selection: the model handles start with none selected.
   selected_ = node_.advertise<std_msgs::String>(kSelectedModelTopic, 1, true);
+  Selection& selection = Selection::hub();
+  connect(&selection, &Selection::changed, this, &SelectModelTool::publish);
+  if (!selection.model().isEmpty()) publish(selection.model());
 }
 
 int SelectModelTool::processMouseEvent(rviz::ViewportMouseEvent& event) {
@@ -54,7 +58,11 @@ int SelectModelTool::processMouseEvent(rviz::ViewportMouseEvent& event) {
     press_y_ = event.y;
   } else if (event.leftUp() && !pressed_on_control_ &&
              std::abs(event.x - press_x_) + std::abs(event.y - press_y_) <= kClickSlack) {
-    select(modelAt(event));
+    const QString model = QString::fromStdString(modelAt(event));
+    if (model == Selection::hub().model())
+      publish(model);  // said again: the click is answered
+    else
+      Selection::hub().select(model);
   }
   return flags;
 }
@@ -71,12 +79,12 @@ std::string SelectModelTool::modelAt(rviz::ViewportMouseEvent& event) {
   return "";
 }
 
-void SelectModelTool::select(const std::string& model) {
+void SelectModelTool::publish(const QString& model) {
   std_msgs::String name;
-  name.data = model;
+  name.data = model.toStdString();
   selected_.publish(name);
-  setStatus(model.empty() ? QString("no model selected: click one to move it")
-                          : QString("selected %1").arg(QString::fromStdString(model)));
+  setStatus(model.isEmpty() ? QString("no model selected: click one to move it")
+                            : QString("selected %1").arg(model));
 }
 
 }  // namespace gazebo_ros_panels

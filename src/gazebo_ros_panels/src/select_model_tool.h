@@ -1,7 +1,8 @@
 // Gazebo's selection in the simulator's rviz view (gazebo_ros_panels/SelectModel): a left click
 // on a model's visuals (the ModelVisuals display's) selects that model, its name on the latched
 // kSelectedModelTopic; a click on nothing or on the ground plane, which Gazebo never selects,
-// clears the selection (an empty name). The model handles (gazebo_ros.model_handles) put their
+// clears the selection (an empty name). The selection is the process's one (Selection::hub(),
+// which the World tab's tree shares); this tool publishes it whenever it changes. The model handles (gazebo_ros.model_handles) put their
 // arrows and rings on the selected model alone, as Gazebo's translate and rotate modes do, and
 // this tool drags them: a press on a handle's control, or a press that moves before its release,
 // is rviz's Interact tool's (the control dragged, or the camera moved).
@@ -28,7 +29,7 @@ class SelectModelTool : public rviz::InteractionTool {
 
  private:
   std::string modelAt(rviz::ViewportMouseEvent& event);  // "" where no model is drawn
-  void select(const std::string& model);
+  void publish(const QString& model);  // on kSelectedModelTopic, with the tool's status
 
   ros::NodeHandle node_;
   ros::Publisher selected_;

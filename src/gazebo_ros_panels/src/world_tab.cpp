@@ -3,15 +3,18 @@
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
+#include <QLabel>
 #include <QPushButton>
 #include <QVBoxLayout>
 #include <tf2/LinearMath/Matrix3x3.h>
 #include <tf2/LinearMath/Quaternion.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "gui_thread.h"
 #include "number_field.h"
+#include "selection.h"
 
 namespace gazebo_ros_panels {
 namespace {
@@ -43,7 +46,7 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
                      : numberField(-180, 180, 2, " deg");  // roll pitch yaw
     pose_form->addRow(names[i], pose_[i]);
   }
-  auto* apply_pose = new QPushButton("Mo&ve");
+  auto* apply_pose = new QPushButton("M&ove");
   pose_form->addRow(apply_pose);
   pose_group->setLayout(pose_form);
 
@@ -63,13 +66,31 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
   physics_form->addRow(apply_physics);
   physics_group->setLayout(physics_form);
 
+  auto* models = new QLabel("Mo&dels");
+  models->setBuddy(tree_);
   auto* layout = new QVBoxLayout(this);
+  layout->addWidget(models);
   layout->addWidget(tree_, 1);
   layout->addWidget(pose_group);
   layout->addWidget(physics_group);
 
   connect(apply_pose, &QPushButton::clicked, this, &WorldTab::applyPose);
   connect(apply_physics, &QPushButton::clicked, this, &WorldTab::applyPhysics);
+  connect(tree_, &QTreeWidget::currentItemChanged, this, [this] {
+    showChosenPose(client_->modelStates());  // at once: Move moves what the tree shows
+    if (!choosing_) Selection::hub().select(QString::fromStdString(chosenModel()));
+  });
+  connect(&Selection::hub(), &Selection::changed, this, &WorldTab::choose);
+}
+
+void WorldTab::choose(const QString& model) {
+  QTreeWidgetItem* item = nullptr;
+  for (int i = 0; i < tree_->topLevelItemCount() && !model.isEmpty() && !item; ++i)
+    if (tree_->topLevelItem(i)->text(0) == model) item = tree_->topLevelItem(i);
+  if (QString::fromStdString(chosenModel()) == model && (item || model.isEmpty())) return;
+  choosing_ = true;
+  tree_->setCurrentItem(item);
+  choosing_ = false;
 }
 
 std::string WorldTab::chosenModel() const {
@@ -91,7 +112,10 @@ void WorldTab::showModelStates(const gazebo_msgs::ModelStates& states) {
           report_(QString::fromStdString(outcome.text));
           return;
         }
-        const std::string chosen = chosenModel();
+        // The selection stays chosen; a model selected in the view before the tree listed it is
+        // chosen now, and a selected model the world no longer has is selected no more.
+        const QString chosen = Selection::hub().model();
+        choosing_ = true;
         tree_->clear();
         for (const ModelTree& model : trees) {
           auto* item = new QTreeWidgetItem(tree_, {QString::fromStdString(model.name)});
@@ -101,12 +125,20 @@ void WorldTab::showModelStates(const gazebo_msgs::ModelStates& states) {
           auto* joints = new QTreeWidgetItem(item, {"joints"});
           for (const std::string& joint : model.joints)
             new QTreeWidgetItem(joints, {QString::fromStdString(joint)});
-          if (model.name == chosen) tree_->setCurrentItem(item);
+          if (QString::fromStdString(model.name) == chosen) tree_->setCurrentItem(item);
         }
+        choosing_ = false;
+        const std::vector<std::string> now = client_->modelStates().name;
+        if (std::find(now.begin(), now.end(), chosen.toStdString()) == now.end())
+          Selection::hub().select("");
       });
     });
   }
   if (anyHasFocus(pose_.data(), pose_.size())) return;  // the user is typing a pose
+  showChosenPose(states);
+}
+
+void WorldTab::showChosenPose(const gazebo_msgs::ModelStates& states) {
   const std::string chosen = chosenModel();
   for (size_t i = 0; i < states.name.size() && i < states.pose.size(); ++i) {
     if (states.name[i] != chosen) continue;

@@ -1,6 +1,9 @@
 // Gazebo's World tab: the models with their links and joints as a tree, the chosen model's pose
 // (typing one and applying it moves the model: set_model_state), and the physics (step size,
-// real-time factor target, gravity: get/set_physics_properties).
+// real-time factor target, gravity: get/set_physics_properties). The tree's chosen model is the
+// window's selection (Selection::hub()), as Gazebo's World tab and scene select together: a model
+// chosen in the tree (by mouse, or by keys: Alt+D, then its name typed) is selected in the view,
+// and one selected in the view is chosen in the tree.
 #pragma once
 
 #include <QDoubleSpinBox>
@@ -26,6 +29,8 @@ class WorldTab : public QWidget {
 
  private:
   std::string chosenModel() const;
+  void choose(const QString& model);  // the tree's current item, as the selection says
+  void showChosenPose(const gazebo_msgs::ModelStates& states);  // in the pose fields
   void applyPose();
   void applyPhysics();
 
@@ -37,6 +42,7 @@ class WorldTab : public QWidget {
   PhysicsState physics_;
   bool physics_known_ = false;
   QTreeWidget* tree_;
+  bool choosing_ = false;  // the tree's current item being set from the selection
   std::array<QDoubleSpinBox*, 6> pose_;  // x y z (m), roll pitch yaw (deg)
   QDoubleSpinBox* step_size_;
   QDoubleSpinBox* factor_target_;

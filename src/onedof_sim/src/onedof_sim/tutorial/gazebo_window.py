@@ -175,6 +175,22 @@ class GazeboWindow:
         x, y = self.pixel(point)
         self._must('mousemove', '--sync', x, y, 'click', '1')
 
+    def choose_in_world_tab(self, name):
+        """The World tab raised, its model tree focused (Alt+D) and `name` typed: the tree's
+        keyboard search makes that model the chosen one."""
+        self.say('World tab: %s chosen in the tree' % name)
+        self.press('alt+w', 'alt+d', *name)
+
+    def move_chosen_in_world_tab(self, timeout=120):
+        """The World tab's Move (Alt+O): the chosen model set to the pose its fields show. The
+        model moved, as the panel's line names it."""
+        moved = 'gazebo_ros_panels: moved '
+        before = self.log().count(moved)
+        self.press('alt+w', 'alt+o')
+        self.ros.wait_until(lambda: self.log().count(moved) > before, timeout,
+                            what='the World tab to move its chosen model')
+        return re.match(r'[^\s\x1b]*', self.log().rsplit(moved, 1)[1]).group()
+
     def show_handles(self, timeout=120):
         """The panel's "Move models" (Alt+T): the handles shown (rviz subscribes to them), and
         Select Model the current tool."""
