@@ -2,10 +2,11 @@
 // on a model's visuals (the ModelVisuals display's) selects that model, its name on the latched
 // kSelectedModelTopic; a click on nothing or on the ground plane, which Gazebo never selects,
 // clears the selection (an empty name). The selection is the process's one (Selection::hub(),
-// which the World tab's tree shares); this tool publishes it whenever it changes. The model handles (gazebo_ros.model_handles) put their
-// arrows and rings on the selected model alone, as Gazebo's translate and rotate modes do, and
-// this tool drags them: a press on a handle's control, or a press that moves before its release,
-// is rviz's Interact tool's (the control dragged, or the camera moved).
+// which the World tab's tree shares); this tool publishes it whenever it changes. The model
+// handles (gazebo_ros.model_handles) put their arrows and rings on the selected model alone, as
+// Gazebo's translate and rotate modes do, and this tool drags them: a press on a handle's control,
+// or a press that moves before its release, is rviz's Interact tool's (the control dragged, or
+// the camera moved).
 #pragma once
 
 #include <ros/node_handle.h>

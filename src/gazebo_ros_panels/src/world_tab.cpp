@@ -84,9 +84,8 @@ WorldTab::WorldTab(GazeboClient* client, std::function<void(const QString&)> rep
 }
 
 void WorldTab::choose(const QString& model) {
-  QTreeWidgetItem* item = nullptr;
-  for (int i = 0; i < tree_->topLevelItemCount() && !model.isEmpty() && !item; ++i)
-    if (tree_->topLevelItem(i)->text(0) == model) item = tree_->topLevelItem(i);
+  const QList<QTreeWidgetItem*> found = tree_->findItems(model, Qt::MatchExactly);  // models
+  QTreeWidgetItem* item = model.isEmpty() || found.isEmpty() ? nullptr : found.front();
   if (QString::fromStdString(chosenModel()) == model && (item || model.isEmpty())) return;
   choosing_ = true;
   tree_->setCurrentItem(item);
