@@ -214,18 +214,26 @@ def spawn_laser_bot_before_the_box(ros, rospy):
     assert spawned.success, spawned.status_message
 
 
-def screenshot_with(ros, display, path, shown, what, before=None):
+def screenshot_with(ros, display, path, shown, what, before=None, describe=None):
     """Screenshots at path until shown(png, panel) holds for one, panel being its 3D panel's
     region (rviz draws what it receives a few frames after it arrives; on a busy machine many
-    seconds later); runs before() ahead of each. Returns the panel."""
+    seconds later); runs before() ahead of each. Returns the panel. On a timeout the error says
+    the last screenshot's panel and describe(png, panel), what it had instead."""
+    last = {}
+
     def screenshot_shown():
         if before:
             before()
         if not grab(display, path):
             return None
         panel = render_panel(path)
+        last.update(panel=panel, text=describe(path, panel) if describe else '')
         return panel if shown(path, panel) else None
-    return ros.wait_until(screenshot_shown, 300, interval=0.5, what=what)
+    try:
+        return ros.wait_until(screenshot_shown, 300, interval=0.5, what=what)
+    except TimeoutError as error:
+        raise TimeoutError('%s; the last screenshot: %s' % (
+            error, 'none taken' if not last else '3D panel %s %s' % (last['panel'], last['text'])))
 
 
 def assert_scan_on_the_face_only(ros, display, png, config, colour, height=LIDAR_Z):
@@ -383,13 +391,23 @@ def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros,
     def docked_images(panel):
         return (0, PANEL_TOP, panel[0], 720)
 
+    def cloud_and_images(png, panel):
+        return (count_pixels(png, red_box_face_region(view_config, panel), cloud_blue),
+                count_pixels(png, docked_images(panel), image_red))
+
     def cloud_and_images_shown(png, panel):
-        return (count_pixels(png, red_box_face_region(view_config, panel), cloud_blue) > 300
-                and count_pixels(png, docked_images(panel), image_red) > 1000)
+        cloud, images = cloud_and_images(png, panel)
+        return cloud > 300 and images > 1000
+
+    def cloud_and_images_described(png, panel):
+        return ('had %d cloud pixels on the box (more than 300 wanted) and %d red image pixels '
+                'left of the 3D panel (more than 1000 wanted), the simulator at %s' % (
+                    cloud_and_images(png, panel) + (api.get_world_properties().sim_time,)))
     panel = screenshot_with(
         ros, display, png, cloud_and_images_shown, "the cloud's points on the box and the box "
         "in the camera's and the Kinect's images",
-        before=lambda: api.step_simulation(KINECT_PERIOD_STEPS))
+        before=lambda: api.step_simulation(KINECT_PERIOD_STEPS),
+        describe=cloud_and_images_described)
     # The Kinect's own case is blue too (its visual, kinect_case).
     kinect_case = region_around(view_config, panel, [(KINECT['x'], dy, KINECT['z'])
                                                      for dy in (-0.05, 0.05)])
