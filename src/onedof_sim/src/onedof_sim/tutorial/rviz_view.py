@@ -158,8 +158,8 @@ class RvizView:
         """Grabs frames until two in a row are the same but for a few pixels (rviz's frame-rate
         counter) and not blank, and writes that one at path. An rviz started here (the one before
         it died) has not seen the world yet: once it is connected to the markers and transforms,
-        refresh() has the world show its pose again before each frame. Returns None once path is written, else why
-        the screenshot is missing (path is then not written)."""
+        refresh() has the world show its pose again before each frame. Returns None once path is
+        written, else why the screenshot is missing (path is then not written)."""
         frame = os.path.join(self.work_dir, 'frame.png')
         previous = os.path.join(self.work_dir, 'previous.png')
 
