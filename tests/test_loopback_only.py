@@ -37,6 +37,22 @@ def sockets_with_rviz_up(ros, rviz):
             return sockets
 
 
+def rviz_sockets_text(pid):
+    """What rviz (pid) holds: whether it runs, its socket descriptors, and its listening sockets
+    as ss lists them, for a failure's message."""
+    def is_socket(fd):
+        try:
+            return os.readlink('/proc/%d/fd/%s' % (pid, fd)).startswith('socket:')
+        except OSError:  # closed since it was listed
+            return False
+    try:
+        sockets = sum(map(is_socket, os.listdir('/proc/%d/fd' % pid)))
+    except OSError as error:
+        return 'pid %d: %s' % (pid, error)
+    return 'pid %d runs with %d socket descriptors; listening: %s' % (
+        pid, sockets, [s for s in listening_sockets() if s.pid == pid])
+
+
 def test_the_tutorial_nodes_listen_on_loopback_only(networked_shell, ros, rospy_client, tmp_path):
     rospy = rospy_client
     from std_msgs.msg import Float64
@@ -56,7 +72,8 @@ def test_the_tutorial_nodes_listen_on_loopback_only(networked_shell, ros, rospy_
     programs = {s.program for s in sockets}
     for expected in ('rosmaster', 'rosout', 'roslaunch', 'onedof_sim', 'robot_state_publisher',
                      'rviz', 'minimal_joint_controller', 'rostopic'):
-        assert expected in programs, 'no socket of %s found among %s' % (expected, sorted(programs))
+        assert expected in programs, 'no socket of %s found among %s; rviz: %s' % (
+            expected, sorted(programs), rviz_sockets_text(rviz.rviz.pid))
     assert os.getpid() in {s.pid for s in sockets}, 'no socket of this process\'s rospy found'
     exposed = {(s.program, s.protocol, s.address) for s in sockets
                if s.address == WILDCARD or not ipaddress.ip_address(s.address).is_loopback}
