@@ -23,11 +23,12 @@ from onedof_harness.private_ros import wait_until
 from onedof_sim.tools import package_executable
 
 # How much later than without the load a poll may be answered with it, at the 99th percentile:
-# the load's own share of a 2-core machine (a render, a scan or 32 clients take a core) delays a
-# poll by scheduler slices, up to about 0.1 s on a busy machine; a sensor holding the world's lock
-# for its work delays most polls by up to the work's whole time (a 4096 x 4096 render about a
-# second, a 262k-ray scan 0.1 to 0.2 s at every step).
-MARGIN_S = 0.25
+# the simulator's promise, a request answered within 100 ms while a heavy sensor works. The
+# load's own share of a 2-core machine (a render or a scan takes a core) delays a poll by
+# scheduler slices, some 20 ms at load 20; a sensor holding the world's lock for its work, or
+# roscpp's network thread waiting for a lock while an image is serialized, delays polls by up to
+# the work's whole time (a 4096 x 4096 render about a second, its 48 MB image tens of ms).
+MARGIN_S = 0.1
 # And at the most: a poll is made after the one before it is answered, so a stall of seconds
 # (a render under the lock) is one late poll among hundreds, which only the slowest polls show.
 # A busy machine alone stops a process for a few hundred ms now and then, at load 20 once in a

@@ -22,6 +22,8 @@
 
 #include <onedof_sim/world.h>
 
+#include "preserialized.h"
+
 namespace onedof_sim::plugins {
 
 // Takes the lock the loop holds around the world.
@@ -51,17 +53,18 @@ class SensorWork {
 
 // The messages a plugin makes under the world lock, kept until the loop takes them
 // (takePublications) to publish once it is unlocked, and its sensor work, kept until the loop
-// takes it (takeSensorWork).
+// takes it (takeSensorWork). Each is serialized as it is published, before roscpp takes its
+// topic lock (preserialized.h): an image's megabytes never hold up the node's network thread.
 class PublicationQueue {
  public:
   template <class Message>
   void add(const ros::Publisher& publisher, const Message& message) {
-    pending_.push_back([publisher, message] { publisher.publish(message); });
+    pending_.push_back([publisher, message] { publishPreSerialized(publisher, message); });
   }
   // A message held by a shared pointer, not copied (images, point clouds).
   template <class Message>
   void add(const ros::Publisher& publisher, const boost::shared_ptr<Message>& message) {
-    pending_.push_back([publisher, message] { publisher.publish(message); });
+    pending_.push_back([publisher, message] { publishPreSerialized(publisher, *message); });
   }
   std::vector<Publication> take() {
     std::vector<Publication> out;

@@ -380,8 +380,8 @@ class FrameWork : public SensorWork {
       : view_(std::move(view)), render_(render), publish_(std::move(publish)) {}
 
   // The render and the messages' making (the image's encoding) on the sensor thread; their
-  // publishing is left to the loop, at the process's priority: roscpp serializes a message
-  // holding a lock of its own that its other threads take too.
+  // publishing is left to the loop, at the process's priority: publishing takes roscpp's topic
+  // lock, which its network thread takes too, and a low-priority holder would keep it waiting.
   std::vector<Publication> withoutWorld() override {
     PublicationQueue out;
     onSensorThread([this, &out] {
