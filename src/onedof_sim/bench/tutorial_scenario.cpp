@@ -15,18 +15,17 @@
 //     the start. Prints CSV t,q,qdot after every step (t = 0 first).
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
-#include <iostream>
-#include <map>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <onedof_sim/world.h>
 
+#include "tool_options.h"
+
 namespace {
+
+// Options, UsageError, readFile, check, addGround.
+using namespace onedof_sim::tools;
 
 constexpr int64_t kControlPeriodNs = 10000000;  // the controller's 100 Hz
 constexpr const char* kRobot = "one_DOF_robot";
@@ -38,70 +37,10 @@ const char* const kUsage =
     "       tutorial_scenario release --physics NAME --ground F --urdf F --z Z --q Q --effort E "
     "--seconds S";
 
-struct UsageError {
-  std::string what;
-};
-
-class Options {
- public:
-  Options(int argc, char** argv, int first) {
-    for (int i = first; i < argc; i += 2) {
-      const std::string key = argv[i];
-      if (key.rfind("--", 0) != 0 || i + 1 >= argc) throw UsageError{"bad option " + key};
-      values_[key.substr(2)] = argv[i + 1];
-    }
-  }
-  std::string text(const std::string& key) const {
-    const auto found = values_.find(key);
-    if (found == values_.end()) throw UsageError{"missing --" + key};
-    return found->second;
-  }
-  double number(const std::string& key) const { return parse(text(key), key); }
-  std::vector<double> numbers(const std::string& key) const {
-    std::vector<double> out;
-    std::stringstream list(text(key));
-    for (std::string item; std::getline(list, item, ',');) out.push_back(parse(item, key));
-    return out;
-  }
-
- private:
-  static double parse(const std::string& value, const std::string& key) {
-    char* end = nullptr;
-    const double number = std::strtod(value.c_str(), &end);
-    if (value.empty() || *end != '\0' || !std::isfinite(number))
-      throw UsageError{"--" + key + " wants finite numbers, got '" + value + "'"};
-    return number;
-  }
-  std::map<std::string, std::string> values_;
-};
-
-std::string readFile(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw UsageError{"cannot read " + path};
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-void check(const onedof_sim::Status& status, const std::string& doing) {
-  if (status.ok()) return;
-  std::ostringstream why;
-  why << doing << ": " << status;
-  throw std::runtime_error(why.str());
-}
-
 onedof_sim::JointInfo joint1(const onedof_sim::World& world) {
   onedof_sim::JointInfo info;
   check(world.jointInfo(kJoint, &info), "joint1");
   return info;
-}
-
-// The world of the node's default world file: the ground plane model (F of --ground, the
-// package's models/ground_plane/model.sdf) at the origin, placed first as that world places it.
-void addGround(onedof_sim::World& world, const Options& options) {
-  check(world.spawn("ground_plane", readFile(options.text("ground")), onedof_sim::ModelFormat::Sdf,
-                    onedof_sim::Pose()),
-        "spawn the ground plane");
 }
 
 onedof_sim::Pose at(double x, double z) {
@@ -168,16 +107,6 @@ int release(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const std::string mode = argc > 1 ? argv[1] : "";
-    if (mode == "scenario") return scenario(Options(argc, argv, 2));
-    if (mode == "release") return release(Options(argc, argv, 2));
-    throw UsageError{"the first argument is the mode, scenario or release"};
-  } catch (const UsageError& error) {
-    std::cerr << "tutorial_scenario: " << error.what << "\n" << kUsage << std::endl;
-    return 2;
-  } catch (const std::exception& error) {
-    std::cerr << "tutorial_scenario: " << error.what() << std::endl;
-    return 1;
-  }
+  return onedof_sim::tools::runMode(argc, argv, "tutorial_scenario", kUsage,
+                                    {{"scenario", scenario}, {"release", release}});
 }

@@ -14,6 +14,8 @@ experiment is defined once, below, and its figures are computed by the same code
   minimal_joint_controller applies it: read q, qdot; an effort job for 10 ms from now), the
   tutorial player's phases and table. It gives the settled angles, the table-contact angle, and
   q(t) to compare between the engines.
+- beyond the tutorial's arm (onedof_sim.reference.engine_checks, our engines only): the book's
+  diff-drive base, a force-torque joint and the base's lidar in a pen.
 
     python -m onedof_sim.reference.cross_validation [--markdown docs/cross_validation.md]
 (under the workspace venv's python, where pybullet lives, with the devel space sourced).
@@ -29,7 +31,7 @@ import sys
 import rospkg
 
 from onedof_sim.engines import engine_names
-from onedof_sim.reference import pybullet_reference
+from onedof_sim.reference import engine_checks, pybullet_reference
 from onedof_sim.tutorial import physics
 from onedof_sim.tutorial.phases import PHASES, TABLE_X
 
@@ -74,12 +76,7 @@ def ground_sdf_path():
 
 def parse_csv(text):
     """A Run from the CSV the tool prints (t,q,qdot[,torque] with a header line)."""
-    lines = text.strip().splitlines()
-    header = lines[0].split(',')
-    columns = {name: [] for name in header}
-    for line in lines[1:]:
-        for name, value in zip(header, line.split(',')):
-            columns[name].append(float(value))
+    columns = engine_checks.parse_columns(text)
     return Run(columns['t'], columns['q'], columns['qdot'], columns.get('torque'))
 
 
@@ -255,7 +252,10 @@ def collect(phase_seconds=PHASE_SECONDS):
         differences[name] = engine_differences(run, reference_run, phase_seconds)
         without_slop[name] = engine_differences(run, without_slop_run, phase_seconds)
     figures += closed_form_figures(reference, phase_seconds, reference_run)
-    return {'figures': figures, 'differences': differences, 'without_slop': without_slop}
+    checks = [check for name in engine_names()
+              for check in engine_checks.checks(name, ground_sdf_path())]
+    return {'figures': figures, 'differences': differences, 'without_slop': without_slop,
+            'checks': checks}
 
 
 # --- the document -------------------------------------------------------------------------------
@@ -276,9 +276,9 @@ def _error(figure):
     return text
 
 
-def markdown(figures, differences, without_slop):
+def markdown(figures, differences, without_slop, checks=()):
     """The document: `figures` (Figures), `differences` and `without_slop` ({engine: {part of
-    RMS_AIMS: (RMS, max)}}) as collect() returns them."""
+    RMS_AIMS: (RMS, max)}}) and `checks` (engine_checks.Checks) as collect() returns them."""
     reference = PybulletReference.name
     lines = [
         '# Cross-validation of the physics engines',
@@ -343,7 +343,53 @@ def markdown(figures, differences, without_slop):
                                                 parts['with the table'][1])
             for engine, parts in without_slop.items())),
     ]
+    if checks:
+        lines += checks_section(checks)
     return '\n'.join(lines) + '\n'
+
+
+def checks_section(checks):
+    """The document's lines for engine_checks' Checks."""
+    lines = [
+        '',
+        '## Each engine beyond the tutorial: a diff-drive base, a force-torque joint, a lidar',
+        '',
+        'Through `engine_checks --physics NAME` (`onedof_sim.reference.engine_checks`), the '
+        'world calls each plugin makes, made directly:',
+        '',
+        '- The book\'s mobot (`bench/mobot_w_lidar.urdf`) on the ground, each wheel\'s velocity '
+        'motor set every step as gazebo_ros_diff_drive sets it (rate (v -+ w s / 2) / r, at '
+        'most %g N m); 1 s to reach the speed, then its mean speed along its heading and mean '
+        'turn rate over %g s straight and %g s turning.'
+        % (engine_checks.MOBOT['torque'], engine_checks.STRAIGHT[2], engine_checks.TURNING[2]),
+        '- A %g kg block on a vertical slider whose stops hold it (the book\'s force-torque '
+        'joint), under a base welded to the world: the constraint\'s force along z, mean of the '
+        'last 0.1 s of 1 s; m g with g = %g.' % (engine_checks.HELD_MASS, physics.GRAVITY),
+        '- The mobot at rest in a pen of four walls %g m from the origin: %d horizontal rays '
+        'over its front half from the lidar\'s place (%g m ahead, %g m up), against the '
+        'exact distance to the wall each meets.'
+        % (engine_checks.PEN_HALF, engine_checks.LIDAR_SAMPLES, engine_checks.LIDAR_X,
+           engine_checks.LIDAR_Z),
+        '',
+        '| engine | quantity | measured | expected | error | aim | met |',
+        '|---|---|---|---|---|---|---|',
+    ]
+    for check in checks:
+        figure = Figure(check.engine, check.quantity, check.unit, check.measured, check.expected)
+        lines.append('| %s | %s | %s | %s | %s | within %s | %s |' % (
+            check.engine, check.quantity, _with_unit(_number(check.measured), check.unit),
+            _with_unit(_number(check.expected), check.unit), _error(figure),
+            _with_unit('%.3g' % check.aim, check.unit), 'yes' if engine_checks.met(check) else
+            'no'))
+    missed = [check for check in checks if not engine_checks.met(check)]
+    if missed:
+        lines += ['', 'Not met: %s. Where it comes from is not pinned down: the wheels are '
+                  'cylinders on a plane, whose contact points each engine places its own way, '
+                  'and the casters are dragged sideways.' % ', '.join(
+                      '%s\'s %s (%+.3g %%)' % (check.engine, check.quantity,
+                                              100 * (check.measured / check.expected - 1))
+                      for check in missed)]
+    return lines
 
 
 def main(argv=None):
