@@ -227,13 +227,17 @@ class WorldView:
         if topics is None or topics == self.topics:
             return True
         if not self._call('save_config', self.config):
-            return False
+            return False  # rviz starting: it serves save_config once it is up
         with open(self.config) as f:
             current = yaml.safe_load(f)
         self._write(with_sensor_displays(current, topics))
         if not self._call('load_config_discarding_changes', self.config):
+            print('gzclient: rviz did not load the configuration with the sensor streams; '
+                  'trying again at the next look', flush=True)
             return False
         self.topics = topics
+        print('gzclient: the view shows the simulator\'s sensor streams: %s' % (
+            ', '.join(topic for topic, _ in topics) or 'none'), flush=True)
         return True
 
     def crashed(self, status):
