@@ -64,9 +64,11 @@ inline SerializedMessage serializeMessage<onedof_sim::PreSerialized>(
 namespace onedof_sim {
 
 // Publishes message on publisher, serialized here first, unless nobody would receive it (no
-// subscriber, not latched), in which case it is not serialized at all, as roscpp does.
+// subscriber, not latched), in which case it is not serialized at all, as roscpp does. A
+// publisher that was shut down publishes nothing (roscpp's isLatched would throw).
 template <class M>
 void publishPreSerialized(const ros::Publisher& publisher, const M& message) {
+  if (!publisher) return;
   if (publisher.getNumSubscribers() == 0 && !publisher.isLatched()) return;
   publisher.publish(preSerialize(message));
 }

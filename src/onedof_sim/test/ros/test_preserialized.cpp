@@ -48,4 +48,9 @@ TEST(PreSerialized, PublishingHandsOverTheSameBytesWithoutCopyingThem) {
   EXPECT_EQ(back.data, image().data);
 }
 
+TEST(PreSerialized, AnEmptyPublisherPublishesNothingAndThrowsNothing) {
+  const ros::Publisher none;
+  EXPECT_NO_THROW(onedof_sim::publishPreSerialized(none, image()));
+}
+
 }  // namespace
