@@ -218,7 +218,8 @@ def screenshot_with(ros, display, path, shown, what, before=None, describe=None)
     """Screenshots at path until shown(png, panel) holds for one, panel being its 3D panel's
     region (rviz draws what it receives a few frames after it arrives; on a busy machine many
     seconds later); runs before() ahead of each. Returns the panel. On a timeout the error says
-    the last screenshot's panel and describe(png, panel), what it had instead."""
+    the last screenshot's panel and describe(png, panel), what it had instead (the screenshot
+    is still at path then)."""
     last = {}
 
     def screenshot_shown():
@@ -226,14 +227,14 @@ def screenshot_with(ros, display, path, shown, what, before=None, describe=None)
             before()
         if not grab(display, path):
             return None
-        panel = render_panel(path)
-        last.update(panel=panel, text=describe(path, panel) if describe else '')
-        return panel if shown(path, panel) else None
+        last['panel'] = render_panel(path)
+        return last['panel'] if shown(path, last['panel']) else None
     try:
         return ros.wait_until(screenshot_shown, 300, interval=0.5, what=what)
     except TimeoutError as error:
         raise TimeoutError('%s; the last screenshot: %s' % (
-            error, 'none taken' if not last else '3D panel %s %s' % (last['panel'], last['text'])))
+            error, 'none taken' if not last else '3D panel %s %s' % (
+                last['panel'], describe(path, last['panel']) if describe else '')))
 
 
 def assert_scan_on_the_face_only(ros, display, png, config, colour, height=LIDAR_Z):
