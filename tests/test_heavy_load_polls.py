@@ -23,7 +23,9 @@ from onedof_harness.private_ros import wait_until
 from onedof_sim.tools import package_executable
 
 # How much later than without the load a poll may be answered with it, at the 99th percentile:
-# the simulator's promise, a request answered within 100 ms while a heavy sensor works. The
+# the simulator's promise, a request answered within 100 ms while a heavy sensor works or 32
+# clients call (against a bare service under the same clients: the simulator also steps the world
+# and writes each step's clock to the 33 nodes that subscribe to it). The
 # load's own share of a 2-core machine (a render or a scan takes a core) delays a poll by
 # scheduler slices, some 20 ms at load 20; a sensor holding the world's lock for its work, or
 # roscpp's network thread waiting for a lock while an image is serialized, delays polls by up to
@@ -37,15 +39,16 @@ MARGIN_S = 0.1
 # and makes the second slowest late too.
 MAX_MARGIN_S = 0.75
 MACHINE_STALL_S = 2.0
-# Under the 32 clients the simulator does more than the bare service beside it: it steps the world
-# (each step holds the world a poll waits for) and writes each step's clock to the 33 nodes that
-# subscribe to it, up to sim_loop's backlog of 100 messages, which a poll's request may wait
-# behind; on a busy machine that is up to a few hundred ms more than the bare service's.
-CLIENTS_MARGIN_S = 0.5
 POLL_INTERVAL_S = 0.02
 WINDOW_S = 4.0
 ROUNDS = 3
 CLIENTS = 32
+
+# The suite's workers run this module's tests one after another (pytest --dist loadgroup): two of
+# these loads at once would be each other's load, and the simulator, which steps a world beside
+# its services, falls further behind a bare service under 64 clients (some 190 ms at the 99th
+# percentile) than under 32 (some 40 ms).
+pytestmark = pytest.mark.xdist_group('heavy_load_polls')
 
 SENSOR_LINK = """<link name="world"/>
   <joint name="weld" type="fixed"><parent link="world"/><child link="body"/></joint>
@@ -248,11 +251,7 @@ def figures(latencies):
         1e3 * latencies[-2])
 
 
-LOADS = ['camera_4096', 'laser_262k', pytest.param('clients_32', marks=pytest.mark.skip(
-    reason='known defect: under 32 clients a poll still stalls now and then: in a whole-suite run '
-           '(load 2-48) bullet\'s slowest poll took 2332 ms against a bare roscpp service\'s '
-           '487 ms (99th percentiles 234 and 135 ms); alone at load 9-76 the 99th percentile was '
-           '0.11 s under to 0.30 s over the bare service\'s'))]
+LOADS = ['camera_4096', 'laser_262k', 'clients_32']
 
 
 @pytest.mark.parametrize('engine', ENGINES)
@@ -286,7 +285,6 @@ def test_a_poll_is_answered_as_soon_with_heavy_work_beside_it(ros, rospy_client,
     report = '%s on %s: %s: %s; with: %s' % (load_name, engine, baseline, figures(without),
                                              figures(loaded))
     print(report)
-    margin = MARGIN_S if load else CLIENTS_MARGIN_S
-    assert percentile(loaded, 0.99) <= percentile(without, 0.99) + margin, report
+    assert percentile(loaded, 0.99) <= percentile(without, 0.99) + MARGIN_S, report
     assert loaded[-2] <= without[-1] + MAX_MARGIN_S, report
     assert loaded[-1] <= without[-1] + MACHINE_STALL_S, report
