@@ -18,6 +18,16 @@
 //     origin, settled for 0.5 s; then N horizontal rays over -pi/2..pi/2 of its heading from
 //     the lidar's place on it (X ahead of the model frame, Z up), 80 m long. Prints CSV
 //     x,y,angle,distance per ray (x, y: where the rays start; angle in the world's axes).
+//   engine_checks arm --physics NAME --ground F --urdf F --joints J,... --pose Q,... --p P,...
+//                     --i I,... --d D,... --seconds S
+//     A serial arm (F: its base welded to the world, joints J in order from the base, each
+//     joint's child the next link) put at rest at the pose Q and held there by one
+//     effort_controllers/JointPositionController per joint with gains P, I, D (control_toolbox's
+//     Pid, each step, as gazebo_ros_control runs them at the physics rate) for S s. Prints CSV
+//     command,position,droop per joint: the mean position over the last 0.5 s, and the droop
+//     the P terms leave, the pose where each joint's P term holds gravity's torque on the arm
+//     beyond it (the integral terms take the droop away over time, the D terms none of it).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -26,6 +36,7 @@
 
 #include <onedof_sim/world.h>
 
+#include "pid.h"
 #include "tool_options.h"
 
 namespace {
@@ -40,7 +51,9 @@ const char* const kUsage =
     "--radius R --separation S --torque T --linear V --angular W --seconds S\n"
     "       engine_checks hold --physics NAME --ground F --mass M\n"
     "       engine_checks scan --physics NAME --ground F --urdf F --lidar-x X --lidar-z Z "
-    "--pen-half H --samples N";
+    "--pen-half H --samples N\n"
+    "       engine_checks arm --physics NAME --ground F --urdf F --joints J,... --pose Q,... "
+    "--p P,... --i I,... --d D,... --seconds S";
 
 double yawOf(const onedof_sim::Quat& q) {
   return std::atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z));
@@ -184,9 +197,139 @@ int scan(const Options& options) {
   return 0;
 }
 
+std::vector<std::string> names(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream items(list);
+  for (std::string item; std::getline(items, item, ',');) out.push_back(item);
+  return out;
+}
+
+// The arm's joints in `joints`' order, and its links with mass in the chain's order (the base
+// first: joint k's child is link k + 1).
+struct ArmFrames {
+  std::vector<onedof_sim::JointAxis> axes;
+  std::vector<onedof_sim::LinkMass> masses;
+};
+
+ArmFrames armFrames(const onedof_sim::World& world, const std::vector<std::string>& joints) {
+  ArmFrames arm;
+  const auto axes = world.jointAxes();
+  for (const std::string& joint : joints) {
+    const auto found = std::find_if(axes.begin(), axes.end(), [&](const auto& axis) {
+      return axis.model == kBase && axis.name == joint;
+    });
+    if (found == axes.end()) throw UsageError{"the arm has no joint " + joint};
+    arm.axes.push_back(*found);
+  }
+  for (const auto& mass : world.linkMasses())
+    if (mass.model == kBase) arm.masses.push_back(mass);
+  if (arm.masses.size() != joints.size() + 1)
+    throw UsageError{"the arm is a base and one link with mass per joint of --joints"};
+  return arm;
+}
+
+// Gravity's torque about each joint's axis on the links beyond it, as the arm stands now.
+std::vector<double> gravityTorques(const onedof_sim::World& world,
+                                   const std::vector<std::string>& joints) {
+  const ArmFrames arm = armFrames(world, joints);
+  const onedof_sim::Vec3 g = world.params().gravity;
+  std::vector<double> torques;
+  for (size_t joint = 0; joint < joints.size(); ++joint) {
+    const onedof_sim::Vec3& anchor = arm.axes[joint].anchor;
+    const onedof_sim::Vec3& axis = arm.axes[joint].axis;
+    double torque = 0;
+    for (size_t link = joint + 1; link < arm.masses.size(); ++link) {
+      const double m = arm.masses[link].mass;
+      const onedof_sim::Vec3& com = arm.masses[link].inertial.position;
+      const onedof_sim::Vec3 r{com.x - anchor.x, com.y - anchor.y, com.z - anchor.z};
+      const onedof_sim::Vec3 f{m * g.x, m * g.y, m * g.z};
+      const onedof_sim::Vec3 moment{r.y * f.z - r.z * f.y, r.z * f.x - r.x * f.z,
+                                    r.x * f.y - r.y * f.x};
+      torque += moment.x * axis.x + moment.y * axis.y + moment.z * axis.z;
+    }
+    torques.push_back(torque);
+  }
+  return torques;
+}
+
+// Where the P terms hold the arm: q = command + torque(q) / p for every joint, found by
+// iterating from the command (the arm's own kinematics, through the world, at each try).
+std::vector<double> droops(onedof_sim::World& world, const std::vector<std::string>& joints,
+                           const std::vector<double>& command, const std::vector<double>& p) {
+  std::vector<double> q = command;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    check(world.setModelConfiguration(kBase, joints, q), "pose the arm");
+    const std::vector<double> torques = gravityTorques(world, joints);
+    double change = 0;
+    for (size_t j = 0; j < joints.size(); ++j) {
+      const double next = command[j] + torques[j] / p[j];
+      change = std::max(change, std::abs(next - q[j]));
+      q[j] = next;
+    }
+    if (change < 1e-12) break;
+  }
+  std::vector<double> out;
+  for (size_t j = 0; j < joints.size(); ++j) out.push_back(q[j] - command[j]);
+  return out;
+}
+
+int arm(const Options& options) {
+  onedof_sim::World world(options.text("physics"));
+  addGround(world, options);
+  spawnBase(world, options);
+  const std::vector<std::string> joints = names(options.text("joints"));
+  const std::vector<double> command = options.numbers("pose");
+  const std::vector<double> p = options.numbers("p"), i = options.numbers("i"),
+                            d = options.numbers("d");
+  for (const auto* list : {&command, &p, &i, &d})
+    if (list->size() != joints.size())
+      throw UsageError{"--pose, --p, --i and --d want one number per joint of --joints"};
+  for (const double gain : p)
+    if (gain <= 0) throw UsageError{"--p wants gains > 0"};
+  const std::vector<double> droop = droops(world, joints, command, p);
+  check(world.setModelConfiguration(kBase, joints, command), "pose the arm");
+  std::vector<onedof_sim::control::Pid> pids;
+  for (size_t j = 0; j < joints.size(); ++j) {
+    onedof_sim::control::PidGains gains;
+    gains.p = p[j];
+    gains.i = i[j];
+    gains.d = d[j];
+    pids.emplace_back(gains);
+  }
+  const double dt = world.params().step;
+  const int64_t end = std::llround(options.number("seconds") * 1e9);
+  const int64_t mean_from = end - 500000000;
+  std::vector<double> sum(joints.size(), 0.0);
+  int samples = 0;
+  while (world.timeNs() < end) {
+    for (size_t j = 0; j < joints.size(); ++j) {
+      onedof_sim::JointInfo info;
+      check(world.jointInfo(joints[j], &info), "read " + joints[j]);
+      check(world.setJointEffortCommand(joints[j],
+                                        pids[j].computeCommand(command[j] - info.position, dt)),
+            "command " + joints[j]);
+    }
+    check(world.step(), "step");
+    if (world.timeNs() > mean_from) {
+      for (size_t j = 0; j < joints.size(); ++j) {
+        onedof_sim::JointInfo info;
+        check(world.jointInfo(joints[j], &info), "read " + joints[j]);
+        sum[j] += info.position;
+      }
+      ++samples;
+    }
+  }
+  if (samples == 0) throw UsageError{"--seconds must be more than 0.5"};
+  std::printf("command,position,droop\n");
+  for (size_t j = 0; j < joints.size(); ++j)
+    std::printf("%.17g,%.17g,%.17g\n", command[j], sum[j] / samples, droop[j]);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  return onedof_sim::tools::runMode(argc, argv, "engine_checks", kUsage,
-                                    {{"drive", drive}, {"hold", hold}, {"scan", scan}});
+  return onedof_sim::tools::runMode(
+      argc, argv, "engine_checks", kUsage,
+      {{"arm", arm}, {"drive", drive}, {"hold", hold}, {"scan", scan}});
 }

@@ -98,9 +98,9 @@ def checks_of(name):
 
 
 @pytest.mark.parametrize('name', engine_names())
-def test_each_engine_drives_the_base_holds_the_load_and_ranges_the_walls_within_its_aims(name):
+def test_each_engine_drives_the_base_holds_the_load_ranges_the_walls_and_holds_the_arm(name):
     checks = checks_of(name)
-    assert len(checks) == 5
+    assert len(checks) == 7
     for check in checks:
         allowed = next((share for (engine, part), share in KNOWN_MISSES.items()
                         if engine == name and check.quantity.endswith(part)), None)
@@ -108,6 +108,15 @@ def test_each_engine_drives_the_base_holds_the_load_and_ranges_the_walls_within_
             assert ec.met(check), check
         else:
             assert abs(check.measured - check.expected) <= allowed * check.expected, check
+
+
+def test_a_joint_is_past_its_droop_only_outside_the_span_from_its_command_to_the_droop():
+    assert ec.beyond_droop(0.05, 0.1) == 0.0
+    assert ec.beyond_droop(0.0, 0.1) == 0.0
+    assert ec.beyond_droop(0.12, 0.1) == pytest.approx(0.02)
+    assert ec.beyond_droop(-0.01, 0.1) == pytest.approx(0.01)
+    assert ec.beyond_droop(-0.05, -0.1) == 0.0
+    assert ec.beyond_droop(0.003, 0.0) == pytest.approx(0.003)
 
 
 def test_a_ray_in_the_pen_meets_the_wall_it_points_at():

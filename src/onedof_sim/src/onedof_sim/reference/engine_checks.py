@@ -1,12 +1,14 @@
 """The cross-validation's experiments beyond the tutorial's arm, each of our engines against what
 it should give: the book's diff-drive base (bench/mobot_w_lidar.urdf) driven straight and
-turning, a force-torque joint holding a block, and the base's lidar in a pen of four walls. They
+turning, a force-torque joint holding a block, the base's lidar in a pen of four walls, and an
+arm of the book's arm7dof's shape (bench/arm7dof_shape.urdf) held by its controllers. They
 run through `rosrun onedof_sim engine_checks MODE --physics NAME` (bench/engine_checks.cpp): the
 core with one engine, in-process, no ROS, each plugin's world calls made directly.
 
 Each Check has the aim the engines are held to (docs/cross_validation.md shows whether it is met):
 the base within 2 % of its commanded twist, the joint's force within 1 % of m g, every ray within
-1 cm of the wall it meets.
+1 cm of the wall it meets, every joint of the arm within 1 mrad of where its controller's P term
+holds gravity (the droop), and never past it under the book's gains.
 """
 import collections
 import math
@@ -30,6 +32,18 @@ PEN_HALF = 2.0          # m from the origin to each wall's inner face
 STRAIGHT = (0.5, 0.0, 2.0)   # m/s, rad/s, s
 TURNING = (0.5, 0.3, 4.0)
 HELD_MASS = 3.0         # kg
+# The book's arm7dof_pos_ctl.yaml: one effort_controllers/JointPositionController per joint (and a
+# joint_state_controller, which moves nothing), these pid gains.
+ARM_JOINTS = ['joint%d' % k for k in range(7)]
+ARM_GAINS = {'p': [500.0, 500.0, 500.0, 500.0, 30.0, 30.0, 20.0],
+             'i': [0.5, 0.1, 0.5, 0.1, 0.5, 0.1, 0.1],
+             'd': [50.0, 50.0, 50.0, 50.0, 2.0, 2.0, 1.0]}
+# A bent pose, where gravity pulls on every joint whose axis is not vertical (rad).
+ARM_POSE = [0.0, 0.3, 0.0, -0.6, 0.0, 0.5, 0.0]
+# Long enough for the slowest joint to settle (joint3: its damping over its p, 2 s, five times).
+ARM_PD_SECONDS = 20.0
+ARM_BOOK_SECONDS = 10.0
+ARM_AIM = 0.001         # rad
 TWIST_AIM = 0.02        # of the commanded speed and turn rate
 FORCE_AIM = 0.01        # of m g
 RANGE_AIM = 0.01        # m
@@ -80,6 +94,26 @@ def held_force(engine, ground, mass):
     return run_tool('hold', engine, ground, ['--mass', repr(mass)])['force_z'][0]
 
 
+def arm_path():
+    return os.path.join(rospkg.RosPack().get_path('onedof_sim'), 'bench', 'arm7dof_shape.urdf')
+
+
+def held_arm(engine, ground, gains, seconds):
+    """(position - command, droop) of each joint of the arm held at ARM_POSE with `gains`."""
+    args = ['--urdf', arm_path(), '--joints', ','.join(ARM_JOINTS),
+            '--pose', ','.join(repr(q) for q in ARM_POSE), '--seconds', repr(seconds)]
+    for term in ('p', 'i', 'd'):
+        args += ['--' + term, ','.join(repr(gain) for gain in gains[term])]
+    columns = run_tool('arm', engine, ground, args)
+    return [(position - command, droop) for command, position, droop in
+            zip(columns['command'], columns['position'], columns['droop'])]
+
+
+def beyond_droop(offset, droop):
+    """How far a joint's offset from its command lies outside the span from 0 to its droop."""
+    return max(0.0, min(0.0, droop) - offset, offset - max(0.0, droop))
+
+
 def wall_distance(x, y, angle, half):
     """How far a horizontal ray from (x, y) inside the pen travels at `angle` to a wall's inner
     face."""
@@ -115,4 +149,13 @@ def checks(engine, ground):
                      held_force(engine, ground, HELD_MASS), weight, FORCE_AIM * weight))
     out.append(Check(engine, 'lidar in a pen, %d rays: worst range error' % LIDAR_SAMPLES, 'mm',
                      1000 * max(scan_errors(engine, ground)), 0.0, 1000 * RANGE_AIM))
+    pd_gains = dict(ARM_GAINS, i=[0.0] * len(ARM_JOINTS))
+    joints = held_arm(engine, ground, pd_gains, ARM_PD_SECONDS)
+    out.append(Check(engine, 'arm7dof\'s shape held by P and D terms alone: worst joint off its '
+                     'droop', 'mrad', 1000 * max(abs(offset - droop) for offset, droop in joints),
+                     0.0, 1000 * ARM_AIM))
+    joints = held_arm(engine, ground, ARM_GAINS, ARM_BOOK_SECONDS)
+    out.append(Check(engine, 'arm7dof\'s shape held by the book\'s gains: worst joint past its '
+                     'droop', 'mrad', 1000 * max(beyond_droop(*joint) for joint in joints), 0.0,
+                     1000 * ARM_AIM))
     return out
