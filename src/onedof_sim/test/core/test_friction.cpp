@@ -5,6 +5,7 @@
 // its end face.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -43,6 +44,21 @@ const char* const kBoxSdf = R"(<sdf version="1.6"><model name="box"><link name="
     <surface><friction><ode><mu>0.5</mu><mu2>0.5</mu2></ode></friction></surface></collision>
 </link></model></sdf>)";
 
+// Spawns the box (`sdf`) on the ground, lets it settle and sets it sliding at `velocity`; returns
+// where it starts.
+Pose slidBox(World* world, const std::string& sdf, const Vec3& velocity) {
+  testing_support::addGroundPlane(*world);
+  EXPECT_TRUE(world->spawn("box", sdf, ModelFormat::Sdf, at(0, 0, 0.05)).ok());
+  steps(world, 500);
+  Pose start;
+  Twist twist;
+  EXPECT_TRUE(world->modelState("box", "", &start, &twist).ok());
+  twist = {};
+  twist.linear = velocity;
+  EXPECT_TRUE(world->setModelState("box", start, twist, "").ok());
+  return start;
+}
+
 // The box, at rest on the ground, is given 1 m/s along `heading` (from the world's x axis, the
 // box's edges along the axes) and slides until it stops: after v^2 / (2 mu g) along its heading,
 // and nowhere across it. A friction pyramid fixed along the axes brakes a slide at 45 degrees
@@ -53,17 +69,11 @@ TEST_P(Friction, ABoxSlidAcrossTheGroundStopsWhereCoulombsLawSays) {
   const double expected = speed * speed / (2 * kBoxMu * kG);
   for (double heading : {0.0, 0.4, M_PI / 4}) {
     World world(GetParam());
-    testing_support::addGroundPlane(world);
-    ASSERT_TRUE(world.spawn("box", kBoxSdf, ModelFormat::Sdf, at(0, 0, 0.05)).ok());
-    steps(&world, 500);
-    Pose start;
-    Twist twist;
-    ASSERT_TRUE(world.modelState("box", "", &start, &twist).ok());
-    twist = {};
-    twist.linear = {speed * std::cos(heading), speed * std::sin(heading), 0};
-    ASSERT_TRUE(world.setModelState("box", start, twist, "").ok());
+    const Pose start =
+        slidBox(&world, kBoxSdf, {speed * std::cos(heading), speed * std::sin(heading), 0});
     steps(&world, 3000);
     Pose end;
+    Twist twist;
     ASSERT_TRUE(world.modelState("box", "", &end, &twist).ok());
     const double dx = end.position.x - start.position.x, dy = end.position.y - start.position.y;
     const double along = dx * std::cos(heading) + dy * std::sin(heading);
@@ -76,6 +86,31 @@ TEST_P(Friction, ABoxSlidAcrossTheGroundStopsWhereCoulombsLawSays) {
     EXPECT_LT(std::fabs(across), 0.01 * expected) << "heading " << heading;
     EXPECT_LT(std::hypot(twist.linear.x, twist.linear.y), 1e-3) << "heading " << heading;
   }
+}
+
+// A box of mu 100 (the ground's is 100 too) slid at 0.5 m/s: Coulomb's mu N would take 1 m/s off
+// it in one 1 ms step, and friction only brings a slide to rest, never turns it back (an
+// explicit mu N past rest would fling the box back at tens of m/s).
+TEST_P(Friction, AHighFrictionSlideStopsAtOnceAndStaysStopped) {
+  std::string sdf = kBoxSdf;
+  for (const char* tag : {"mu>", "mu2>"}) {
+    const std::string from = std::string("<") + tag + "0.5", to = std::string("<") + tag + "100";
+    sdf.replace(sdf.find(from), from.size(), to);
+  }
+  World world(GetParam());
+  const Pose start = slidBox(&world, sdf, {0.5, 0, 0});
+  Twist twist;
+  double farthest = 0, back = 0;
+  for (int i = 0; i < 1000; ++i) {
+    ASSERT_TRUE(world.step().ok());
+    Pose pose;
+    ASSERT_TRUE(world.modelState("box", "", &pose, &twist).ok());
+    farthest = std::max(farthest, pose.position.x - start.position.x);
+    back = std::max(back, farthest - (pose.position.x - start.position.x));
+  }
+  EXPECT_LT(std::hypot(twist.linear.x, twist.linear.y), 1e-3);
+  EXPECT_LT(farthest, 0.01);
+  EXPECT_LT(back, 0.002);  // the stopped box rocks on its front edge, its frame a mm or so
 }
 
 // tests/robots/caster_base.urdf: two cylinder wheels on velocity motors bounded at 5 N m, a

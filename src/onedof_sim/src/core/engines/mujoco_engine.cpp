@@ -58,6 +58,7 @@
 #include "contact_rules.h"
 #include "engine.h"
 #include "mujoco_mjcf.h"
+#include "mujoco_rays.h"
 #include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
@@ -72,6 +73,11 @@ constexpr int kSlidingPasses = 3;
 // MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
 // coefficients are 0 is frictionless (one row).
 constexpr double kMinFriction = 1e-5;
+// The largest friction coefficient in MuJoCo's own cone, which holds a contact that does not
+// slide: its convex relaxation pushes a contact apart by mu times its slip, and lifts a wheel
+// rolling at mu 2 and more so that its base barely moves. A contact pushed sideways harder than
+// mu 1 times its load slides, braked by its own mu (slidingFriction).
+constexpr double kMaxConeFriction = 1.0;
 // The most links below one another in a model: each is an MJCF body element inside its
 // parent's, and Debian's TinyXML2, MuJoCo's XML reader, refuses elements nested more than 100
 // deep (TINYXML2_MAX_ELEMENT_DEPTH).
@@ -336,7 +342,7 @@ class MujocoEngine : public Engine {
   void slidingFriction();
   void takeContacts();
   Vec3 pointVelocity(int body, const mjtNum* point) const;
-  bool holdsPoint(int geom, const mjtNum* point) const;
+  double slipRow(const mjContact& c, const Vec3& direction, std::vector<mjtNum>* row) const;
 
   PhysicsParams params_;
   std::vector<MujocoModel*> models_;
@@ -353,8 +359,11 @@ class MujocoEngine : public Engine {
   // over geom1's, the friction coefficient along it and the friction force on geom2's side.
   struct Sliding {
     int contact;
-    Vec3 slip;
+    Vec3 slip;  // unit: geom2's material point's slip over geom1's
     double mu;
+    double compliance;  // the slip's speed change per unit impulse against it, 1/kg
+    std::vector<mjtNum> row;  // the slip's speed from the joints' velocities
+    double magnitude;   // of the friction force, N
     Vec3 friction;
   };
   std::vector<Sliding> sliding_;
@@ -772,8 +781,8 @@ void MujocoEngine::filterContacts() {
     const double mu = std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first);
     const double mu2 = std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second);
     c.dim = mu <= 0 && mu2 <= 0 ? 1 : 3;
-    c.friction[0] = std::max(mu, kMinFriction);
-    c.friction[1] = std::max(mu2, kMinFriction);
+    c.friction[0] = std::clamp(mu, kMinFriction, kMaxConeFriction);
+    c.friction[1] = std::clamp(mu2, kMinFriction, kMaxConeFriction);
     d_->contact[kept++] = c;
   }
   d_->ncon = kept;
@@ -792,8 +801,15 @@ void MujocoEngine::filterContacts() {
     // along the second).
     const double along1 = dot(slip, {c.frame[3], c.frame[4], c.frame[5]}) / speed;
     const double along2 = dot(slip, {c.frame[6], c.frame[7], c.frame[8]}) / speed;
-    const double slip_mu = 1 / std::hypot(along1 / c.friction[0], along2 / c.friction[1]);
-    sliding_.push_back({i, (1 / speed) * slip, slip_mu, Vec3()});
+    const double mu = std::max(std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first),
+                               kMinFriction);
+    const double mu2 = std::max(std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second),
+                                kMinFriction);
+    const double slip_mu = 1 / std::hypot(along1 / mu, along2 / mu2);
+    const Vec3 direction = (1 / speed) * slip;
+    Sliding sliding{i, direction, slip_mu, 0, {}, 0, Vec3()};
+    sliding.compliance = slipRow(c, direction, &sliding.row);
+    sliding_.push_back(std::move(sliding));
     c.dim = 1;
   }
 }
@@ -844,18 +860,52 @@ Vec3 MujocoEngine::pointVelocity(int body, const mjtNum* point) const {
                {point[0] - com[0], point[1] - com[1], point[2] - com[2]});
 }
 
+// The slip's speed along `direction` as a row over the joints' velocities (J: the relative
+// velocity of the contact's two material points, geom2's over geom1's), into *row; returns how
+// much an impulse of 1 N s against the slip changes its speed, J M^-1 J^T.
+double MujocoEngine::slipRow(const mjContact& c, const Vec3& direction,
+                             std::vector<mjtNum>* row) const {
+  const int nv = m_->nv;
+  std::vector<mjtNum> jacobian(3 * nv), solved(nv);
+  row->assign(nv, 0.0);
+  const double along[3] = {direction.x, direction.y, direction.z};
+  for (int side = 0; side < 2; ++side) {
+    const int body = m_->geom_bodyid[side == 0 ? c.geom2 : c.geom1];
+    if (body == 0) continue;
+    mj_jac(m_, d_, jacobian.data(), nullptr, c.pos, body);
+    const double sign = side == 0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; ++k)
+      for (int v = 0; v < nv; ++v) (*row)[v] += sign * along[k] * jacobian[k * nv + v];
+  }
+  mj_solveM(m_, d_, solved.data(), row->data(), 1);
+  double compliance = 0;
+  for (int v = 0; v < nv; ++v) compliance += (*row)[v] * solved[v];
+  return compliance;
+}
+
 // A sliding contact is frictionless in the solve; its friction, mu times the normal force the
 // solve gave against the slip, is applied to its two bodies and the solve taken again, until the
 // normal forces settle (kSlidingPasses). MuJoCo's own friction cone, a convex relaxation, pushes
-// a sliding contact apart by mu times its slip: a sliding caster hops along the ground.
+// a sliding contact apart by mu times its slip: a sliding caster hops along the ground. From the
+// second pass on, a friction that would turn the slip back by the step's end is lessened to the
+// one that ends the step at rest: as an explicit force, mu N past rest flings a light body back.
 void MujocoEngine::slidingFriction() {
   applied_.assign(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody);
   for (int pass = 0; pass < kSlidingPasses; ++pass) {
     std::copy(applied_.begin(), applied_.end(), d_->xfrc_applied);
     for (Sliding& s : sliding_) {
       const mjContact& c = d_->contact[s.contact];
-      const double pressing = std::max(0.0, d_->efc_force[c.efc_address]);
-      s.friction = (-s.mu * pressing) * s.slip;
+      const double bound = s.mu * std::max(0.0, d_->efc_force[c.efc_address]);
+      if (pass == 0 || s.compliance <= 0) {
+        s.magnitude = bound;
+      } else {
+        double slip_at_end = 0;
+        for (int v = 0; v < m_->nv; ++v)
+          slip_at_end += s.row[v] * (d_->qvel[v] + m_->opt.timestep * d_->qacc[v]);
+        s.magnitude = std::clamp(
+            s.magnitude + slip_at_end / (m_->opt.timestep * s.compliance), 0.0, bound);
+      }
+      s.friction = -s.magnitude * s.slip;
       for (int side = 0; side < 2; ++side) {
         const int body = m_->geom_bodyid[side == 0 ? c.geom2 : c.geom1];
         if (body == 0) continue;
@@ -937,59 +987,9 @@ void MujocoEngine::step(double dt, std::string* solver_message, bool) {
   updateKinematics();
 }
 
-// Whether a closed primitive holds the point (inside or on its surface): a ray that starts there
-// does not meet it, as with the other engines (a lidar on a box link starts on its face).
-bool MujocoEngine::holdsPoint(int geom, const mjtNum* point) const {
-  constexpr double kOnSurface = 1e-9;
-  const mjtNum* pos = d_->geom_xpos + 3 * geom;
-  const mjtNum* mat = d_->geom_xmat + 9 * geom;
-  const mjtNum* size = m_->geom_size + 3 * geom;
-  mjtNum local[3];
-  for (int r = 0; r < 3; ++r)
-    local[r] = mat[r] * (point[0] - pos[0]) + mat[3 + r] * (point[1] - pos[1]) +
-               mat[6 + r] * (point[2] - pos[2]);
-  switch (m_->geom_type[geom]) {
-    case mjGEOM_BOX:
-      return std::fabs(local[0]) <= size[0] + kOnSurface &&
-             std::fabs(local[1]) <= size[1] + kOnSurface &&
-             std::fabs(local[2]) <= size[2] + kOnSurface;
-    case mjGEOM_SPHERE: return std::hypot(local[0], local[1], local[2]) <= size[0] + kOnSurface;
-    case mjGEOM_CYLINDER:
-      return std::fabs(local[2]) <= size[1] + kOnSurface &&
-             std::hypot(local[0], local[1]) <= size[0] + kOnSurface;
-    default: return false;
-  }
-}
-
-// Each ray against every shape (mju_rayGeom, mj_rayMesh on a mesh's hull) whose bounding sphere
-// it reaches, a plane always.
 void MujocoEngine::castRays(const std::vector<Ray>& rays, std::vector<double>* distances) {
-  distances->assign(rays.size(), std::numeric_limits<double>::infinity());
   sync();
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const Ray& ray = rays[i];
-    if (!(ray.length > 0)) continue;
-    const mjtNum from[3] = {ray.from.x, ray.from.y, ray.from.z};
-    const mjtNum direction[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int g = 0; g < m_->ngeom; ++g) {
-      const mjtNum* centre = d_->geom_xpos + 3 * g;
-      const int type = m_->geom_type[g];
-      if (type != mjGEOM_PLANE) {
-        const Vec3 offset = {centre[0] - from[0], centre[1] - from[1], centre[2] - from[2]};
-        const double along = std::clamp(dot(offset, ray.direction), 0.0, ray.length);
-        if (norm(offset - along * ray.direction) > m_->geom_rbound[g]) continue;
-      }
-      if (holdsPoint(g, from)) continue;
-      const double hit =
-          type == mjGEOM_MESH
-              ? mj_rayMesh(m_, d_, g, from, direction)
-              : mju_rayGeom(centre, d_->geom_xmat + 9 * g, m_->geom_size + 3 * g, from,
-                            direction, type);
-      if (hit >= 0 && hit <= ray.length) nearest = std::min(nearest, hit);
-    }
-    (*distances)[i] = nearest;
-  }
+  mujoco_rays::cast(m_, d_, rays, distances);
 }
 
 }  // namespace
