@@ -64,12 +64,11 @@ STEP := $(WS)/scripts/step $(SETUP_LOG)
 # signal method would raise in the worker, outside the forked test, and end the whole session with
 # an internal error and no summary of the tests that ran. The summary names each skipped test
 # with its reason (-rs: the two-hosts test where network namespaces cannot be entered), and the 25
-# slowest tests with their times (where a long run's time went). Tests marked with one xdist_group
-# run on one worker, one after another (--dist loadgroup): those that measure a load against
-# the machine's own must not be each other's load.
+# slowest tests with their times (where a long run's time went). The default distribution (load):
+# xdist's loadgroup, which would keep tests of one xdist_group on one worker, fails the session
+# with an internal error when a worker it replaces (a test past its timeout) joins.
 PYTEST_SUITE = $(VENV_PYTHON) -m pytest -p no:cacheprovider -p onedof_harness.suite_progress \
-  -p onedof_harness.forked_timeout -n 6 --dist loadgroup --forked --timeout=900 \
-  --timeout-method=thread -rs \
+  -p onedof_harness.forked_timeout -n 6 --forked --timeout=900 --timeout-method=thread -rs \
   --durations=25 \
   $(PYTEST_ARGS) tests src
 # test-under-load: this many CPU spinners beside the suite, stopped after it (bounded anyway).

@@ -44,12 +44,6 @@ WINDOW_S = 4.0
 ROUNDS = 3
 CLIENTS = 32
 
-# The suite's workers run this module's tests one after another (pytest --dist loadgroup): two of
-# these loads at once would be each other's load, and the simulator, which steps a world beside
-# its services, falls further behind a bare service under 64 clients (some 190 ms at the 99th
-# percentile) than under 32 (some 40 ms).
-pytestmark = pytest.mark.xdist_group('heavy_load_polls')
-
 SENSOR_LINK = """<link name="world"/>
   <joint name="weld" type="fixed"><parent link="world"/><child link="body"/></joint>
   <link name="body">
