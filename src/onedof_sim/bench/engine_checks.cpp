@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -253,14 +254,16 @@ std::vector<double> gravityTorques(const onedof_sim::World& world,
 }
 
 // Where the P terms hold the arm: q = command + torque(q) / p for every joint, found by
-// iterating from the command (the arm's own kinematics, through the world, at each try).
+// iterating from the command (the arm's own kinematics, through the world, at each try). P terms
+// too weak for the arm's weight at the pose leave no such pose near it: the iteration wanders.
 std::vector<double> droops(onedof_sim::World& world, const std::vector<std::string>& joints,
                            const std::vector<double>& command, const std::vector<double>& p) {
   std::vector<double> q = command;
+  double change = 0;
   for (int iteration = 0; iteration < 200; ++iteration) {
-    check(world.setModelConfiguration(kBase, joints, q), "pose the arm");
+    check(world.setModelConfiguration(kBase, joints, q), "pose the arm at its droop");
     const std::vector<double> torques = gravityTorques(world, joints);
-    double change = 0;
+    change = 0;
     for (size_t j = 0; j < joints.size(); ++j) {
       const double next = command[j] + torques[j] / p[j];
       change = std::max(change, std::abs(next - q[j]));
@@ -268,6 +271,8 @@ std::vector<double> droops(onedof_sim::World& world, const std::vector<std::stri
     }
     if (change < 1e-12) break;
   }
+  if (!(change < 1e-12))
+    throw std::runtime_error("the P terms hold the arm at no pose near the command (--p too weak)");
   std::vector<double> out;
   for (size_t j = 0; j < joints.size(); ++j) out.push_back(q[j] - command[j]);
   return out;

@@ -176,3 +176,9 @@ def test_markdown_shows_each_figure_its_error_and_whether_an_aim_is_met():
 def test_the_tool_says_what_is_wrong_with_its_arguments(name):
     with pytest.raises(RuntimeError, match="--q wants finite numbers, got 'nan'"):
         cv.ToolEngine(name).release(math.nan, 0.0, 1.0)
+
+
+def test_the_arm_check_says_when_its_p_terms_hold_the_arm_nowhere():
+    weak = dict(ec.ARM_GAINS, p=[1.0] * len(ec.ARM_JOINTS))
+    with pytest.raises(RuntimeError, match='the P terms hold the arm at no pose near the command'):
+        ec.held_arm(ENGINES[0].name, cv.ground_sdf_path(), weak, 1.0)
