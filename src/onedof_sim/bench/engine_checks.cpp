@@ -198,13 +198,6 @@ int scan(const Options& options) {
   return 0;
 }
 
-std::vector<std::string> names(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream items(list);
-  for (std::string item; std::getline(items, item, ',');) out.push_back(item);
-  return out;
-}
-
 // The arm's joints in `joints`' order, and its links with mass in the chain's order (the base
 // first: joint k's child is link k + 1).
 struct ArmFrames {
@@ -282,7 +275,7 @@ int arm(const Options& options) {
   onedof_sim::World world(options.text("physics"));
   addGround(world, options);
   spawnBase(world, options);
-  const std::vector<std::string> joints = names(options.text("joints"));
+  const std::vector<std::string> joints = options.texts("joints");
   const std::vector<double> command = options.numbers("pose");
   const std::vector<double> p = options.numbers("p"), i = options.numbers("i"),
                             d = options.numbers("d");
@@ -304,23 +297,27 @@ int arm(const Options& options) {
   const double dt = world.params().step;
   const int64_t end = std::llround(options.number("seconds") * 1e9);
   const int64_t mean_from = end - 500000000;
-  std::vector<double> sum(joints.size(), 0.0);
-  int samples = 0;
-  while (world.timeNs() < end) {
+  // The joints' positions as the last step left them: the controllers' input for the next.
+  std::vector<double> positions(joints.size());
+  const auto read = [&] {
     for (size_t j = 0; j < joints.size(); ++j) {
       onedof_sim::JointInfo info;
       check(world.jointInfo(joints[j], &info), "read " + joints[j]);
-      check(world.setJointEffortCommand(joints[j],
-                                        pids[j].computeCommand(command[j] - info.position, dt)),
-            "command " + joints[j]);
+      positions[j] = info.position;
     }
+  };
+  read();
+  std::vector<double> sum(joints.size(), 0.0);
+  int samples = 0;
+  while (world.timeNs() < end) {
+    for (size_t j = 0; j < joints.size(); ++j)
+      check(world.setJointEffortCommand(
+                joints[j], pids[j].computeCommand(command[j] - positions[j], dt)),
+            "command " + joints[j]);
     check(world.step(), "step");
+    read();
     if (world.timeNs() > mean_from) {
-      for (size_t j = 0; j < joints.size(); ++j) {
-        onedof_sim::JointInfo info;
-        check(world.jointInfo(joints[j], &info), "read " + joints[j]);
-        sum[j] += info.position;
-      }
+      for (size_t j = 0; j < joints.size(); ++j) sum[j] += positions[j];
       ++samples;
     }
   }

@@ -36,10 +36,16 @@ class Options {
     return found->second;
   }
   double number(const std::string& key) const { return parse(text(key), key); }
+  // A comma-separated list.
+  std::vector<std::string> texts(const std::string& key) const {
+    std::vector<std::string> out;
+    std::stringstream list(text(key));
+    for (std::string item; std::getline(list, item, ',');) out.push_back(item);
+    return out;
+  }
   std::vector<double> numbers(const std::string& key) const {
     std::vector<double> out;
-    std::stringstream list(text(key));
-    for (std::string item; std::getline(list, item, ',');) out.push_back(parse(item, key));
+    for (const std::string& item : texts(key)) out.push_back(parse(item, key));
     return out;
   }
 

@@ -73,10 +73,9 @@ constexpr int kSlidingPasses = 3;
 // MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
 // coefficients are 0 is frictionless (one row).
 constexpr double kMinFriction = 1e-5;
-// The largest friction coefficient in MuJoCo's own cone, which holds a contact that does not
-// slide: its convex relaxation pushes a contact apart by mu times its slip, and lifts a wheel
-// rolling at mu 2 and more so that its base barely moves. A contact pushed sideways harder than
-// mu 1 times its load slides, braked by its own mu (slidingFriction).
+// The largest mu in MuJoCo's own cone (a contact that does not slide): its relaxation pushes a
+// contact apart by mu times its slip, lifting a wheel rolling at mu 2 and more so that its base
+// barely moves. Pushed harder than mu 1 times its load, a contact slides (slidingFriction).
 constexpr double kMaxConeFriction = 1.0;
 // The most links below one another in a model: each is an MJCF body element inside its
 // parent's, and Debian's TinyXML2, MuJoCo's XML reader, refuses elements nested more than 100
@@ -342,7 +341,11 @@ class MujocoEngine : public Engine {
   void slidingFriction();
   void takeContacts();
   Vec3 pointVelocity(int body, const mjtNum* point) const;
-  double slipRow(const mjContact& c, const Vec3& direction, std::vector<mjtNum>* row) const;
+  double slipRow(const mjContact& c, const Vec3& direction, std::vector<mjtNum>* row);
+  std::pair<double, double> contactMu(const mjContact& c) const {  // the smaller of each
+    return {std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first),
+            std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second)};
+  }
 
   PhysicsParams params_;
   std::vector<MujocoModel*> models_;
@@ -359,15 +362,16 @@ class MujocoEngine : public Engine {
   // over geom1's, the friction coefficient along it and the friction force on geom2's side.
   struct Sliding {
     int contact;
-    Vec3 slip;  // unit: geom2's material point's slip over geom1's
+    Vec3 slip;
     double mu;
-    double compliance;  // the slip's speed change per unit impulse against it, 1/kg
-    std::vector<mjtNum> row;  // the slip's speed from the joints' velocities
-    double magnitude;   // of the friction force, N
+    double compliance;        // slipRow's J M^-1 J^T, 1/kg
+    std::vector<mjtNum> row;  // slipRow's J
+    double magnitude;         // of the friction force, N
     Vec3 friction;
   };
   std::vector<Sliding> sliding_;
   std::vector<mjtNum> applied_;  // xfrc_applied before the sliding friction
+  std::vector<mjtNum> jacobian_, solved_;  // slipRow's work space, kept between steps
 };
 
 MujocoModel::MujocoModel(MujocoEngine* engine, int id, const ModelSpec& spec)
@@ -778,8 +782,7 @@ void MujocoEngine::filterContacts() {
     const ShapeRef& a = geom_shapes_[c.geom1];
     const ShapeRef& b = geom_shapes_[c.geom2];
     if (a.model && a.model == b.model) continue;
-    const double mu = std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first);
-    const double mu2 = std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second);
+    const auto [mu, mu2] = contactMu(c);
     c.dim = mu <= 0 && mu2 <= 0 ? 1 : 3;
     c.friction[0] = std::clamp(mu, kMinFriction, kMaxConeFriction);
     c.friction[1] = std::clamp(mu2, kMinFriction, kMaxConeFriction);
@@ -801,11 +804,9 @@ void MujocoEngine::filterContacts() {
     // along the second).
     const double along1 = dot(slip, {c.frame[3], c.frame[4], c.frame[5]}) / speed;
     const double along2 = dot(slip, {c.frame[6], c.frame[7], c.frame[8]}) / speed;
-    const double mu = std::max(std::min(geom_mu_[c.geom1].first, geom_mu_[c.geom2].first),
-                               kMinFriction);
-    const double mu2 = std::max(std::min(geom_mu_[c.geom1].second, geom_mu_[c.geom2].second),
-                                kMinFriction);
-    const double slip_mu = 1 / std::hypot(along1 / mu, along2 / mu2);
+    const auto [mu, mu2] = contactMu(c);
+    const double slip_mu =
+        1 / std::hypot(along1 / std::max(mu, kMinFriction), along2 / std::max(mu2, kMinFriction));
     const Vec3 direction = (1 / speed) * slip;
     Sliding sliding{i, direction, slip_mu, 0, {}, 0, Vec3()};
     sliding.compliance = slipRow(c, direction, &sliding.row);
@@ -860,26 +861,25 @@ Vec3 MujocoEngine::pointVelocity(int body, const mjtNum* point) const {
                {point[0] - com[0], point[1] - com[1], point[2] - com[2]});
 }
 
-// The slip's speed along `direction` as a row over the joints' velocities (J: the relative
-// velocity of the contact's two material points, geom2's over geom1's), into *row; returns how
-// much an impulse of 1 N s against the slip changes its speed, J M^-1 J^T.
-double MujocoEngine::slipRow(const mjContact& c, const Vec3& direction,
-                             std::vector<mjtNum>* row) const {
+// The slip's speed along `direction` over the joints' velocities (J: geom2's material point's
+// velocity over geom1's) into *row; returns J M^-1 J^T, the speed 1 N s against the slip takes.
+double MujocoEngine::slipRow(const mjContact& c, const Vec3& direction, std::vector<mjtNum>* row) {
   const int nv = m_->nv;
-  std::vector<mjtNum> jacobian(3 * nv), solved(nv);
+  jacobian_.resize(3 * nv);
+  solved_.resize(nv);
   row->assign(nv, 0.0);
   const double along[3] = {direction.x, direction.y, direction.z};
   for (int side = 0; side < 2; ++side) {
     const int body = m_->geom_bodyid[side == 0 ? c.geom2 : c.geom1];
     if (body == 0) continue;
-    mj_jac(m_, d_, jacobian.data(), nullptr, c.pos, body);
+    mj_jac(m_, d_, jacobian_.data(), nullptr, c.pos, body);
     const double sign = side == 0 ? 1.0 : -1.0;
     for (int k = 0; k < 3; ++k)
-      for (int v = 0; v < nv; ++v) (*row)[v] += sign * along[k] * jacobian[k * nv + v];
+      for (int v = 0; v < nv; ++v) (*row)[v] += sign * along[k] * jacobian_[k * nv + v];
   }
-  mj_solveM(m_, d_, solved.data(), row->data(), 1);
+  mj_solveM(m_, d_, solved_.data(), row->data(), 1);
   double compliance = 0;
-  for (int v = 0; v < nv; ++v) compliance += (*row)[v] * solved[v];
+  for (int v = 0; v < nv; ++v) compliance += (*row)[v] * solved_[v];
   return compliance;
 }
 
@@ -887,8 +887,8 @@ double MujocoEngine::slipRow(const mjContact& c, const Vec3& direction,
 // solve gave against the slip, is applied to its two bodies and the solve taken again, until the
 // normal forces settle (kSlidingPasses). MuJoCo's own friction cone, a convex relaxation, pushes
 // a sliding contact apart by mu times its slip: a sliding caster hops along the ground. From the
-// second pass on, a friction that would turn the slip back by the step's end is lessened to the
-// one that ends the step at rest: as an explicit force, mu N past rest flings a light body back.
+// second pass on, a friction that would turn the slip back by the step's end is lessened to end
+// the step at rest (an explicit mu N past rest flings a light body back).
 void MujocoEngine::slidingFriction() {
   applied_.assign(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody);
   for (int pass = 0; pass < kSlidingPasses; ++pass) {
