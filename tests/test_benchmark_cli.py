@@ -57,7 +57,7 @@ def test_quick_benchmark_writes_each_row_with_its_comparison(tmp_path, tmp_path_
     assert all(len(row) == len(header) for row in table), table
     assert {row[0] for row in table} == set(items), table
     for item, measured, figure, against, against_figure, ratio, aim, met in table:
-        assert figure != 'not measured', (measured, against)
+        assert figure != 'not measured', (measured, against, result.stdout[-3000:])
         assert against and against_figure, measured
         assert (aim == '—') == (met == '—'), measured
     # Every item on every engine (the node's _physics:=, the launch's physics:=, the bare loop's

@@ -279,6 +279,11 @@ class Bench:
         _, _, (_, subscriptions, _) = self.ros.master().getSystemState('/benchmark')
         return sorted(next((nodes for name, nodes in subscriptions if name == topic), []))
 
+    def publishers(self, topic):
+        """The nodes publishing `topic` now, as the master knows them."""
+        _, _, (publications, _, _) = self.ros.master().getSystemState('/benchmark')
+        return sorted(next((nodes for name, nodes in publications if name == topic), []))
+
     def hears_clock(self, node):
         """Whether the simulator's /clock has a connection to `node` (from its bus information)."""
         return self.ros.connected('/gazebo', '/clock', node)

@@ -19,7 +19,7 @@ import rospkg
 from onedof_harness.private_ros import wait_until
 from onedof_sim.benchmark import laser_cost
 from onedof_sim.benchmark import report as bm
-from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label
+from onedof_sim.benchmark.graph import STEP, NotMeasured, node_label, say
 
 SETTLE_S = 0.25  # wall seconds after an unpause before a window opens
 # The window's cost the issue allows: the node's CPU time per step with it open over that without,
@@ -49,6 +49,9 @@ class FrameRates:
         self.heard += 1
         if self.taking:
             self.rates.append(message.data)
+
+    def connections(self):
+        return self._subscriber.get_num_connections()
 
     def close(self):
         self._subscriber.unregister()
@@ -99,8 +102,15 @@ def measure(bench, engine):
         if window.poll() is not None:
             raise NotMeasured('gzclient ended: %s' % bench.ros.log_text(window)[-200:])
         frame_rates = FrameRates(bench.rospy)
-        wait_until(lambda: window.poll() is not None or frame_rates.heard, WINDOW_UP_S,
-                   what="the Gazebo panel's frames per second")
+        try:
+            wait_until(lambda: window.poll() is not None or frame_rates.heard, WINDOW_UP_S,
+                       what="the Gazebo panel's frames per second")
+        except TimeoutError as error:
+            raise NotMeasured('%s (%s published by: %s; this benchmark connected to %d of them; '
+                              'gzclient\'s log ends: %s)' % (
+                                  error, FRAME_RATE, ', '.join(bench.publishers(FRAME_RATE)) or
+                                  'no node', frame_rates.connections(),
+                                  bench.ros.log_text(window)[-1500:])) from None
         listeners = {topic: bench.subscribers(topic)
                      for topic in (VISUAL_MARKERS, VIEW_MODEL_STATES, '/scan', MODEL_STATES,
                                    '/clock')}
@@ -155,6 +165,7 @@ def measure(bench, engine):
         bench.results['window'] = dict(engine=engine, listeners=listeners, cost=cost,
                                        frame_rates=rates, **runs)
     except (NotMeasured, TimeoutError, OSError) as error:
+        say('item 12 not measured: %s' % error)  # whole, where the row keeps its start
         bench.not_measured('12', 'the Gazebo window\'s cost, %s' % name, str(error)[:200])
     finally:
         if scans:
