@@ -1,6 +1,6 @@
 // Bullet 3 (double precision) behind the engine seam: maximal coordinates, that is rigid bodies
 // held together by btHingeConstraint and btSliderConstraint, stepped by the sequential-impulse
-// (PGS) solver.
+// (PGS) solver of bullet_solver.h.
 //
 // PhysicsParams: gravity, sor_pgs_iters (iterations), sor_pgs_w (SOR, Bullet applies it to
 // contacts only), erp (joints and contacts), cfm and contact_surface_layer (Bullet's linear
@@ -55,6 +55,8 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include "bullet_convert.h"
+#include "bullet_solver.h"
 #include "contact_rules.h"
 #include "engine.h"
 #include "onedof_sim/pose_math.h"
@@ -75,13 +77,6 @@ constexpr double kFlatTilt = 1e-9;
 constexpr double kSamePoint = 1e-9;
 // A rolling friction coefficient (m) too small to act: Bullet's spinning friction comes with one.
 constexpr double kNoRollingFriction = 1e-12;
-
-btVector3 toBt(const Vec3& v) { return {v.x, v.y, v.z}; }
-btQuaternion toBt(const Quat& q) { return {q.x, q.y, q.z, q.w}; }
-btTransform toBt(const Pose& p) { return btTransform(toBt(p.orientation), toBt(p.position)); }
-Vec3 fromBt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
-Quat fromBt(const btQuaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
-Pose fromBt(const btTransform& t) { return {fromBt(t.getOrigin()), fromBt(t.getRotation())}; }
 
 // A frame at `origin` whose column `axis_column` (0 = x, 2 = z) is `axis`.
 btTransform jointFrame(const Vec3& origin, const Vec3& axis, int axis_column) {
@@ -355,71 +350,6 @@ class CylinderPlane : public btCollisionAlgorithm {
  private:
   btConvexPlaneCollisionAlgorithm general_;  // owns the manifold
   bool swapped_;  // the plane is the first object
-};
-
-// The sequential-impulse solver with Coulomb's friction at sliding contacts (contact_rules.h,
-// kSlidingSpeed). Each contact point's two friction directions are set before the solver makes
-// its constraints: at a point sliding faster than kSlidingSpeed at the step's start, the
-// diagonals of the slip and the direction across it, each bounded by mu / sqrt(2) times the
-// normal impulse: while the point slides both are at their bounds, and together brake it with
-// mu N against the slip and nothing across it; elsewhere btPlaneSpace1's, fixed in the contact
-// plane, as Bullet's own with SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION. Where a
-// point's directions change, the friction impulse it carries over from the last step (warm
-// starting) is carried over onto the new ones.
-class CoulombFrictionSolver : public btSequentialImpulseConstraintSolver {
- protected:
-  void convertContacts(btPersistentManifold** manifolds, int count,
-                       const btContactSolverInfo& info) override {
-    sliding_.clear();
-    for (int m = 0; m < count; ++m) {
-      btPersistentManifold& manifold = *manifolds[m];
-      const btRigidBody* a = btRigidBody::upcast(manifold.getBody0());
-      const btRigidBody* b = btRigidBody::upcast(manifold.getBody1());
-      for (int p = 0; p < manifold.getNumContacts(); ++p)
-        setFrictionDirections(manifold.getContactPoint(p), a, b);
-    }
-    btSequentialImpulseConstraintSolver::convertContacts(manifolds, count, info);
-    for (int f = 0; f < m_tmpSolverContactFrictionConstraintPool.size(); ++f) {
-      btSolverConstraint& friction = m_tmpSolverContactFrictionConstraintPool[f];
-      const void* point =
-          m_tmpSolverContactConstraintPool[friction.m_frictionIndex].m_originalContactPoint;
-      if (sliding_.count(point)) friction.m_friction *= SIMDSQRT12;
-    }
-  }
-
- private:
-  void setFrictionDirections(btManifoldPoint& point, const btRigidBody* a, const btRigidBody* b) {
-    const btVector3& normal = point.m_normalWorldOnB;  // from b to a
-    btVector3 slip(0, 0, 0);
-    if (a) slip += velocityAt(*a, point.getPositionWorldOnA());
-    if (b) slip -= velocityAt(*b, point.getPositionWorldOnB());
-    Vec3 in_plane;
-    btVector3 first, second;
-    if (slides(fromBt(slip), fromBt(normal), &in_plane)) {
-      const btVector3 along = toBt(in_plane).normalized(), across = normal.cross(along);
-      first = (along + across) * SIMDSQRT12;
-      second = (along - across) * SIMDSQRT12;
-      sliding_.insert(&point);
-    } else {
-      btPlaneSpace1(normal, first, second);
-    }
-    if (!(point.m_contactPointFlags & BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED) ||
-        first != point.m_lateralFrictionDir1 || second != point.m_lateralFrictionDir2) {
-      const btVector3 carried = point.m_appliedImpulseLateral1 * point.m_lateralFrictionDir1 +
-                                point.m_appliedImpulseLateral2 * point.m_lateralFrictionDir2;
-      point.m_appliedImpulseLateral1 = carried.dot(first);
-      point.m_appliedImpulseLateral2 = carried.dot(second);
-      point.m_lateralFrictionDir1 = first;
-      point.m_lateralFrictionDir2 = second;
-    }
-    point.m_contactPointFlags |= BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED;
-  }
-
-  static btVector3 velocityAt(const btRigidBody& body, const btVector3& point) {
-    return body.getVelocityInLocalPoint(point - body.getCenterOfMassPosition());
-  }
-
-  std::unordered_set<const void*> sliding_;  // this step's sliding points
 };
 
 // Objects carry their model's id as user index; one model never collides with
@@ -745,6 +675,7 @@ class BulletModel : public EngineModel {
     for (Joint& joint : joints_) {
       if (!joint.constraint) continue;
       world_->removeConstraint(joint.constraint.get());
+      static_cast<BulletSolver*>(world_->getConstraintSolver())->forget(joint.constraint.get());
       joint.constraint.reset();
     }
   }
@@ -767,7 +698,7 @@ class BulletEngine : public Engine {
     // contact plane, as ODE's: along a sliding velocity they turn from step to step, and the
     // friction impulses the solver starts each step from (warm starting) then push along the
     // last step's directions. A two-wheeled base yawed 2.5 % faster than its wheels turned.
-    // CoulombFrictionSolver sets each point's directions (SOLVER_ENABLE_FRICTION_DIRECTION_CACHING
+    // BulletSolver sets each point's directions (SOLVER_ENABLE_FRICTION_DIRECTION_CACHING
     // has the solver take them), turned to the slip where a point slides.
     solver.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS |
                            SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION |
@@ -801,6 +732,7 @@ class BulletEngine : public Engine {
   // solver trouble, so *solver_message is left alone. It has one solver and throws no
   // EngineFault (see the top of the file): a retake is a step, and no fault names bodies.
   void step(double dt, std::string*, bool) override {
+    solver_.startStep();
     world_.stepSimulation(dt, 0);
     last_step_ = dt;
   }
@@ -931,7 +863,7 @@ class BulletEngine : public Engine {
   CylinderPlane::CreateFunc cylinder_plane_, plane_cylinder_;
   btCollisionDispatcher dispatcher_{&configuration_};
   btDbvtBroadphase broadphase_;
-  CoulombFrictionSolver solver_;
+  BulletSolver solver_;
   ModelFilter filter_;
   btDiscreteDynamicsWorld world_{&dispatcher_, &broadphase_, &solver_, &configuration_};
   int next_model_id_ = 0;

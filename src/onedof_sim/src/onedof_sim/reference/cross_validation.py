@@ -397,9 +397,9 @@ def checks_section(checks):
     missed = [check for check in checks if not engine_checks.met(check)]
     driven = [check for check in missed if check.quantity.startswith('diff-drive')]
     if driven:
-        lines += ['', 'Not met: %s. Where it comes from is not pinned down: the wheels are '
-                  'cylinders on a plane, whose contact points each engine places its own way, '
-                  'and the casters are dragged sideways.' % ', '.join(
+        lines += ['', 'Not met: %s. The casters, at mu 1 and dragged sideways while they '
+                  'swivel, brake the base while it turns: with frictionless casters, or at mu 2 '
+                  'and more, it runs at its command.' % ', '.join(
                       '%s\'s %s (%+.3g %%)' % (check.engine, check.quantity,
                                               100 * (check.measured / check.expected - 1))
                       for check in driven)]
