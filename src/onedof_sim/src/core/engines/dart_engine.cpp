@@ -369,7 +369,11 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
   // A cylinder lying on a face touches it along a line, of which ODE's collision gives the two
   // end points on the rims; each engine resolves it by its middle (contact_rules.h). The line's
   // first end becomes its middle, carrying the whole line's load and friction; false for its
-  // second end, which leaves the solve.
+  // second end, which leaves the solve. A cylinder lying within kLyingTilt with one rim a little
+  // higher than the other gets the lower rim's point alone, which becomes the middle of the line
+  // from it to the other end (otherLineEnd), as the ode engine takes it: else the contact jumps
+  // from the middle to a rim and back as the cylinder rocks by microradians (a turning base's
+  // wheels and casters do), and a caster held at its rim drags its base.
   bool lineMiddle(dart::collision::Contact* contact) {
     const dart::collision::Contact* ends[2] = {nullptr, nullptr};
     int count = 0;
@@ -381,13 +385,25 @@ class CoulombSolver : public dart::constraint::BoxedLcpConstraintSolver {
       if (count < 2) ends[count] = &other;
       ++count;
     }
-    if (count != 2) return true;
-    const TouchPoint points[2] = {touchPoint(*ends[0]), touchPoint(*ends[1])};
+    if (count != 1 && count != 2) return true;
+    TouchPoint points[2] = {touchPoint(*ends[0]), {}};
+    if (count == 2) points[1] = touchPoint(*ends[1]);
     for (const dart::collision::CollisionObject* object :
          {contact->collisionObject1, contact->collisionObject2}) {
       if (!object->getShape()->is<dd::CylinderShape>()) continue;
-      const Vec3 axis = fromEigen(object->getTransform().linear().col(2).eval());
-      if (!areLineEnds(axis, points[0], points[1])) continue;
+      const Eigen::Isometry3d& pose = object->getTransform();
+      const Vec3 axis = fromEigen(pose.linear().col(2).eval());
+      if (count == 1) {
+        const Vec3 centre = fromEigen(pose.translation());
+        // The normal's way that points out of the face towards the cylinder.
+        const Vec3 into_cylinder = dot(centre - points[0].position, points[0].normal) >= 0
+                                       ? points[0].normal
+                                       : -points[0].normal;
+        const double length = static_cast<const dd::CylinderShape&>(*object->getShape()).getHeight();
+        if (!otherLineEnd(centre, axis, length, into_cylinder, points[0], &points[1])) continue;
+      } else if (!areLineEnds(axis, points[0], points[1])) {
+        continue;
+      }
       if (contact == ends[1]) return false;
       if (middles_.insert(contact).second) {  // once a step: the group may be solved again
         const TouchPoint middle = pointOnLine(points[0], points[1], 0.5);
