@@ -164,6 +164,9 @@ def lockstepped_tutorial(ros, engine, rospy_client, sim_args=()):
 # What the simulator logs when the lock-step held the world for its whole timeout: a controller's
 # process that did not rest, or a controller that sent nothing.
 HELD_LINES = ('the world waited', 'did not rest')
+# What the simulator logs (at debug level) when it shows the clock ahead of a stop to wake a
+# controller that slept past it.
+WAKE_UP_LINE = 'to wake a controller that slept past the stop'
 # How often (wall s) a wait reads the simulator's log for them.
 LOG_LOOK_S = 1.0
 
@@ -238,6 +241,10 @@ def test_clients_coming_and_going_never_hold_the_lockstepped_world(ros, engine, 
     clients and with their stand-ins are printed: on a quiet machine they are within MARGIN_S of
     each other."""
     sim, controller, clock = lockstepped_tutorial(ros, engine, rospy_client)
+    # The simulator's one debug line: each clock it shows ahead of a stop to wake a controller
+    # that slept past it (WAKE_UP_LINE; in a failure's lock-step lines, with its sim time).
+    from roscpp.srv import SetLoggerLevel
+    rospy_client.ServiceProxy('/gazebo/set_logger_level', SetLoggerLevel)('ros.onedof_sim', 'debug')
     peer = StandInPeer(rospy_client)
 
     def sim_log():
@@ -266,8 +273,9 @@ def test_clients_coming_and_going_never_hold_the_lockstepped_world(ros, engine, 
                    1e3 * clients_world, 1e3 * stand_ins_world, 1e3 * clients_heard,
                    1e3 * stand_ins_heard, ', '.join(longer), HOLD_S, holds[0], holds[1],
                    hold_list or 'none', clients[1] - clients[0], stand_ins[1] - stand_ins[0]))
-    print('%s, %s: %s' % (engine, client, figures))
     log = sim_log()
+    figures += '; clocks shown ahead to wake the controller: %d' % log.count(WAKE_UP_LINE)
+    print('%s, %s: %s' % (engine, client, figures))
     for line in HELD_LINES:
         assert line not in log, lockstep_lines(log)
     assert holds[0] <= holds[1] + HOLDS_BEYOND_STAND_INS_MOST, \

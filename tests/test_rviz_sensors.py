@@ -193,6 +193,24 @@ def grab(display, path):
     return path if result.returncode == 0 else None
 
 
+def red_row_runs(png, region):
+    """The runs of rows of region (x0, y0, x1, y1) with image_red pixels: 'rows A-B: N pixels'
+    for each, or 'none'."""
+    import matplotlib.image
+    rgb = (matplotlib.image.imread(str(png))[..., :3] * 255).round()
+    x0, y0, x1, y1 = region
+    per_row = image_red(*(rgb[y0:y1, x0:x1, i] for i in range(3))).sum(axis=1)
+    runs, start = [], None
+    for offset, count in enumerate(list(per_row) + [0]):
+        if count and start is None:
+            start = offset
+        elif not count and start is not None:
+            runs.append('rows %d-%d: %d pixels' % (y0 + start, y0 + offset - 1,
+                                                   int(per_row[start:offset].sum())))
+            start = None
+    return ', '.join(runs) or 'none'
+
+
 def subscribers(ros, topic, prefix):
     _, _, (_, subscribed, _) = ros.master().getSystemState('/test')
     return [node for name, nodes in subscribed if name == topic for node in nodes
@@ -401,9 +419,19 @@ def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros,
         return cloud > 300 and images > 1000
 
     def cloud_and_images_described(png, panel):
+        # Which docked image lacks the box: the rows with red among the docked images, in runs
+        # (each image that shows the box, one run), and whether the view still subscribes to the
+        # two colour images.
+        images = {topic: bool(subscribers(ros, topic, '/gzclient_'))
+                  for topic in ('/example_camera/image_raw', '/kinect/rgb/image_raw')}
         return ('had %d cloud pixels on the box (more than 300 wanted) and %d red image pixels '
-                'left of the 3D panel (more than 1000 wanted), the simulator at %s' % (
-                    cloud_and_images(png, panel) + (api.get_world_properties().sim_time,)))
+                'left of the 3D panel (more than 1000 wanted; by run of rows: %s; the view '
+                'subscribed to %s), the simulator at %s' % (
+                    cloud_and_images(png, panel) + (
+                        red_row_runs(png, docked_images(panel)),
+                        ', '.join('%s %s' % (topic, 'yes' if on else 'no')
+                                  for topic, on in images.items()),
+                        api.get_world_properties().sim_time)))
     panel = screenshot_with(
         ros, display, png, cloud_and_images_shown, "the cloud's points on the box and the box "
         "in the camera's and the Kinect's images",
