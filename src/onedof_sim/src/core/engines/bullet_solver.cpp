@@ -14,15 +14,7 @@ btVector3 velocityAt(const btRigidBody& body, const btVector3& point) {
 
 }  // namespace
 
-void BulletSolver::startStep() {
-  last_.swap(this_step_);
-  this_step_.clear();
-}
-
-void BulletSolver::forget(const btTypedConstraint* constraint) {
-  last_.erase(constraint);
-  this_step_.erase(constraint);
-}
+void BulletSolver::forget(const btTypedConstraint* constraint) { ended_.erase(constraint); }
 
 void BulletSolver::convertContacts(btPersistentManifold** manifolds, int count,
                                    const btContactSolverInfo& info) {
@@ -78,11 +70,12 @@ void BulletSolver::convertJoints(btTypedConstraint** constraints, int count,
   int first = 0;  // the constraint's first row in the pool: rows follow the constraints' order
   for (int c = 0; c < count; ++c) {
     const int rows = m_tmpConstraintSizesPool[c].m_numConstraintRows;
-    const auto last = last_.find(constraints[c]);
-    if (last != last_.end() && static_cast<int>(last->second.size()) == rows) {
+    const auto last = ended_.find(constraints[c]);
+    if (last != ended_.end() && last->second.step + 1 == step_ &&
+        static_cast<int>(last->second.rows.size()) == rows) {
       for (int r = 0; r < rows; ++r)
         warmStart(&m_tmpSolverNonContactConstraintPool[first + r],
-                  last->second[r] * info.m_warmstartingFactor);
+                  last->second.rows[r] * info.m_warmstartingFactor);
     }
     first += rows;
   }
@@ -117,10 +110,17 @@ btScalar BulletSolver::solveGroupCacheFriendlyIterations(
 
 btScalar BulletSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int count,
                                                      const btContactSolverInfo& info) {
+  const void* constraint = nullptr;  // the one whose rows are being written: rows follow in order
+  Ended* ended = nullptr;
   for (int r = 0; r < m_tmpSolverNonContactConstraintPool.size(); ++r) {
     const btSolverConstraint& row = m_tmpSolverNonContactConstraintPool[r];
-    this_step_[static_cast<const btTypedConstraint*>(row.m_originalContactPoint)].push_back(
-        row.m_appliedImpulse);
+    if (row.m_originalContactPoint != constraint) {
+      constraint = row.m_originalContactPoint;
+      ended = &ended_[static_cast<const btTypedConstraint*>(constraint)];
+      ended->step = step_;
+      ended->rows.clear();
+    }
+    ended->rows.push_back(row.m_appliedImpulse);
   }
   return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, count, info);
 }

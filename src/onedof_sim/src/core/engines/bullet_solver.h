@@ -27,6 +27,8 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <cstdint>
+
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -38,7 +40,7 @@ class BulletSolver : public btSequentialImpulseConstraintSolver {
  public:
   // Before each step: what the joints' rows ended the step before with is what this one starts
   // from. (The world may solve its islands in more than one group a step.)
-  void startStep();
+  void startStep() { ++step_; }
   // The constraint leaves the world: what it carried is dropped (a new one may get its address).
   void forget(const btTypedConstraint* constraint);
 
@@ -60,8 +62,15 @@ class BulletSolver : public btSequentialImpulseConstraintSolver {
   void warmStart(btSolverConstraint* row, btScalar impulse);
 
   std::unordered_set<const void*> sliding_;  // this step's sliding points
-  // Each constraint's rows' impulses at the end of the last step and of this one, in row order.
-  std::unordered_map<const btTypedConstraint*, std::vector<btScalar>> last_, this_step_;
+  // Each constraint's rows' impulses, in row order, at the end of the step numbered `step`: read
+  // by the next step before that step writes them again (a constraint is in one group a step),
+  // kept from step to step so that their memory is reused.
+  struct Ended {
+    uint64_t step = 0;
+    std::vector<btScalar> rows;
+  };
+  std::unordered_map<const btTypedConstraint*, Ended> ended_;
+  uint64_t step_ = 0;
 };
 
 }  // namespace core
