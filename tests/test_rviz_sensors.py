@@ -196,8 +196,7 @@ def grab(display, path):
 def red_row_runs(png, region):
     """The runs of rows of region (x0, y0, x1, y1) with image_red pixels: 'rows A-B: N pixels'
     for each, or 'none'."""
-    import matplotlib.image
-    rgb = (matplotlib.image.imread(str(png))[..., :3] * 255).round()
+    rgb = rgb_of(png)
     x0, y0, x1, y1 = region
     per_row = image_red(*(rgb[y0:y1, x0:x1, i] for i in range(3))).sum(axis=1)
     runs, start = [], None

@@ -276,13 +276,17 @@ class Bench:
 
     def subscribers(self, topic):
         """The nodes subscribed to `topic` now, as the master knows them."""
-        _, _, (_, subscriptions, _) = self.ros.master().getSystemState('/benchmark')
-        return sorted(next((nodes for name, nodes in subscriptions if name == topic), []))
+        return self._nodes_of(topic, 1)
 
     def publishers(self, topic):
         """The nodes publishing `topic` now, as the master knows them."""
-        _, _, (publications, _, _) = self.ros.master().getSystemState('/benchmark')
-        return sorted(next((nodes for name, nodes in publications if name == topic), []))
+        return self._nodes_of(topic, 0)
+
+    def _nodes_of(self, topic, kind):
+        """The nodes of `topic` in the master's system state's list `kind` (0 publications, 1
+        subscriptions)."""
+        _, _, state = self.ros.master().getSystemState('/benchmark')
+        return sorted(next((nodes for name, nodes in state[kind] if name == topic), []))
 
     def hears_clock(self, node):
         """Whether the simulator's /clock has a connection to `node` (from its bus information)."""
