@@ -59,6 +59,7 @@
 #include "engine.h"
 #include "mujoco_mjcf.h"
 #include "mujoco_rays.h"
+#include "mujoco_sliding.h"
 #include "onedof_sim/pose_math.h"
 
 namespace onedof_sim {
@@ -69,7 +70,7 @@ namespace {
 // 10^4 times the middle's.
 constexpr double kSupportImpedance = 0.01;
 // The solves of a step with sliding contacts after the first (slidingFriction).
-constexpr int kSlidingPasses = 3;
+constexpr int kSlidingPasses = 6;
 // MuJoCo's smallest useful friction coefficient of a frictional contact: a contact both of whose
 // coefficients are 0 is frictionless (one row).
 constexpr double kMinFriction = 1e-5;
@@ -359,14 +360,13 @@ class MujocoEngine : public Engine {
   std::vector<double> motor_target_;  // per degree of freedom
   std::vector<EngineContact> contacts_;
   // This step's contacts that slide (filterContacts): the contact, the unit slip of geom2's side
-  // over geom1's, the friction coefficient along it and the friction force on geom2's side.
+  // over geom1's, its friction over the solves (its mu along the slip) and the friction force on
+  // geom2's side.
   struct Sliding {
     int contact;
     Vec3 slip;
-    double mu;
-    double compliance;        // slipRow's J M^-1 J^T, 1/kg
     std::vector<mjtNum> row;  // slipRow's J
-    double magnitude;         // of the friction force, N
+    SlidingFriction law;
     Vec3 friction;
   };
   std::vector<Sliding> sliding_;
@@ -808,9 +808,9 @@ void MujocoEngine::filterContacts() {
     const double slip_mu =
         1 / std::hypot(along1 / std::max(mu, kMinFriction), along2 / std::max(mu2, kMinFriction));
     const Vec3 direction = (1 / speed) * slip;
-    Sliding sliding{i, direction, slip_mu, 0, {}, 0, Vec3()};
-    sliding.compliance = slipRow(c, direction, &sliding.row);
-    sliding_.push_back(std::move(sliding));
+    std::vector<mjtNum> row;
+    const double compliance = slipRow(c, direction, &row);
+    sliding_.push_back({i, direction, std::move(row), SlidingFriction(slip_mu, compliance), Vec3()});
     c.dim = 1;
   }
 }
@@ -883,29 +883,22 @@ double MujocoEngine::slipRow(const mjContact& c, const Vec3& direction, std::vec
   return compliance;
 }
 
-// A sliding contact is frictionless in the solve; its friction, mu times the normal force the
-// solve gave against the slip, is applied to its two bodies and the solve taken again, until the
-// normal forces settle (kSlidingPasses). MuJoCo's own friction cone, a convex relaxation, pushes
-// a sliding contact apart by mu times its slip: a sliding caster hops along the ground. From the
-// second pass on, a friction that would turn the slip back by the step's end is lessened to end
-// the step at rest (an explicit mu N past rest flings a light body back).
+// A sliding contact is frictionless in the solve; its friction, against the slip, is applied to
+// its two bodies and the solve taken again (kSlidingPasses), as SlidingFriction sets it from each
+// solve. MuJoCo's own friction cone, a convex relaxation, pushes a sliding contact apart by mu
+// times its slip: a sliding caster hops along the ground.
 void MujocoEngine::slidingFriction() {
   applied_.assign(d_->xfrc_applied, d_->xfrc_applied + 6 * m_->nbody);
   for (int pass = 0; pass < kSlidingPasses; ++pass) {
     std::copy(applied_.begin(), applied_.end(), d_->xfrc_applied);
     for (Sliding& s : sliding_) {
       const mjContact& c = d_->contact[s.contact];
-      const double bound = s.mu * std::max(0.0, d_->efc_force[c.efc_address]);
-      if (pass == 0 || s.compliance <= 0) {
-        s.magnitude = bound;
-      } else {
-        double slip_at_end = 0;
-        for (int v = 0; v < m_->nv; ++v)
-          slip_at_end += s.row[v] * (d_->qvel[v] + m_->opt.timestep * d_->qacc[v]);
-        s.magnitude = std::clamp(
-            s.magnitude + slip_at_end / (m_->opt.timestep * s.compliance), 0.0, bound);
-      }
-      s.friction = -s.magnitude * s.slip;
+      double slip_at_end = 0;
+      for (int v = 0; v < m_->nv; ++v)
+        slip_at_end += s.row[v] * (d_->qvel[v] + m_->opt.timestep * d_->qacc[v]);
+      const double magnitude =
+          s.law.next(d_->efc_force[c.efc_address], slip_at_end, m_->opt.timestep);
+      s.friction = -magnitude * s.slip;
       for (int side = 0; side < 2; ++side) {
         const int body = m_->geom_bodyid[side == 0 ? c.geom2 : c.geom1];
         if (body == 0) continue;
