@@ -18,11 +18,18 @@
 #include "model_description.h"
 #include "onedof_sim/pose_math.h"
 #include "sdf_parsing.h"
+#include "urdf_extensions.h"
 #include "visual_loader.h"
 
 namespace onedof_sim {
 namespace core {
 namespace {
+
+// Gazebo reads a negative coefficient as unbounded friction (ODE's dInfinity): the largest float,
+// as an infinite one is.
+double frictionCoefficient(double mu) {
+  return mu < 0 || std::isinf(mu) ? double(std::numeric_limits<float>::max()) : mu;
+}
 
 // urdfdom reports why it rejects a file only through console_bridge; this collects those lines so
 // that the spawn status can carry the parser's reason. It also drops an element it cannot parse
@@ -266,7 +273,7 @@ Pose childPose(const Pose& parent_pose, const urdf::Joint& joint) {
 // Adds one URDF link (at its model-frame pose) and the joints to its children.
 Status addUrdfLink(const urdf::Link& link, const Pose& pose,
                    const std::vector<std::string>& model_path,
-                   const std::map<std::string, std::string>& gazebo_materials,
+                   const std::map<std::string, UrdfLinkExtension>& extensions,
                    MeshReader* meshes, ModelDescription* out) {
   if (link.name != kWorldLink) {
     LinkDescription desc;
@@ -291,9 +298,15 @@ Status addUrdfLink(const urdf::Link& link, const Pose& pose,
       status = checkShape(desc.collisions.back(), desc.name);
       if (!status.ok()) return status;
     }
-    const auto material = gazebo_materials.find(link.name);
-    addUrdfVisuals(link, material == gazebo_materials.end() ? "" : material->second, model_path,
-                   &desc);
+    const auto extension = extensions.find(link.name);
+    if (extension != extensions.end()) {
+      for (CollisionDescription& collision : desc.collisions) {
+        if (extension->second.mu1) collision.mu = frictionCoefficient(*extension->second.mu1);
+        if (extension->second.mu2) collision.mu2 = frictionCoefficient(*extension->second.mu2);
+      }
+    }
+    addUrdfVisuals(link, extension == extensions.end() ? "" : extension->second.material,
+                   model_path, &desc);
     out->links.push_back(desc);
   }
   for (const urdf::JointSharedPtr& joint : link.child_joints) {
@@ -369,10 +382,12 @@ Status parseUrdf(const std::string& xml, const std::vector<std::string>& model_p
                       "' as both its parent and its child");
   ModelDescription model;
   MeshReader meshes;
-  const std::map<std::string, std::string> gazebo_materials = urdfGazeboMaterials(xml);
+  std::map<std::string, UrdfLinkExtension> extensions;
+  Status read = urdfLinkExtensions(xml, &extensions);
+  if (!read.ok()) return read;
   std::function<Status(const urdf::Link&, const Pose&)> visit = [&](const urdf::Link& link,
                                                                      const Pose& pose) {
-    Status status = addUrdfLink(link, pose, model_path, gazebo_materials, &meshes, &model);
+    Status status = addUrdfLink(link, pose, model_path, extensions, &meshes, &model);
     if (!status.ok()) return status;
     for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf->getLink(joint->child_link_name);
@@ -422,13 +437,8 @@ void readSdfFriction(const sdf::Collision& collision, CollisionDescription* out)
     if (!element || !element->HasElement(name)) return;
     element = element->GetElement(name);
   }
-  // Gazebo reads a negative coefficient as unbounded friction: the largest float.
-  const auto coefficient = [&](const char* name) {
-    const double mu = element->Get<double>(name);
-    return mu < 0 ? double(std::numeric_limits<float>::max()) : mu;
-  };
-  if (element->HasElement("mu")) out->mu = coefficient("mu");
-  if (element->HasElement("mu2")) out->mu2 = coefficient("mu2");
+  if (element->HasElement("mu")) out->mu = frictionCoefficient(element->Get<double>("mu"));
+  if (element->HasElement("mu2")) out->mu2 = frictionCoefficient(element->Get<double>("mu2"));
 }
 
 // A <plane>: the plane z = 0 of the collision's frame, its <normal> turned into that frame's z;

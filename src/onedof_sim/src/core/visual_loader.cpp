@@ -29,24 +29,6 @@ Color toColor(const ignition::math::Color& c) { return {c.R(), c.G(), c.B(), c.A
 
 }  // namespace
 
-std::map<std::string, std::string> urdfGazeboMaterials(const std::string& xml) {
-  std::map<std::string, std::string> materials;
-  tinyxml2::XMLDocument document;
-  if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) return materials;
-  const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
-  if (!robot) return materials;
-  for (const tinyxml2::XMLElement* gazebo = robot->FirstChildElement("gazebo"); gazebo;
-       gazebo = gazebo->NextSiblingElement("gazebo")) {
-    const char* reference = gazebo->Attribute("reference");
-    const tinyxml2::XMLElement* material = gazebo->FirstChildElement("material");
-    if (!reference || !material || !material->GetText()) continue;
-    std::string name = trimmed(material->GetText());
-    if (name.empty()) continue;
-    materials[reference] = name;
-  }
-  return materials;
-}
-
 void addUrdfVisuals(const urdf::Link& urdf_link, const std::string& gazebo_material,
                     const std::vector<std::string>& model_path, LinkDescription* link) {
   // urdfdom keeps a lone <visual> only in `visual`, several in `visual_array`.

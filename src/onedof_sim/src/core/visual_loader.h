@@ -1,6 +1,6 @@
 // A link's <visual>s (geometry, pose in the link frame, material) for World::visualShapes, read
-// from URDF (urdfdom, and Gazebo's named materials from the URDF's <gazebo reference> blocks,
-// which urdfdom does not read) and SDF (libsdformat). A visual never makes a model refused: a
+// from URDF (urdfdom, and Gazebo's named materials from the URDF's <gazebo reference> blocks:
+// urdf_extensions.h) and SDF (libsdformat). A visual never makes a model refused: a
 // mesh file not found keeps its URI and an empty file, for the renderer to report. Private to
 // the core.
 #pragma once
@@ -17,12 +17,8 @@
 namespace onedof_sim {
 namespace core {
 
-// Link name -> the Gazebo material its <gazebo reference="LINK"><material> names (the last one
-// given for a link wins, as in Gazebo's URDF conversion). Empty for XML tinyxml2 cannot read.
-std::map<std::string, std::string> urdfGazeboMaterials(const std::string& xml);
-
-// Appends the link's visuals to link->visuals. gazebo_material: the link's entry of
-// urdfGazeboMaterials, or empty.
+// Appends the link's visuals to link->visuals. gazebo_material: the Gazebo material its
+// <gazebo reference> names (urdf_extensions.h), or empty.
 void addUrdfVisuals(const urdf::Link& urdf_link, const std::string& gazebo_material,
                     const std::vector<std::string>& model_path, LinkDescription* link);
 

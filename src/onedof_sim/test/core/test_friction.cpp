@@ -44,11 +44,11 @@ const char* const kBoxSdf = R"(<sdf version="1.6"><model name="box"><link name="
     <surface><friction><ode><mu>0.5</mu><mu2>0.5</mu2></ode></friction></surface></collision>
 </link></model></sdf>)";
 
-// Spawns the box (`sdf`) on the ground, lets it settle and sets it sliding at `velocity`; returns
+// Spawns the box (`xml`) on the ground, lets it settle and sets it sliding at `velocity`; returns
 // where it starts.
-Pose slidBox(World* world, const std::string& sdf, const Vec3& velocity) {
+Pose slidBox(World* world, const std::string& xml, ModelFormat format, const Vec3& velocity) {
   testing_support::addGroundPlane(*world);
-  EXPECT_TRUE(world->spawn("box", sdf, ModelFormat::Sdf, at(0, 0, 0.05)).ok());
+  EXPECT_TRUE(world->spawn("box", xml, format, at(0, 0, 0.05)).ok());
   steps(world, 500);
   Pose start;
   Twist twist;
@@ -69,8 +69,8 @@ TEST_P(Friction, ABoxSlidAcrossTheGroundStopsWhereCoulombsLawSays) {
   const double expected = speed * speed / (2 * kBoxMu * kG);
   for (double heading : {0.0, 0.4, M_PI / 4}) {
     World world(GetParam());
-    const Pose start =
-        slidBox(&world, kBoxSdf, {speed * std::cos(heading), speed * std::sin(heading), 0});
+    const Pose start = slidBox(&world, kBoxSdf, ModelFormat::Sdf,
+                               {speed * std::cos(heading), speed * std::sin(heading), 0});
     steps(&world, 3000);
     Pose end;
     Twist twist;
@@ -88,6 +88,26 @@ TEST_P(Friction, ABoxSlidAcrossTheGroundStopsWhereCoulombsLawSays) {
   }
 }
 
+// The same box in a URDF, its friction given as the book's robots give their wheels': Gazebo's
+// <gazebo reference="LINK"> <mu1> and <mu2>, which Gazebo's URDF conversion puts on each of the
+// link's collisions. At the default mu of 1 it would stop after half the distance.
+TEST_P(Friction, AUrdfLinksGazeboMu1AndMu2AreItsCollisionsFriction) {
+  const char* const urdf = R"(<robot name="box"><link name="body">
+    <inertial><mass value="2"/>
+      <inertia ixx="0.00833" iyy="0.00833" izz="0.01333" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+    <gazebo reference="body"><mu1>0.5</mu1><mu2>0.5</mu2><material>Gazebo/Red</material></gazebo>
+  </robot>)";
+  World world(GetParam());
+  const Pose start = slidBox(&world, urdf, ModelFormat::Urdf, {1.0, 0, 0});
+  steps(&world, 3000);
+  Pose end;
+  Twist twist;
+  ASSERT_TRUE(world.modelState("box", "", &end, &twist).ok());
+  const double expected = 1.0 / (2 * kBoxMu * kG);
+  EXPECT_NEAR(end.position.x - start.position.x, expected, 0.05 * expected);
+}
+
 // A box of mu 100 (the ground's is 100 too) slid at 0.5 m/s: Coulomb's mu N would take 1 m/s off
 // it in one 1 ms step, and friction only brings a slide to rest, never turns it back (an
 // explicit mu N past rest would fling the box back at tens of m/s).
@@ -98,7 +118,7 @@ TEST_P(Friction, AHighFrictionSlideStopsAtOnceAndStaysStopped) {
     sdf.replace(sdf.find(from), from.size(), to);
   }
   World world(GetParam());
-  const Pose start = slidBox(&world, sdf, {0.5, 0, 0});
+  const Pose start = slidBox(&world, sdf, ModelFormat::Sdf, {0.5, 0, 0});
   Twist twist;
   double farthest = 0, back = 0;
   for (int i = 0; i < 1000; ++i) {

@@ -1609,6 +1609,9 @@ TEST_P(BadInput, ParserGapsAreRefusedWithTheReason) {
       {"<robot name=\"r\"><link name=\"a\">" + body +
            "<collision><geometry><box size=\"1e6 1 1\"/></geometry></collision></link></robot>",
        ModelFormat::Urdf, "link 'a': collision 'a_collision' is larger than 1000 m"},
+      {"<robot name=\"r\"><link name=\"a\">" + body + "</link><gazebo reference=\"a\">"
+           "<mu1>grippy</mu1></gazebo></robot>",
+       ModelFormat::Urdf, "link 'a': <gazebo reference> <mu1> 'grippy' is not a number"},
       {"<sdf version=\"99\"><model name=\"m\"><link name=\"l\"/></model></sdf>", ModelFormat::Sdf,
        "version '99' is not one this libsdformat reads"},
   };
