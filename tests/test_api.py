@@ -298,20 +298,26 @@ def test_job_shorter_than_a_step_acts_on_one_step_and_says_so(weightless):
 
 # --- pause, reset, clock ---------------------------------------------------------------------
 
-def clock_listener(rospy):
-    """Subscribes /clock, connected to the simulator; returns (received clock times in ns,
-    subscriber). Every message is kept: under use_sim_time rospy subscribes /clock itself with
-    queue_size 1, and this subscriber shares that connection, which would drop all but the last
-    message of each read from the socket whenever this process runs late (a busy machine).
+def clock_listener(ros, rospy):
+    """Subscribes /clock, connected to the simulator on both sides; returns (received clock times
+    in ns, subscriber). Every message is kept: under use_sim_time rospy subscribes /clock itself
+    with queue_size 1, and this subscriber shares that connection, which would drop all but the
+    last message of each read from the socket whenever this process runs late (a busy machine).
     /clock is latched, and rospy hands a callback added to a connection the latched time from the
     adding thread while its receiving thread may already have handed over a newer one: the first
-    time heard may come out of order (what_was_sent drops it)."""
+    time heard may come out of order (what_was_sent drops it). The subscriber counts the
+    connection once the simulator's reply to its header has come, before the simulator's network
+    thread has added it to /clock's subscribers (a busy machine keeps that thread from it for tens
+    of ms): so this waits until the simulator lists the connection too, after which every clock
+    published reaches it."""
     from rosgraph_msgs.msg import Clock
     stamps = []
     sub = rospy.Subscriber('/clock', Clock, lambda m: stamps.append(m.clock.to_nsec()))
     wait_until(lambda: sub.get_num_connections() > 0, 30, what='/clock connection')
     for connection in sub.impl.connections:
         connection.protocol.queue_size = None
+    wait_until(lambda: ros.connected('/gazebo', '/clock', rospy.get_name()), 30,
+               what="the simulator's side of the /clock connection")
     return stamps, sub
 
 
@@ -321,11 +327,11 @@ def what_was_sent(stamps):
     return stamps[1:]
 
 
-def test_pause_freezes_clock_and_joint_unpause_resumes(shared_sim, api, rospy_client):
+def test_pause_freezes_clock_and_joint_unpause_resumes(ros, shared_sim, api, rospy_client):
     api.unpause_physics()
     api.spawn_robot()
     assert api.set_model_configuration(ROBOT, '', ['joint1'], [0.3]).success
-    stamps, _ = clock_listener(rospy_client)
+    stamps, _ = clock_listener(ros, rospy_client)
     wait_until(lambda: len(stamps) > 10, 30, what='/clock')
     api.pause_physics()
     frozen = api.sim_time_ns(), api.joint()
@@ -354,7 +360,7 @@ def test_clock_starts_at_first_step_and_advances_every_step(ros, engine, rospy_c
     start_sim(ros, engine, ['-u', '_max_update_rate:=100'])
     api = GazeboApi(rospy_client)
     assert ros.master().getParam('/test', '/use_sim_time')[2] is True
-    stamps, _ = clock_listener(rospy_client)
+    stamps, _ = clock_listener(ros, rospy_client)
     api.unpause_physics()
     wait_until(lambda: len(stamps) > 200, 60, what='200 /clock messages')
     # Paused, no /clock at all, in particular no clock of 0: the first one heard is the first
@@ -370,7 +376,7 @@ def test_a_free_running_world_stops_with_its_time_on_the_clock(ros, engine, rosp
     its own time goes out, and what a subscriber heard only ever moved forward."""
     start_sim(ros, engine, ['_max_update_rate:=0'])
     api = GazeboApi(rospy_client)
-    stamps, _ = clock_listener(rospy_client)
+    stamps, _ = clock_listener(ros, rospy_client)
     wait_until(lambda: len(stamps) > 100, 60, what='100 /clock messages')
     api.pause_physics()
     stopped_ns = api.sim_time_ns()
@@ -381,7 +387,7 @@ def test_a_free_running_world_stops_with_its_time_on_the_clock(ros, engine, rosp
 def test_pub_clock_frequency_throttles_clock(ros, engine, rospy_client):
     ros.set_param('/gazebo/pub_clock_frequency', 50)
     start_sim(ros, engine)
-    stamps, _ = clock_listener(rospy_client)
+    stamps, _ = clock_listener(ros, rospy_client)
     wait_until(lambda: len(stamps) > 20, 60, what='20 /clock messages')
     gaps = {b - a for a, b in zip(stamps[:20], stamps[1:20])}
     assert gaps == {20 * STEP_NS}
@@ -395,7 +401,7 @@ def test_pub_clock_frequency_set_on_a_restarted_roscore_throttles_clock(ros, eng
     ros.wait_until(lambda: 'the ROS master came back' in ros.log_text(sim), 60,
                    what='the simulator to register again with the new master')
     ros.set_param('/gazebo/pub_clock_frequency', 50)
-    stamps, _ = clock_listener(rospy_client)
+    stamps, _ = clock_listener(ros, rospy_client)
     # Updates reach the node's cache shortly after they are set: the gaps settle at 20 steps.
     wait_until(lambda: len(stamps) > 40 and
                {b - a for a, b in zip(stamps[-20:], stamps[-19:])} == {20 * STEP_NS}, 60,
@@ -426,17 +432,18 @@ def test_reset_simulation_returns_time_and_robot_to_spawn(shared_sim, api):
     assert ROBOT in api.get_world_properties().model_names
 
 
-def test_reset_simulation_puts_its_time_on_the_latched_clock(shared_sim, api, rospy_client):
+def test_reset_simulation_puts_its_time_on_the_latched_clock(ros, shared_sim, api,
+                                                            rospy_client):
     robot_moved_then_paused(api)
     paused_at = api.sim_time_ns()
-    stamps, _ = clock_listener(rospy_client)
+    stamps, _ = clock_listener(ros, rospy_client)
     wait_until(lambda: stamps and stamps[-1] == paused_at > 0, 30, what='/clock of the pause')
     api.reset_simulation()
     # A node's time goes back with the world's, and a node subscribing afterwards starts from
     # the reset time, not from the time the world had before it.
     wait_until(lambda: stamps[-1] == 0, 30, what='/clock of the reset')
     wait_until(lambda: rospy_client.get_rostime().to_nsec() == 0, 30, what="the client's time")
-    later, _ = clock_listener(rospy_client)
+    later, _ = clock_listener(ros, rospy_client)
     wait_until(lambda: later, 30, what='the latched /clock')
     assert later == [0]
 
