@@ -7,6 +7,7 @@
 
 #include <tinyxml2.h>
 
+#include "onedof_sim/text_number.h"
 #include "onedof_sim/trim.h"
 
 namespace onedof_sim::control {
@@ -80,9 +81,8 @@ bool readRobotControlSpec(const std::string& urdf, const std::string& model_name
   if (read.robot_namespace.front() != '/') read.robot_namespace = "/" + read.robot_namespace;
   const std::string period = childText(plugin, "controlPeriod");
   if (!period.empty()) {
-    char* end = nullptr;
-    const double seconds = std::strtod(period.c_str(), &end);
-    if (*end != '\0' || !std::isfinite(seconds) || seconds <= 0) {
+    double seconds = 0;
+    if (!numberIn(period, &seconds) || !std::isfinite(seconds) || seconds <= 0) {
       *error = "gazebo_ros_control: controlPeriod '" + period + "' is not a positive number of seconds";
       return true;
     }

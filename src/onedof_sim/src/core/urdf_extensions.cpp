@@ -2,9 +2,7 @@
 
 #include <tinyxml2.h>
 
-#include <cmath>
-#include <cstdlib>
-
+#include "onedof_sim/text_number.h"
 #include "onedof_sim/trim.h"
 
 namespace onedof_sim {
@@ -15,9 +13,8 @@ namespace {
 Status coefficient(const tinyxml2::XMLElement& element, const std::string& link,
                    std::optional<double>* out) {
   const std::string text = trimmed(element.GetText());
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || std::isnan(value))
+  double value = 0;
+  if (!numberIn(text, &value))
     return rejected("link '" + link + "': <gazebo reference> <" + element.Name() + "> '" + text +
                     "' is not a number");
   *out = value;

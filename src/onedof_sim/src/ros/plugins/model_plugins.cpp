@@ -6,6 +6,7 @@
 #include <set>
 #include <utility>
 
+#include <onedof_sim/text_number.h>
 #include <onedof_sim/trim.h>
 #include <ros/console.h>
 #include <ros/exceptions.h>
@@ -80,9 +81,7 @@ SensorElement toSensorElement(const tinyxml2::XMLElement* sensor, const std::str
   }
   if (sensor->FirstChildElement("update_rate")) {
     const std::string text = trimmed(childText(sensor, "update_rate"));
-    char* end = nullptr;
-    element.update_rate = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(element.update_rate) ||
+    if (!numberIn(text, &element.update_rate) || !std::isfinite(element.update_rate) ||
         element.update_rate < 0)
       fail("<update_rate> is '" + text + "', not a number of Hz >= 0");
   }

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include <onedof_sim/text_number.h>
 #include <onedof_sim/trim.h>
 #include <ros/console.h>
 
@@ -42,9 +43,8 @@ bool PluginParams::number(const char* tag, double fallback, double* value,
   *value = fallback;
   if (!has(tag)) return true;
   const std::string raw = text(tag, "");
-  char* end = nullptr;
-  const double parsed = std::strtod(raw.c_str(), &end);
-  if (raw.empty() || *end != '\0' || !std::isfinite(parsed)) {
+  double parsed = 0;
+  if (!numberIn(raw, &parsed) || !std::isfinite(parsed)) {
     *error = "<" + std::string(tag) + "> is '" + raw + "', not a number";
     return false;
   }

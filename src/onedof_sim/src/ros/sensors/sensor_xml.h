@@ -9,6 +9,7 @@
 #include <string>
 
 #include <onedof_sim/pose_math.h>
+#include <onedof_sim/text_number.h>
 #include <onedof_sim/trim.h>
 #include <onedof_sim/world.h>
 #include <tinyxml2.h>
@@ -53,9 +54,8 @@ inline bool readSensorNumber(const tinyxml2::XMLElement* parent, const char* tag
   const tinyxml2::XMLElement* child = parent ? parent->FirstChildElement(tag) : nullptr;
   if (!child) return true;
   const std::string text = trimmed(child->GetText());
-  char* end = nullptr;
-  const double parsed = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(parsed)) {
+  double parsed = 0;
+  if (!numberIn(text, &parsed) || !std::isfinite(parsed)) {
     *error = "<" + where + "><" + tag + "> is '" + text + "', not a number";
     return false;
   }
