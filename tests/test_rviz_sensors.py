@@ -287,11 +287,11 @@ def test_a_world_without_sensors_is_shown_with_world_rviz_displays_only(ros, ros
 
 def test_the_view_shows_the_simulators_sensor_topics_only_and_keeps_the_users_displays():
     from gazebo_ros.world_view import simulator_sensor_topics, with_sensor_displays
-    publishers = [['/gazebo/collision_markers', ['/gazebo']], ['/scan', ['/gazebo']],
+    publishers = [['/gazebo/model_states', ['/gazebo']], ['/scan', ['/gazebo']],
                   ['/kinect/depth/points', ['/gazebo']], ['/kinect/rgb/image_raw', ['/gazebo']],
                   ['/kinect/rgb/camera_info', ['/gazebo']], ['/filtered_scan', ['/my_filter']],
                   ['/imu_data', ['/gazebo']]]
-    types = [['/gazebo/collision_markers', 'visualization_msgs/MarkerArray'],
+    types = [['/gazebo/model_states', 'gazebo_msgs/ModelStates'],
              ['/scan', 'sensor_msgs/LaserScan'],
              ['/kinect/depth/points', 'sensor_msgs/PointCloud2'],
              ['/kinect/rgb/image_raw', 'sensor_msgs/Image'],
@@ -334,6 +334,29 @@ def test_the_simulators_view_shows_a_spawned_robots_scan_on_the_box(ros, rospy_c
     png = tmp_path / 'view.png'
     assert_scan_on_the_face_only(ros, display, png, view_config, scan_green)
     ros.terminate(launch)  # rviz before its X server
+    ros.terminate(xvfb)
+
+
+def test_a_view_opened_on_a_robot_with_a_lidar_starts_with_its_scan_and_one_panel(ros,
+                                                                                 rospy_client):
+    """gzclient opened on a world whose robot has a lidar, the simulator started as a user starts
+    it (its collision markers not yet asked for): the view's first configuration already shows
+    the scan, so rviz loads one configuration and builds one Gazebo panel (a second load builds
+    the panel anew, and a client that subscribed to its topics in between could be left
+    unconnected)."""
+    start_sim(ros, ENGINES[0], extras=False)
+    spawn_laser_bot_before_the_box(ros, rospy_client)
+    xvfb, display = start_xvfb(ros)
+    view = ros.start(['rosrun', 'gazebo_ros', 'gzclient'], name='gzclient',
+                     env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    panel_up = 'the Gazebo panel is up'
+    ros.wait_until(lambda: subscribers(ros, '/scan', '/gzclient_') and
+                   panel_up in ros.log_text(view), 120,
+                   what="the view to show /scan with the Gazebo panel up")
+    log = ros.log_text(view)
+    assert "the view opens on the simulator's sensor streams: /scan" in log, log
+    assert log.count(panel_up) == 1, log
+    ros.terminate(view)  # rviz before its X server
     ros.terminate(xvfb)
 
 

@@ -8,9 +8,11 @@ stays set after the view exits. rviz's /clock is the simulator's view clock (/ga
 a remapping): the sim time as often as the view's markers move, so that an open window costs the
 simulator's loop no message per step (nor does its Gazebo panel, in rviz's process). The view
 asks the master which topics of those types the simulator (the node publishing
-/gazebo/collision_markers) advertises, each second while rviz runs; when the set
-changes (a robot with sensors spawned or deleted) it saves rviz's current configuration (the
-user's camera and settings), replaces the sensor displays in it and has rviz load it again. A
+/gazebo/model_states, which gazebo_ros' API advertises from its start) advertises, as rviz starts
+and each second while it runs; when the set changes (a robot with sensors spawned or deleted) it
+saves rviz's current configuration (the user's camera and settings), replaces the sensor displays
+in it and has rviz load it again. A loaded configuration builds rviz's panels anew, so a world
+that has its sensors when the view opens starts with their displays and is not loaded twice. A
 world without sensors shows exactly world.rviz.
 
 Beside rviz the view runs the model handles (gazebo_ros.model_handles, the node
@@ -43,10 +45,14 @@ import rospkg
 import yaml
 
 from onedof_harness.private_ros import exit_status_text
-from onedof_sim.simulator_extras import MARKERS_TOPIC as MARKERS, VIEW_CLOCK_TOPIC, \
+from onedof_sim.simulator_extras import NODE as SIMULATOR_NAMESPACE, VIEW_CLOCK_TOPIC, \
     request_collision_markers
 
 SENSOR_DISPLAY_PREFIX = 'Sensor: '
+# A topic the simulator node advertises from its start (gazebo_ros' API) and no other node does:
+# the sensor streams shown are those of the node that publishes it. (The collision markers are
+# advertised only once the view asks for them, later than the view first looks.)
+SIMULATOR_TOPIC = SIMULATOR_NAMESPACE + '/model_states'
 # The depth an image's white stands for: the Kinect's far cutoff (pointCloudCutoffMax's default);
 # rviz's normalised range goes black on the NaNs a Kinect's depth image has where nothing is.
 DEPTH_SHOWN_M = 5.0
@@ -88,7 +94,7 @@ def simulator_sensor_topics(system_state, topic_types):
     """Sorted (topic, type) of the streams the view shows that the simulator node advertises.
     system_state and topic_types are the master's getSystemState and getTopicTypes answers."""
     publishers = dict(system_state[0])
-    simulators = set(publishers.get(MARKERS, ()))
+    simulators = set(publishers.get(SIMULATOR_TOPIC, ()))
     return sorted((topic, msg_type) for topic, msg_type in topic_types
                   if sensor_display(topic, msg_type) is not None
                   and simulators & set(publishers.get(topic, ())))
@@ -185,6 +191,8 @@ class WorldView:
 
     def start(self):
         request_collision_markers(self.node)
+        print('gzclient: the view opens on the simulator\'s sensor streams: %s' % (
+            ', '.join(topic for topic, _ in self.topics) or 'none'), flush=True)
         self.handles = subprocess.Popen(self.handles_command())
         self.rviz = subprocess.Popen(self.command())
         return self.rviz
