@@ -19,10 +19,9 @@ import numpy as np
 import yaml
 
 from api_client import ROBOT, GazeboApi, pose
+from book_rviz import BookRviz
 from conftest import ENGINES, TUTORIAL_URDF, start_sim
 from gazebo_commands import start_serving
-from gazebo_ros.world_view import CRASH_SIGNALS
-from onedof_harness.private_ros import exit_status_text
 from onedof_sim.tutorial.gazebo_window import orbit_pixel
 from onedof_sim.tutorial.rviz_view import start_xvfb
 from test_camera import BOX, DISTANCE, KINECT, box_sdf, kinect_bot_urdf
@@ -477,42 +476,6 @@ def test_the_simulators_view_shows_a_spawned_kinects_point_cloud_on_the_box(ros,
         'the images are drawn in their own panels'
     ros.terminate(view)  # rviz before its X server
     ros.terminate(xvfb)
-
-
-# rviz starts in all, at most, where each start crashes.
-RVIZ_CRASH_STARTS = 3
-
-
-class BookRviz:
-    """`rosrun rviz rviz -d config` as the book starts it, on `display`. rviz drawing in software
-    (Mesa's llvmpipe) now and then crashes as it starts, inside LLVM compiling a shader (LLVM's
-    issue 57850): as gzclient's view and the tutorial player do, a crashed rviz is started again,
-    RVIZ_CRASH_STARTS times in all; an rviz that ends any other way fails the test."""
-
-    def __init__(self, ros, config, display):
-        self.ros, self.config, self.display = ros, str(config), display
-        self.starts = 0
-        self.proc = None
-        self._start()
-
-    def _start(self):
-        self.starts += 1
-        self.proc = self.ros.start(['rosrun', 'rviz', 'rviz', '-d', self.config],
-                                   name='rviz_%d' % self.starts, may_exit=True,
-                                   env={'DISPLAY': self.display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
-
-    def keep_up(self):
-        status = self.proc.poll()
-        if status is None:
-            return
-        crashed = status < 0 and -status in CRASH_SIGNALS
-        if crashed and self.starts < RVIZ_CRASH_STARTS:
-            print('rviz crashed (%s) as it started; starting it again' % exit_status_text(status))
-            self._start()
-            return
-        raise AssertionError('rviz (start %d of at most %d) exited (%s); its log ends:\n%s' % (
-            self.starts, RVIZ_CRASH_STARTS, exit_status_text(status),
-            self.ros.log_text(self.proc)[-1500:]))
 
 
 def test_the_books_rviz_config_shows_the_scan_in_base_link(ros, rospy_client, tmp_path):

@@ -3,6 +3,7 @@ packages export Ogre media through media_export, which Debian does not package; 
 src/media_export stands in for it."""
 import subprocess
 
+from book_rviz import BookRviz
 from onedof_harness.private_ros import COMMAND_TIMEOUT
 from onedof_sim.tutorial.rviz_view import start_xvfb
 
@@ -22,11 +23,14 @@ def test_rospack_finds_media_exports():
 
 def test_rviz_starts_without_a_missing_media_export(ros):
     _, display = start_xvfb(ros)
-    rviz = ros.start(['rosrun', 'rviz', 'rviz'], name='rviz',
-                     env={'DISPLAY': display, 'LIBGL_ALWAYS_SOFTWARE': '1'})
+    rviz = BookRviz(ros, None, display)
+
+    def advertised():
+        rviz.keep_up()
+        return publishers(ros, '/clicked_point', '/rviz')
     # Its tools advertise their topics once its render system is up, which reads the packages'
     # media exports first.
-    ros.wait_until(lambda: publishers(ros, '/clicked_point', '/rviz'), 300,
-                   what='rviz to advertise /clicked_point')
-    log = ros.log_text(rviz)
-    assert 'media_export' not in log, log
+    ros.wait_until(advertised, 300, what='rviz to advertise /clicked_point')
+    for proc in rviz.procs:
+        log = ros.log_text(proc)
+        assert 'media_export' not in log, log
