@@ -1,5 +1,5 @@
 """rviz started as the book starts it, on a test's display, again after a crash as it starts."""
-from gazebo_ros.world_view import CRASH_SIGNALS
+from gazebo_ros.world_view import ended_by_crash
 from onedof_harness.private_ros import exit_status_text
 
 # rviz starts in all, at most, where each start crashes.
@@ -31,8 +31,7 @@ class BookRviz:
         status = self.proc.poll()
         if status is None:
             return
-        crashed = status < 0 and -status in CRASH_SIGNALS
-        if crashed and self.starts < RVIZ_CRASH_STARTS:
+        if ended_by_crash(status) and self.starts < RVIZ_CRASH_STARTS:
             print('rviz crashed (%s) as it started; starting it again' % exit_status_text(status))
             self._start()
             return

@@ -66,6 +66,11 @@ CRASH_SIGNALS = (signal.SIGSEGV, signal.SIGBUS, signal.SIGILL, signal.SIGFPE, si
 CRASH_RESTARTS = 3
 
 
+def ended_by_crash(status):
+    """Whether a process's exit status (Popen's returncode) is a crash's, not a close or a stop."""
+    return status is not None and status < 0 and -status in CRASH_SIGNALS
+
+
 def sensor_display(topic, msg_type):
     """The rviz display of one sensor stream, or None for a type the view does not show."""
     name = '%s%s (%s)' % (SENSOR_DISPLAY_PREFIX, topic, msg_type.split('/')[-1])
@@ -250,8 +255,7 @@ class WorldView:
 
     def crashed(self, status):
         """Whether rviz ended with `status` by a crash the view recovers from."""
-        return (not self.stopping and status is not None and status < 0 and
-                -status in CRASH_SIGNALS and self.restarts < CRASH_RESTARTS)
+        return not self.stopping and ended_by_crash(status) and self.restarts < CRASH_RESTARTS
 
     def stop(self, signum):
         """Passes a stop (SIGINT, SIGTERM) on to rviz and the model handles."""
